@@ -1,0 +1,35 @@
+# slam_predict — the two commands that do everything on a fresh machine: `make demo`, `make test`.
+SHELL := /bin/bash
+ROOT := $(CURDIR)
+VENV := $(ROOT)/.venv
+PY := $(VENV)/bin/python
+DEMO_OUT ?= $(ROOT)/out/demo
+export NUMBA_CACHE_DIR ?= $(ROOT)/.numba_cache
+# Tests marked `slow` (full end-to-end sweeps) only run with `make test-full` or as benchmarks.
+PYTEST_ARGS ?= -m "not slow"
+
+.PHONY: setup demo test test-full pytest rostest bench clean
+
+setup:
+	@bash tools/setup.sh
+
+demo: setup
+	@bash tools/demo.sh "$(DEMO_OUT)"
+
+test: setup
+	@$(MAKE) --no-print-directory pytest rostest
+
+pytest:
+	@$(PY) -m pytest tests $(PYTEST_ARGS)
+
+rostest:
+	@bash tools/run_rostests.sh
+
+test-full: setup
+	@$(MAKE) --no-print-directory pytest rostest PYTEST_ARGS=
+
+bench: setup
+	@for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
+
+clean:
+	[ -f .workspace_path ] && rm -rf "$$(cat .workspace_path)"; rm -rf out .numba_cache setup.bash .workspace_path

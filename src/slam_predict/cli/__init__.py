@@ -1,0 +1,1 @@
+"""The ``slam-predict`` command line: one module per subcommand (``parser`` + ``run``)."""

@@ -1,0 +1,81 @@
+"""Entry point of ``slam-predict``: builds the parser from the subcommand modules, runs one.
+
+Each subcommand module in :mod:`slam_predict.cli` defines ``NAME``, ``HELP``,
+``add_arguments(parser)`` and ``run(args) -> int``; modules keep heavy imports inside ``run`` so
+``--help`` stays fast. Known errors (:class:`InputError`) become one line on stderr and exit 2.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import sys
+from typing import List, Optional
+
+from slam_predict import __version__
+from slam_predict.errors import InputError
+
+# Subcommand modules, in the order --help lists them.
+SUBCOMMANDS = (
+    "worlds",
+    "sim",
+    "slam",
+    "explore",
+    "features",
+    "collect",
+    "metric",
+    "learn",
+    "predict",
+    "report",
+)
+
+
+def _load(name: str):
+    try:
+        return importlib.import_module(f"slam_predict.cli.{name}_cmd")
+    except ModuleNotFoundError as exc:
+        if exc.name == f"slam_predict.cli.{name}_cmd":
+            return None  # not built yet
+        raise
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The full argument parser with every available subcommand."""
+    parser = argparse.ArgumentParser(
+        prog="slam-predict",
+        description="Predict GMapping's localization error in a building from its floor plan.")
+    parser.add_argument("--version", action="version", version=f"slam-predict {__version__}")
+    parser.add_argument("-v", "--verbose", action="count", default=0,
+                        help="more log output (-v info, -vv debug)")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in SUBCOMMANDS:
+        module = _load(name)
+        if module is None:
+            continue
+        child = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        module.add_arguments(child)
+        child.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    """Run the CLI; returns the process exit code (0 ok, 2 bad input, 1 other failure)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    level = (logging.WARNING, logging.INFO, logging.DEBUG)[min(args.verbose, 2)]
+    logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
+    if not getattr(args, "_run", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args._run(args) or 0)
+    except InputError as exc:
+        print(f"slam-predict {args.command}: error: {exc.one_line()}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print(f"slam-predict {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,37 @@
+"""Shared fixtures: the project root, the shipped worlds and ../shared/data (skip when absent)."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = Path(os.environ.get("SLAM_PREDICT_SHARED", ROOT.parent / "shared"))
+SHARED_DATA = SHARED / "data"
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "slow: full end-to-end check; CI runs a short version")
+
+
+@pytest.fixture(scope="session")
+def root() -> Path:
+    """The repository root."""
+    return ROOT
+
+
+@pytest.fixture(scope="session")
+def shared_data() -> Path:
+    """../shared/data, or skip the test with a clear message when it is absent."""
+    if not SHARED_DATA.is_dir():
+        pytest.skip(f"real data not found at {SHARED_DATA} (set SLAM_PREDICT_SHARED)")
+    return SHARED_DATA
+
+
+@pytest.fixture(scope="session")
+def shared_dir() -> Path:
+    """../shared (specs, baselines, tools), or skip when absent."""
+    if not SHARED.is_dir():
+        pytest.skip(f"../shared not found at {SHARED} (set SLAM_PREDICT_SHARED)")
+    return SHARED
