@@ -1,0 +1,1 @@
+"""ROS message conversions: pure functions, `*_to_ros` / `*_from_ros` pairs, one module per area."""
