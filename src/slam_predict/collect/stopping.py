@@ -1,0 +1,90 @@
+"""The thesis' stop rule: compare SLAM map snapshots taken at fixed sim-time intervals.
+
+A snapshot is the SLAM occupancy grid rendered as an 8-bit map_saver image over the full
+configured map extent (xmin..xmax, ymin..ymax at ``delta``): 0 occupied, 205 unknown, 254 free.
+Every ``interval_s`` of sim time (120 s for buildings under ``small_area_m2``) a snapshot is taken;
+the run stops when the mean squared error between two consecutive snapshots is below
+``mse_threshold``, or after ``max_snapshots`` snapshots.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import List, Optional
+
+import numpy as np
+
+OCCUPIED, UNKNOWN, FREE = 0, 205, 254
+
+
+@dataclass
+class StopConfig:
+    """Stop-rule settings (s, m², grey levels²)."""
+
+    interval_s: float = 600.0
+    small_interval_s: float = 120.0
+    small_area_m2: float = 250.0
+    mse_threshold: float = 10.0
+    max_snapshots: int = 18
+    stuck_timeout_s: float = 300.0
+    max_sim_time_s: float = 4 * 3600.0
+    max_wall_time_s: float = 3600.0
+
+    def interval_for(self, free_area_m2: float) -> float:
+        """Snapshot interval (s) for a building of ``free_area_m2``."""
+        return self.small_interval_s if free_area_m2 < self.small_area_m2 else self.interval_s
+
+
+def grid_to_snapshot(grid: np.ndarray) -> np.ndarray:
+    """map_saver grey levels (uint8) of an int8 occupancy grid (-1 unknown, 0..100)."""
+    snap = np.full(grid.shape, UNKNOWN, dtype=np.uint8)
+    snap[(grid >= 0) & (grid <= 25)] = FREE
+    snap[grid >= 65] = OCCUPIED
+    return snap
+
+
+def snapshot_mse(a: np.ndarray, b: np.ndarray) -> float:
+    """Mean squared grey-level difference of two equal-size snapshots (over every pixel)."""
+    if a.shape != b.shape:
+        raise ValueError(f"snapshot shapes differ: {a.shape} vs {b.shape}")
+    known = (a != UNKNOWN) | (b != UNKNOWN)
+    rows = np.flatnonzero(known.any(axis=1))
+    if rows.size == 0:
+        return 0.0
+    cols = np.flatnonzero(known.any(axis=0))
+    window = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+    diff = a[window].astype(np.int32) - b[window].astype(np.int32)
+    return float(np.square(diff).sum()) / a.size
+
+
+@dataclass
+class SnapshotMSE:
+    """Stateful stop rule: feed it snapshots when ``due``; it says when to stop (keeps only the last)."""
+
+    config: StopConfig
+    interval_s: float
+    next_time: float = field(init=False)
+    last: Optional[np.ndarray] = None
+    times: List[float] = field(default_factory=list)
+    mses: List[float] = field(default_factory=list)
+    reason: Optional[str] = None
+
+    def __post_init__(self) -> None:
+        self.next_time = self.interval_s
+
+    def due(self, t: float) -> bool:
+        """True when a snapshot should be taken at sim time ``t`` (s)."""
+        return t + 1e-9 >= self.next_time
+
+    def add(self, t: float, snapshot: np.ndarray) -> bool:
+        """Record a snapshot taken at ``t``; returns True when the run should stop."""
+        if self.last is not None:
+            mse = snapshot_mse(self.last, snapshot)
+            self.mses.append(mse)
+            if mse < self.config.mse_threshold:
+                self.reason = "map_converged"
+        self.last = snapshot
+        self.times.append(t)
+        self.next_time += self.interval_s
+        if self.reason is None and len(self.times) >= self.config.max_snapshots:
+            self.reason = "max_snapshots"
+        return self.reason is not None

@@ -1,0 +1,27 @@
+"""A stand-in episode for batch tests: deterministic pseudo-results from the seed, written
+atomically like the real episode. ``FAKE_EPISODE_SLEEP`` (s) slows it down for kill tests."""
+import json
+import os
+import time
+
+import numpy as np
+
+from slam_predict.atomic import atomic_dir
+
+
+def run_episode(spec):
+    rng = np.random.default_rng(spec.seed)
+    record = {
+        "world": spec.world, "run_index": spec.index, "seed": spec.seed,
+        "metric": {"trans_mean": float(rng.uniform(0.1, 0.3)),
+                   "rot_mean": float(rng.uniform(0.01, 0.02)),
+                   "trans_sq_mean": float(rng.uniform(0.01, 0.09)),
+                   "rot_sq_mean": float(rng.uniform(1e-4, 4e-4))},
+        "distance_m": float(rng.uniform(50, 60)), "rotation_rad": float(rng.uniform(20, 30)),
+        "coverage": 0.97, "sim_duration_s": 1200.0, "wall_time_s": time.time(),
+    }
+    with atomic_dir(spec.out_dir) as tmp:
+        (tmp / "trajectory.txt").write_text("x" * 1000)
+        time.sleep(float(os.environ.get("FAKE_EPISODE_SLEEP", "0")))
+        (tmp / "run.json").write_text(json.dumps(record))
+    return record

@@ -1,0 +1,47 @@
+"""The snapshot MSE stop rule against a direct full-image computation."""
+import numpy as np
+
+from slam_predict.collect.stopping import (FREE, OCCUPIED, UNKNOWN, SnapshotMSE, StopConfig,
+                                           grid_to_snapshot, snapshot_mse)
+
+
+def test_grid_to_snapshot_map_saver_values():
+    grid = np.array([[-1, 0, 100], [25, 26, 65]], dtype=np.int8)
+    assert grid_to_snapshot(grid).tolist() == [[UNKNOWN, FREE, OCCUPIED], [FREE, UNKNOWN, OCCUPIED]]
+
+
+def test_mse_equals_full_image_reference():
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        a = np.full((200, 300), UNKNOWN, np.uint8)
+        b = a.copy()
+        r, c = rng.integers(0, 150), rng.integers(0, 250)
+        a[r:r + 40, c:c + 30] = rng.choice([FREE, OCCUPIED], (40, 30))
+        b[r + 5:r + 45, c:c + 50] = rng.choice([FREE, OCCUPIED, UNKNOWN], (40, 50))
+        ref = np.mean((a.astype(float) - b.astype(float)) ** 2)
+        assert np.isclose(snapshot_mse(a, b), ref)
+    assert snapshot_mse(a, a) == 0.0
+
+
+def test_rule_stops_when_map_stops_changing():
+    cfg = StopConfig(interval_s=600.0, mse_threshold=10.0)
+    rule = SnapshotMSE(cfg, cfg.interval_for(1000.0))
+    snap = np.full((100, 100), UNKNOWN, np.uint8)
+    assert not rule.due(599.0) and rule.due(600.0)
+    snap[:50] = FREE
+    assert not rule.add(600.0, snap.copy())     # first snapshot: nothing to compare
+    snap[50:] = FREE
+    assert not rule.add(1200.0, snap.copy())    # half the map changed: MSE large
+    assert rule.add(1800.0, snap.copy())        # unchanged: MSE 0 < 10
+    assert rule.reason == "map_converged" and rule.mses[-1] == 0.0
+    assert rule.times == [600.0, 1200.0, 1800.0]
+
+
+def test_small_buildings_use_short_interval_and_cap():
+    cfg = StopConfig(max_snapshots=3)
+    assert cfg.interval_for(100.0) == 120.0 and cfg.interval_for(300.0) == 600.0
+    rule = SnapshotMSE(cfg, 120.0)
+    rng = np.random.default_rng(0)
+    stops = [rule.add(120.0 * (i + 1), rng.choice([FREE, OCCUPIED], (50, 50)).astype(np.uint8))
+             for i in range(3)]
+    assert stops == [False, False, True] and rule.reason == "max_snapshots"
