@@ -13,6 +13,7 @@ MODULES = (
     "slam_predict.slam.gmapping.kernels",
     "slam_predict.nav.kernels",
     "slam_predict.features.kernels",
+    "slam_predict.metric.kernels",
 )
 
 

@@ -7,7 +7,7 @@ from slam_predict.collect.stopping import (FREE, OCCUPIED, UNKNOWN, SnapshotMSE,
 
 def test_grid_to_snapshot_map_saver_values():
     grid = np.array([[-1, 0, 100], [25, 26, 65]], dtype=np.int8)
-    assert grid_to_snapshot(grid).tolist() == [[UNKNOWN, FREE, OCCUPIED], [FREE, UNKNOWN, OCCUPIED]]
+    assert grid_to_snapshot(grid).tolist() == [[FREE, UNKNOWN, OCCUPIED], [UNKNOWN, FREE, OCCUPIED]]
 
 
 def test_mse_equals_full_image_reference():

@@ -47,6 +47,7 @@ class BatchConfig:
     base_seed: int = 0
     progress: bool = True
     episode: str = "slam_predict.collect.episode:run_episode"
+    options: Dict = field(default_factory=dict)
 
 
 def resolve_callable(path: str) -> Callable:
@@ -127,7 +128,8 @@ class Batch:
                 if index not in done:
                     specs.append(RunSpec(str(path), world, index,
                                          run_seed(self.config.base_seed, world, index),
-                                         str(self.store.run_dir(world, index))))
+                                         str(self.store.run_dir(world, index)),
+                                         dict(self.config.options)))
         return specs
 
     def run(self) -> int:

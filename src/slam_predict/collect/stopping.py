@@ -13,7 +13,7 @@ from typing import List, Optional
 
 import numpy as np
 
-OCCUPIED, UNKNOWN, FREE = 0, 205, 254
+from slam_predict.formats.mapserver import FREE, OCCUPIED, UNKNOWN, occupancy_to_image
 
 
 @dataclass
@@ -35,11 +35,8 @@ class StopConfig:
 
 
 def grid_to_snapshot(grid: np.ndarray) -> np.ndarray:
-    """map_saver grey levels (uint8) of an int8 occupancy grid (-1 unknown, 0..100)."""
-    snap = np.full(grid.shape, UNKNOWN, dtype=np.uint8)
-    snap[(grid >= 0) & (grid <= 25)] = FREE
-    snap[grid >= 65] = OCCUPIED
-    return snap
+    """map_saver image (uint8, row 0 = top) of an int8 OccupancyGrid array (row 0 = bottom)."""
+    return occupancy_to_image(grid)
 
 
 def snapshot_mse(a: np.ndarray, b: np.ndarray) -> float:

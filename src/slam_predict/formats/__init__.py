@@ -1,1 +1,1 @@
-"""formats"""
+"""File formats: CARMEN logs, TUM trajectories, Freiburg relations, map_server maps, ROS bag poses."""

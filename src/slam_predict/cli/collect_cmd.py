@@ -1,0 +1,77 @@
+"""``slam-predict collect``: resumable batches of simulated explorations with GMapping."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Dict, List
+
+from slam_predict.errors import InputError
+
+NAME = "collect"
+HELP = "run (or resume) simulated explorations of worlds and write run records + summary.csv"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("worlds", nargs="+", metavar="WORLD",
+                        help="Stage .world files, or folders of them")
+    parser.add_argument("--out", required=True, metavar="DATA", help="campaign folder")
+    parser.add_argument("--runs", default="5", metavar="N|auto",
+                        help="runs per world, or 'auto' (pilot of 10, then |R| = z²s²/d²)")
+    parser.add_argument("--max-runs", type=int, default=50, help="cap for --runs auto")
+    parser.add_argument("--jobs", type=int, default=1, help="local worker processes")
+    parser.add_argument("--scheduler", metavar="tcp://HOST:8786",
+                        help="run on a Dask distributed cluster instead of local processes")
+    parser.add_argument("--seed", type=int, default=0, help="base seed of the campaign")
+    parser.add_argument("--settings", metavar="YAML",
+                        help="collection settings (robot, gmapping, navigation, exploration, "
+                             "stopping); default config/collect.yaml")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def find_worlds(items: List[str]) -> Dict[str, str]:
+    """World name (file stem) → path, for .world files and folders of them."""
+    worlds: Dict[str, str] = {}
+    for item in items:
+        path = Path(item)
+        if path.is_dir():
+            files = sorted(path.glob("*.world"))
+            if not files:
+                raise InputError("folder holds no .world file", item)
+        elif path.is_file():
+            if path.suffix != ".world":
+                raise InputError("not a Stage .world file", item)
+            files = [path]
+        else:
+            raise InputError("world file not found", item)
+        for file in files:
+            if file.stem in worlds and worlds[file.stem] != str(file):
+                raise InputError(f"two worlds named '{file.stem}'", file)
+            worlds[file.stem] = str(file)
+    return worlds
+
+
+def parse_runs(text: str):
+    """'auto' or a positive run count."""
+    if text == "auto":
+        return text
+    if not text.isdigit() or int(text) < 1:
+        raise InputError(f"--runs must be a positive integer or 'auto', got '{text}'")
+    return int(text)
+
+
+def run(args: argparse.Namespace) -> int:
+    from slam_predict.collect.batch import Batch, BatchConfig
+    from slam_predict.collect.summary import write_summary
+
+    worlds = find_worlds(args.worlds)
+    options = {"settings": args.settings} if args.settings else {}
+    config = BatchConfig(runs=parse_runs(args.runs), max_runs=args.max_runs, jobs=args.jobs,
+                         scheduler=args.scheduler, base_seed=args.seed,
+                         progress=not args.no_progress, options=options)
+    batch = Batch(worlds, args.out, config)
+    done = batch.run()
+    summary = write_summary(Path(args.out))
+    print(f"{done} runs done; summary: {summary}")
+    for failure in batch.failures:
+        print(f"failed: {failure}")
+    return 1 if batch.failures else 0
