@@ -82,15 +82,46 @@ def load_occupancy(path: os.PathLike | str, free_threshold: int = FREE_THRESHOLD
     return ~remove_outside(free_mask(grey, free_threshold), os.fspath(path))
 
 
+def _source_ranges(n_src: int, n_new: int):
+    """For each target pixel along one axis, the half-open range [lo, hi) of source pixels.
+
+    Downsampling (a target pixel spans ≥ 1 source pixel): every source pixel it overlaps by
+    more than a rounding error. Upsampling: the one source pixel under the target's centre.
+    """
+    scale = n_src / n_new
+    j = np.arange(n_new)
+    if scale >= 1.0:
+        eps = 1e-9 * scale
+        lo = np.floor(j * scale + eps).astype(int)
+        hi = np.ceil((j + 1) * scale - eps).astype(int)
+    else:
+        lo = np.floor((j + 0.5) * scale).astype(int)
+        hi = lo + 1
+    lo = np.clip(lo, 0, n_src - 1)
+    return lo, np.clip(np.maximum(hi, lo + 1), 1, n_src)
+
+
+def _any_over_ranges(values: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int) -> np.ndarray:
+    """any(values[..., lo[k]:hi[k], ...]) along ``axis`` for every k, via cumulative sums."""
+    counts = np.cumsum(values, axis=axis, dtype=np.int64)
+    pad = [(0, 0)] * values.ndim
+    pad[axis] = (1, 0)
+    counts = np.pad(counts, pad)
+    return (np.take(counts, hi, axis=axis) - np.take(counts, lo, axis=axis)) > 0
+
+
 def resample_square(occupied: np.ndarray, size_m: tuple, resolution: float) -> np.ndarray:
     """Resample an occupancy bitmap stretched to ``size_m`` (W, H m) onto square pixels.
 
-    Nearest-neighbour sampling at pixel centres, so walls keep their position; the result has
-    round(W/res) x round(H/res) pixels.
+    The result has round(W/res) x round(H/res) pixels. Per axis: when target pixels are
+    larger than source pixels (downsampling) a target pixel is occupied if ANY source pixel it
+    covers is, so thin walls survive; when they are smaller (upsampling) it copies the source
+    pixel under its centre (nearest neighbour), so walls keep their position and thickness.
     """
     rows, cols = occupied.shape
     new_cols = max(1, int(round(size_m[0] / resolution)))
     new_rows = max(1, int(round(size_m[1] / resolution)))
-    src_c = np.minimum(((np.arange(new_cols) + 0.5) * cols / new_cols).astype(int), cols - 1)
-    src_r = np.minimum(((np.arange(new_rows) + 0.5) * rows / new_rows).astype(int), rows - 1)
-    return occupied[np.ix_(src_r, src_c)]
+    lo_c, hi_c = _source_ranges(cols, new_cols)
+    lo_r, hi_r = _source_ranges(rows, new_rows)
+    by_cols = _any_over_ranges(np.asarray(occupied, dtype=bool), lo_c, hi_c, axis=1)
+    return _any_over_ranges(by_cols, lo_r, hi_r, axis=0)
