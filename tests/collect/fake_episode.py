@@ -15,8 +15,8 @@ def run_episode(spec):
         "world": spec.world, "run_index": spec.index, "seed": spec.seed,
         "metric": {"trans_mean": float(rng.uniform(0.1, 0.3)),
                    "rot_mean": float(rng.uniform(0.01, 0.02)),
-                   "trans_sq_mean": float(rng.uniform(0.01, 0.09)),
-                   "rot_sq_mean": float(rng.uniform(1e-4, 4e-4))},
+                   "trans_sqr_mean": float(rng.uniform(0.01, 0.09)),
+                   "rot_sqr_mean": float(rng.uniform(1e-4, 4e-4))},
         "distance_m": float(rng.uniform(50, 60)), "rotation_rad": float(rng.uniform(20, 30)),
         "coverage": 0.97, "sim_duration_s": 1200.0, "wall_time_s": time.time(),
     }

@@ -2,7 +2,7 @@
 
 Columns (m, rad): world, runs, trans_mean, trans_std, rot_mean, rot_std (mean and std over runs
 of each run's mean absolute relation error), path_length_mean, rotation_mean (ground-truth
-path), and the squared-error variants trans_sq_mean, trans_sq_std, rot_sq_mean, rot_sq_std.
+path), and the squared-error variants trans_sqr_mean, trans_sqr_std, rot_sqr_mean, rot_sqr_std.
 Std over runs uses ddof = 0, as the seed study's tables (numpy ``std``).
 """
 from __future__ import annotations
@@ -18,8 +18,8 @@ from slam_predict.atomic import write_text
 from slam_predict.collect.store import RunStore
 
 COLUMNS = ("world", "runs", "trans_mean", "trans_std", "rot_mean", "rot_std",
-           "path_length_mean", "rotation_mean", "trans_sq_mean", "trans_sq_std",
-           "rot_sq_mean", "rot_sq_std", "coverage_mean", "sim_time_mean_s")
+           "path_length_mean", "rotation_mean", "trans_sqr_mean", "trans_sqr_std",
+           "rot_sqr_mean", "rot_sqr_std", "coverage_mean", "sim_time_mean_s")
 
 
 def building_row(world: str, records: List[Dict]) -> Dict[str, float]:
@@ -34,15 +34,15 @@ def building_row(world: str, records: List[Dict]) -> Dict[str, float]:
         return np.asarray(out)
 
     trans, rot = values("metric", "trans_mean"), values("metric", "rot_mean")
-    trans_sq, rot_sq = values("metric", "trans_sq_mean"), values("metric", "rot_sq_mean")
+    trans_sqr, rot_sqr = values("metric", "trans_sqr_mean"), values("metric", "rot_sqr_mean")
     return {
         "world": world, "runs": len(records),
         "trans_mean": trans.mean(), "trans_std": trans.std(),
         "rot_mean": rot.mean(), "rot_std": rot.std(),
         "path_length_mean": values("distance_m").mean(),
         "rotation_mean": values("rotation_rad").mean(),
-        "trans_sq_mean": trans_sq.mean(), "trans_sq_std": trans_sq.std(),
-        "rot_sq_mean": rot_sq.mean(), "rot_sq_std": rot_sq.std(),
+        "trans_sqr_mean": trans_sqr.mean(), "trans_sqr_std": trans_sqr.std(),
+        "rot_sqr_mean": rot_sqr.mean(), "rot_sqr_std": rot_sqr.std(),
         "coverage_mean": values("coverage").mean(),
         "sim_time_mean_s": values("sim_duration_s").mean(),
     }

@@ -1,0 +1,183 @@
+"""One exploration run with GMapping in the loop, from a World and a seed to a run record.
+
+The closed loop (:class:`slam_predict.explore.loop.ClosedLoop`: simulator → GMapping →
+navigator ← explorer) is stepped at ``interval_sim`` (10 Hz). At every step the ground-truth
+pose, the odometry pose and the SLAM pose (map→odom ∘ odom→base_link, not only at processed
+scans) are recorded. The stop rule (:mod:`slam_predict.collect.stopping`) snapshots the SLAM map
+over its full xmin..xmax extent; when no frontier is left the robot idles and the MSE rule still
+decides, as in the thesis. A stuck robot, the sim-time cap and the wall-clock cap also end a
+run; the reason is recorded. The record is written into a temporary folder renamed at the end.
+"""
+from __future__ import annotations
+
+import functools
+import logging
+import subprocess
+import time
+from pathlib import Path
+from typing import Dict, List, Optional
+
+import numpy as np
+
+from slam_predict import __version__
+from slam_predict.atomic import atomic_dir
+from slam_predict.collect import record as rec
+from slam_predict.collect.settings import CollectSettings, load_settings
+from slam_predict.collect.stopping import SnapshotMSE, grid_to_snapshot
+
+LOG = logging.getLogger(__name__)
+STUCK_DISTANCE_M = 0.1
+
+
+@functools.lru_cache(maxsize=1)
+def code_version() -> str:
+    """Package version plus the git commit of the source tree, when known."""
+    try:
+        sha = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                             text=True, cwd=Path(__file__).parent, timeout=5).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        sha = ""
+    return f"{__version__}+{sha}" if sha else __version__
+
+
+def full_extent_grid(grid, params) -> np.ndarray:
+    """The SLAM grid pasted into the full xmin..xmax × ymin..ymax canvas at ``delta`` (−1 fill)."""
+    delta = params.delta
+    width = int(round((params.xmax - params.xmin) / delta))
+    height = int(round((params.ymax - params.ymin) / delta))
+    canvas = np.full((height, width), -1, dtype=np.int8)
+    col0 = int(round((grid.origin[0] - params.xmin) / delta))
+    row0 = int(round((grid.origin[1] - params.ymin) / delta))
+    src = grid.data
+    r0, c0 = max(row0, 0), max(col0, 0)
+    r1, c1 = min(row0 + src.shape[0], height), min(col0 + src.shape[1], width)
+    if r1 > r0 and c1 > c0:
+        canvas[r0:r1, c0:c1] = src[r0 - row0:r1 - row0, c0 - col0:c1 - col0]
+    return canvas
+
+
+def inscribed_radius(costmap) -> float:
+    """The costmap footprint's inscribed radius (m): the clearance the robot centre needs."""
+    if not costmap.footprint:
+        return float(costmap.robot_radius)
+    points = np.asarray(costmap.footprint, float)
+    edges = np.roll(points, -1, axis=0) - points
+    cross = np.abs(points[:, 0] * edges[:, 1] - points[:, 1] * edges[:, 0])
+    return float(np.min(cross / np.hypot(edges[:, 0], edges[:, 1])))
+
+
+class Recorder:
+    """Per-step trajectories (10 Hz) and the stuck detector."""
+
+    def __init__(self):
+        self.t: List[float] = []
+        self.gt: List[np.ndarray] = []
+        self.slam: List[np.ndarray] = []
+        self.odom: List[np.ndarray] = []
+        self._anchor = None
+        self._anchor_t = 0.0
+
+    def add(self, loop) -> None:
+        state = loop.state
+        self.t.append(float(state.t))
+        self.gt.append(np.array(state.true_pose, float))
+        self.slam.append(np.array(loop.robot_pose_map, float))
+        self.odom.append(np.array(state.odom_pose, float))
+        if self._anchor is None or np.hypot(*(state.true_pose[:2] - self._anchor)) > STUCK_DISTANCE_M:
+            self._anchor, self._anchor_t = np.array(state.true_pose[:2]), float(state.t)
+
+    def still_for(self, t: float) -> float:
+        """Sim time (s) since the robot last moved ``STUCK_DISTANCE_M``."""
+        return t - self._anchor_t
+
+    def trajectories(self) -> rec.Trajectories:
+        return rec.Trajectories(np.asarray(self.t), np.asarray(self.gt), np.asarray(self.slam),
+                                np.asarray(self.odom))
+
+
+def _stop_reason(loop, rule: SnapshotMSE, recorder: Recorder, settings: CollectSettings,
+                 wall_start: float) -> Optional[str]:
+    t = loop.t
+    if rule.reason:
+        return rule.reason
+    if not loop.explorer.done and recorder.still_for(t) >= settings.stop.stuck_timeout_s:
+        return "stuck"
+    if t >= settings.stop.max_sim_time_s:
+        return "max_sim_time"
+    if time.perf_counter() - wall_start >= settings.stop.max_wall_time_s:
+        return "wall_time_limit"
+    return None
+
+
+def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_m2: float):
+    """Step ``loop`` until the stop rule (or a limit) ends the run; snapshots go to ``folder``."""
+    rule = SnapshotMSE(settings.stop, settings.stop.interval_for(free_area_m2))
+    recorder = Recorder()
+    wall_start = time.perf_counter()
+    explorer_end: Optional[Dict] = None
+    while True:
+        loop.step()
+        recorder.add(loop)
+        if loop.explorer.done and explorer_end is None:
+            explorer_end = {"t": loop.t, "reason": str(loop.explorer.log.stop_reason)}
+        if rule.due(loop.t) and loop.grid is not None:
+            snapshot = grid_to_snapshot(full_extent_grid(loop.source.map(), settings.gmapping))
+            rule.add(loop.t, snapshot)
+            rec.write_snapshot(folder, len(rule.times), snapshot)
+        reason = _stop_reason(loop, rule, recorder, settings, wall_start)
+        if reason:
+            return reason, rule, recorder, explorer_end, time.perf_counter() - wall_start
+
+
+def measure(traj: rec.Trajectories, settings: CollectSettings, seed: int) -> Dict:
+    """The run's Kümmerle statistics on the pause-free trajectories (thesis sampling)."""
+    from slam_predict.metric.kummerle import evaluate_sampled
+
+    _, slam, gt = traj.adjusted()
+    m = settings.metric
+    result = evaluate_sampled(slam, gt, np.random.default_rng([seed, 1]), pilot=m.pilot,
+                              margin_trans=m.margin_trans, margin_rot=m.margin_rot,
+                              confidence=m.confidence)
+    return {**result.summary(), "info": result.info, "poses": int(len(gt))}
+
+
+def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
+    """Run one exploration (a :class:`~slam_predict.collect.batch.RunSpec`); returns run.json."""
+    from slam_predict.explore.coverage import coverage, reachable_free
+    from slam_predict.explore.loop import ClosedLoop
+    from slam_predict.world.load import load_plan
+
+    settings = settings or load_settings(spec.options.get("settings"))
+    world = load_plan(spec.world_path)
+    loop = ClosedLoop(world, spec.seed, settings.nav, settings.explore, settings.sim,
+                      map_source="gmapping", slam_params=settings.gmapping)
+    with atomic_dir(spec.out_dir) as folder:
+        reason, rule, recorder, explorer_end, wall = explore_until_stop(
+            loop, settings, folder, world.free_area_m2)
+        traj = recorder.trajectories()
+        grid = loop.source.map()
+        reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
+        record = {
+            "world": spec.world, "world_file": str(spec.world_path), "run_index": spec.index,
+            "seed": spec.seed, "code_version": code_version(), "config_hashes": settings.hashes(),
+            "settings_file": settings.source,
+            "odometry_model": settings.sim.odom.model,
+            "odometry_error": loop.sim.odom_error,
+            "stop_reason": reason, "explorer_end": explorer_end,
+            "sim_duration_s": float(loop.t), "wall_time_s": wall,
+            "distance_m": rec.path_length(traj.ground_truth),
+            "rotation_rad": rec.path_rotation(traj.ground_truth),
+            "coverage": coverage(world, grid, reach, loop.world_T_map),
+            "stalls": loop.log.stalls, "free_area_m2": world.free_area_m2,
+            "snapshots": [{"t": t, "mse": m} for t, m in zip(rule.times, [None] + rule.mses)],
+            "metric": measure(traj, settings, spec.seed),
+            "timing": {k: float(v) for k, v in loop.timing.items()},
+        }
+        rec.write_trajectories(folder, traj)
+        rec.write_map(folder, grid.data, grid.resolution, grid.origin)
+        if settings.bag:
+            rec.write_bag(folder, traj)
+        rec.write_run_json(folder, record)
+    LOG.info("%s run %d: %s after %.0f s sim (%.0f s wall), trans %.3f m", spec.world,
+             spec.index, reason, loop.t, wall, record["metric"]["trans_mean"])
+    return record

@@ -1,0 +1,129 @@
+"""Run records: everything one exploration run leaves behind, in ``DATA/<world>/<run-id>/``.
+
+Files (all written inside the episode's temporary folder, which is renamed when complete):
+``run.json`` (metadata + metric), ``ground_truth.tum``, ``slam.tum``, ``odom.tum`` (10 Hz,
+timestamp x y z qx qy qz qw), ``ground_truth.log`` / ``slam.log`` (CARMEN ``FLASER 0`` lines, as
+the thesis fed Freiburg's metricEvaluator), ``map.pgm`` + ``map.yaml`` (final SLAM map,
+map_saver values), ``map.png`` (preview), ``snapshots/snapshot_NN.png`` and optionally
+``run.bag`` (PoseStamped topics ``/base_pose_ground_truth`` and ``/slam_pose``).
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Dict, List, Tuple
+
+import cv2
+import numpy as np
+
+from slam_predict.formats import carmen, mapserver, tum
+from slam_predict.metric.association import dedupe_consecutive
+
+SCHEMA_VERSION = 1
+# run.json fields that legitimately differ between two runs with the same seed.
+TIMING_FIELDS = ("wall_time_s", "timing")
+GT_TOPIC, SLAM_TOPIC = "/base_pose_ground_truth", "/slam_pose"
+
+
+@dataclass
+class Trajectories:
+    """Synchronous trajectories of one run: times (N,) s and poses (N, 3) (m, m, rad)."""
+
+    t: np.ndarray
+    ground_truth: np.ndarray
+    slam: np.ndarray
+    odom: np.ndarray
+
+    def adjusted(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(t, slam, ground truth) with consecutive repeated ground-truth poses (pauses) removed,
+        the thesis' adjustment before the metric."""
+        keep_t, _ = dedupe_consecutive(self.t, self.ground_truth)
+        mask = np.isin(self.t, keep_t)
+        return self.t[mask], self.slam[mask], self.ground_truth[mask]
+
+
+def path_length(poses: np.ndarray) -> float:
+    """Length of a planar path (m)."""
+    return float(np.hypot(*np.diff(poses[:, :2], axis=0).T).sum()) if len(poses) > 1 else 0.0
+
+
+def path_rotation(poses: np.ndarray) -> float:
+    """Summed absolute heading change of a path (rad)."""
+    if len(poses) < 2:
+        return 0.0
+    step = np.diff(poses[:, 2])
+    return float(np.abs((step + np.pi) % (2 * np.pi) - np.pi).sum())
+
+
+def write_trajectories(folder: Path, traj: Trajectories) -> None:
+    """TUM and CARMEN files of the three trajectories."""
+    tum.write_tum(folder / "ground_truth.tum", traj.t, traj.ground_truth)
+    tum.write_tum(folder / "slam.tum", traj.t, traj.slam)
+    tum.write_tum(folder / "odom.tum", traj.t, traj.odom)
+    carmen.write_trajectory(folder / "ground_truth.log", traj.t, traj.ground_truth,
+                            odom_poses=traj.odom)
+    carmen.write_trajectory(folder / "slam.log", traj.t, traj.slam, odom_poses=traj.odom)
+
+
+def write_map(folder: Path, grid: np.ndarray, resolution: float, origin: Tuple[float, float]) -> None:
+    """Final SLAM map (OccupancyGrid values, row 0 = bottom) as map_server PGM+YAML and PNG."""
+    image = mapserver.occupancy_to_image(grid)
+    mapserver.write_map(folder / "map.yaml", image, resolution, (origin[0], origin[1], 0.0))
+    cv2.imwrite(str(folder / "map.png"), _crop_known(image))
+
+
+def write_snapshot(folder: Path, index: int, image: np.ndarray) -> None:
+    """One stop-rule snapshot (full-size map_saver image) as PNG."""
+    (folder / "snapshots").mkdir(exist_ok=True)
+    cv2.imwrite(str(folder / "snapshots" / f"snapshot_{index:02d}.png"), image)
+
+
+def write_bag(folder: Path, traj: Trajectories) -> None:
+    """A ROS bag with ground truth and SLAM poses as PoseStamped topics."""
+    from slam_predict.formats.rosbag import write_pose_bag
+    write_pose_bag(folder / "run.bag", {GT_TOPIC: (traj.t, traj.ground_truth),
+                                        SLAM_TOPIC: (traj.t, traj.slam)})
+
+
+def write_run_json(folder: Path, record: Dict) -> None:
+    """run.json (written last: its presence marks a complete record)."""
+    (folder / "run.json").write_text(json.dumps({"schema": SCHEMA_VERSION, **record}, indent=1,
+                                                sort_keys=True, default=_plain))
+
+
+def load_record(folder: Path) -> Tuple[Dict, Trajectories]:
+    """Reload a run record: run.json and the three TUM trajectories."""
+    folder = Path(folder)
+    record = json.loads((folder / "run.json").read_text())
+    t, gt = tum.read_tum(folder / "ground_truth.tum")
+    _, slam = tum.read_tum(folder / "slam.tum")
+    _, odom = tum.read_tum(folder / "odom.tum")
+    return record, Trajectories(t, gt, slam, odom)
+
+
+def without_timing(record: Dict) -> Dict:
+    """A run.json dict minus the fields that depend on the machine's speed."""
+    return {k: v for k, v in record.items() if k not in TIMING_FIELDS}
+
+
+def _crop_known(image: np.ndarray, margin: int = 10) -> np.ndarray:
+    known = image != mapserver.UNKNOWN
+    if not known.any():
+        return image[:1, :1]
+    rows, cols = np.flatnonzero(known.any(1)), np.flatnonzero(known.any(0))
+    return image[max(rows[0] - margin, 0):rows[-1] + margin + 1,
+                 max(cols[0] - margin, 0):cols[-1] + margin + 1]
+
+
+def _plain(value):
+    """JSON default for numpy scalars and arrays."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    raise TypeError(f"not JSON serialisable: {type(value)}")
+
+
+FILES: List[str] = ["run.json", "ground_truth.tum", "slam.tum", "odom.tum", "ground_truth.log",
+                    "slam.log", "map.pgm", "map.yaml", "map.png"]
