@@ -34,3 +34,17 @@ def test_atomic_dir(tmp_path):
             raise ValueError
     assert sorted(p.name for p in final.iterdir()) == ["run.json"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run1"]
+
+
+def test_files_get_umask_permissions(tmp_path):
+    import os
+    import stat
+    mask = os.umask(0o022)
+    try:
+        write_text(tmp_path / "f.txt", "x")
+        with atomic_dir(tmp_path / "d") as tmp:
+            (tmp / "a").write_text("y")
+    finally:
+        os.umask(mask)
+    assert stat.S_IMODE((tmp_path / "f.txt").stat().st_mode) == 0o644
+    assert stat.S_IMODE((tmp_path / "d").stat().st_mode) == 0o755
