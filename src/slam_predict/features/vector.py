@@ -1,0 +1,200 @@
+"""The full feature vector of a World: ``compute_features(world, config) -> {name: value}``.
+
+Four families are registered in :data:`REGISTRY` (in this order): ``geometric``,
+``topological``, ``voronoi_graph`` and ``voronoi_traversal``. They share one
+:class:`Context`, which computes the interior/Voronoi skeleton, the rooms, the topological and
+Voronoi graphs and the traversal once, lazily.
+
+Every feature is computed on a working grid of ``working_resolution_m`` (0.1 m/px): plans with
+finer pixels are resampled conservatively (a cell is an obstacle if any source pixel in it is),
+so that a building gives the same features whatever resolution it was drawn or loaded at, and
+large plans stay fast. Coarser plans are used as they are; 0 disables the resampling.
+
+``FeaturesConfig.mode = "thesis_compatible"`` switches the Voronoi graph and the traversal to
+the seed code's behaviour (see :mod:`traversal`); ``FEATURE_VERSION`` changes whenever a
+feature's definition does, and :func:`feature_version` adds the configuration hash.
+"""
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Dict, Optional, Tuple
+
+import numpy as np
+
+from slam_predict.config import config_hash
+from slam_predict.features import geometric, graph_metrics
+from slam_predict.features import rooms as rooms_mod
+from slam_predict.features import topology as topology_mod
+from slam_predict.features import traversal as traversal_mod
+from slam_predict.features import voronoi as voronoi_mod
+from slam_predict.features.registry import Registry
+from slam_predict.world.bitmap import resample_square
+from slam_predict.world.model import World
+
+LOG = logging.getLogger(__name__)
+FEATURE_VERSION = "1"
+MODES = traversal_mod.MODES
+FAMILIES = ("geometric", "topological", "voronoi_graph", "voronoi_traversal")
+
+
+@dataclass(frozen=True)
+class FeaturesConfig:
+    """Everything the feature extractor reads from ``config/features.yaml``."""
+
+    mode: str = "documented"
+    working_resolution_m: float = 0.1
+    families: Tuple[str, ...] = FAMILIES
+    rooms: rooms_mod.RoomsConfig = field(default_factory=rooms_mod.RoomsConfig)
+    topology: topology_mod.TopologyConfig = field(default_factory=topology_mod.TopologyConfig)
+    geometry: geometric.GeometryConfig = field(default_factory=geometric.GeometryConfig)
+    voronoi: voronoi_mod.VoronoiConfig = field(default_factory=voronoi_mod.VoronoiConfig)
+    traversal: traversal_mod.TraversalConfig = field(
+        default_factory=traversal_mod.TraversalConfig)
+
+    def __post_init__(self) -> None:
+        if self.mode not in MODES:
+            raise ValueError(f"mode must be one of {', '.join(MODES)}, got {self.mode!r}")
+        for name in self.families:
+            REGISTRY.family(name)
+        if self.working_resolution_m < 0:
+            raise ValueError("working_resolution_m must be ≥ 0 (0 = the map's own)")
+
+    def voronoi_config(self) -> voronoi_mod.VoronoiConfig:
+        """Voronoi settings with the mode applied."""
+        return dataclasses.replace(self.voronoi,
+                                   thesis_compatible=self.mode == "thesis_compatible")
+
+    def traversal_config(self) -> traversal_mod.TraversalConfig:
+        """Traversal settings with the mode applied."""
+        return dataclasses.replace(self.traversal, mode=self.mode)
+
+
+def working_world(world: World, resolution: float) -> World:
+    """``world`` on a grid of ``resolution`` m/px when its own pixels are finer (obstacle where
+    any source pixel is, :func:`bitmap.resample_square`); unchanged otherwise or when 0."""
+    if resolution <= 0 or world.resolution >= resolution * (1 - 1e-6):
+        return world
+    occupied = resample_square(world.occupied, world.size_m, resolution)
+    return world.replace(occupied=occupied, resolution=resolution)
+
+
+class Context:
+    """Intermediate products of one World (on the working grid), computed on first use."""
+
+    def __init__(self, world: World, config: FeaturesConfig):
+        self.source = world
+        self.world = working_world(world, config.working_resolution_m)
+        self.config = config
+
+    @cached_property
+    def skeleton(self) -> voronoi_mod.Skeleton:
+        """Interior, feature transform and cleaned Voronoi skeleton."""
+        return voronoi_mod.skeleton_of(self.world.occupied, self.world.resolution,
+                                   self.config.voronoi_config())
+
+    @cached_property
+    def rooms(self) -> rooms_mod.Rooms:
+        """Room segmentation (or ground truth)."""
+        return rooms_mod.rooms_of(self.world, self.config.rooms, self.skeleton)
+
+    @cached_property
+    def topology(self) -> topology_mod.TopologyGraph:
+        """Room graph."""
+        return topology_mod.topology_graph(self.rooms, self.config.topology)
+
+    @cached_property
+    def voronoi(self) -> voronoi_mod.VoronoiGraph:
+        """Sparsified Voronoi graph."""
+        return voronoi_mod.voronoi_graph(self.world.occupied, self.world.resolution,
+                                     self.config.voronoi_config(), self.skeleton)
+
+    @cached_property
+    def traversal(self) -> traversal_mod.TraversalResult:
+        """Voronoi traversal from the world's start pose."""
+        start = self.world.world_to_cell(self.world.start_pose[:2])
+        return traversal_mod.traverse(self.voronoi, self.world.occupied, start,
+                                  float(self.world.start_pose[2]),
+                                  self.config.traversal_config())
+
+    def path_xy(self) -> np.ndarray:
+        """The traversal path as (K, 2) world coordinates, m."""
+        return self.world.cell_to_world(self.traversal.path_rc)
+
+
+def _geometric(ctx: Context) -> Dict[str, float]:
+    return geometric.geometric_features(ctx.skeleton.interior, ctx.rooms,
+                                        ctx.world.resolution, ctx.config.geometry)
+
+
+def _prefixed(prefix: str, values: Dict[str, float]) -> Dict[str, float]:
+    return {f"{prefix}_{k}": v for k, v in values.items()}
+
+
+def _topological(ctx: Context) -> Dict[str, float]:
+    return _prefixed("topology", topology_mod.topology_metrics(ctx.topology))
+
+
+def _voronoi_graph(ctx: Context) -> Dict[str, float]:
+    graph = ctx.voronoi
+    return _prefixed("voronoi", graph_metrics.metrics(graph.order, graph.edges))
+
+
+def _voronoi_traversal(ctx: Context) -> Dict[str, float]:
+    result = ctx.traversal
+    return {"voronoi_traversal_distance": result.distance,
+            "voronoi_traversal_rotation": result.rotation,
+            "voronoi_traversal_rotation_smoothed": result.rotation_smoothed}
+
+
+def _graph_features(prefix: str, what: str):
+    return [(f"{prefix}_{name}", unit, f"{what}: {doc}")
+            for name, unit, doc in graph_metrics.METRICS]
+
+
+REGISTRY = Registry()
+REGISTRY.add_family("geometric", _geometric, geometric.FEATURES)
+REGISTRY.add_family("topological", _topological,
+                    _graph_features("topology", "room graph (largest component)"))
+REGISTRY.add_family("voronoi_graph", _voronoi_graph,
+                    _graph_features("voronoi", "sparsified Voronoi graph"))
+REGISTRY.add_family("voronoi_traversal", _voronoi_traversal, (
+    ("voronoi_traversal_distance", "m",
+     "length of the simulated exploration path on the Voronoi graph (Algorithms 3–4)"),
+    ("voronoi_traversal_rotation", "rad",
+     "summed |heading change| along that path between points > 0.5 m apart"),
+    ("voronoi_traversal_rotation_smoothed", "rad",
+     "summed |turn| of the path simplified by Douglas–Peucker (smoothing_tolerance_m)"),
+))
+
+
+def feature_version(config: Optional[FeaturesConfig] = None) -> str:
+    """``<FEATURE_VERSION>+<config hash>``: equal strings mean comparable feature vectors."""
+    return f"{FEATURE_VERSION}+{config_hash(config or FeaturesConfig())}"
+
+
+def compute_with_context(world: World, config: Optional[FeaturesConfig] = None
+                         ) -> Tuple[Dict[str, float], Context]:
+    """The flat feature vector and the :class:`Context` holding rooms, graphs and the path."""
+    config = config or FeaturesConfig()
+    ctx = Context(world, config)
+    values: Dict[str, float] = {}
+    for name in config.families:
+        family = REGISTRY.family(name)
+        out = family.compute(ctx)
+        expected = [f.name for f in family.features]
+        if list(out) != expected:
+            raise RuntimeError(f"family {name} returned {sorted(out)}, expected {expected}")
+        values.update({k: float(v) for k, v in out.items()})
+    bad = [k for k, v in values.items() if not math.isfinite(v)]
+    if bad:
+        LOG.warning("%s: non-finite features %s", world.name, ", ".join(bad))
+    return values, ctx
+
+
+def compute_features(world: World, config: Optional[FeaturesConfig] = None) -> Dict[str, float]:
+    """The flat feature vector {name: value} of ``world`` (units in :data:`REGISTRY`)."""
+    return compute_with_context(world, config)[0]
