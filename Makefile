@@ -20,7 +20,7 @@ test: setup
 	@$(MAKE) --no-print-directory pytest rostest
 
 pytest:
-	@$(PY) -m pytest tests $(PYTEST_ARGS)
+	@set +u; source setup.bash; set -u; $(PY) -m pytest tests $(PYTEST_ARGS)
 
 rostest:
 	@bash tools/run_rostests.sh

@@ -1,12 +1,33 @@
 #!/usr/bin/env bash
-# `make demo`: the main job on a shipped world. Outputs go under $1 (default out/demo).
+# `make demo`: the main job on shipped worlds, end to end. Outputs go under $1 (default out/demo):
+#   worlds/   preview of a shipped world
+#   data/     a small collection campaign (GMapping in the loop), its run records and summary.csv
+#   features/ the feature vector and overlay of a shipped world
+#   predict.json / predict.txt  the predicted GMapping error of that world
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${1:-$ROOT/out/demo}"
 set +u; source "$ROOT/setup.bash"; set -u
-mkdir -p "$OUT"
+mkdir -p "$OUT/worlds" "$OUT/features"
 WORLD="$ROOT/worlds/office_500.world"
-echo "[demo] validating and rendering $WORLD"
+
+echo "[demo] 1/4 validate and render $WORLD"
 slam-predict worlds validate "$WORLD"
-slam-predict worlds show "$WORLD" --out "$OUT/office_500_preview.png"
-echo "[demo] outputs in $OUT"
+slam-predict worlds show "$WORLD" --out "$OUT/worlds/office_500.png"
+
+echo "[demo] 2/4 collect: simulated explorations with GMapping (tiny + office_150, resumable)"
+slam-predict collect "$ROOT/worlds/tiny.world" "$ROOT/worlds/office_150.world" \
+  --runs "${DEMO_RUNS:-1}" --jobs 2 --out "$OUT/data" --no-progress
+cat "$OUT/data/summary.csv"
+
+echo "[demo] 3/4 features of office_500"
+slam-predict features "$WORLD" --json --overlay "$OUT/features/office_500_overlay.png" \
+  > "$OUT/features/office_500.json"
+
+echo "[demo] 4/4 predict GMapping's error in office_500 (shipped model)"
+slam-predict predict "$WORLD" | tee "$OUT/predict.txt"
+slam-predict predict "$WORLD" --json > "$OUT/predict.json"
+if slam-predict report --help > /dev/null 2>&1; then
+  slam-predict report "$OUT/data" --out "$OUT/report.html"
+fi
+echo "[demo] done: outputs in $OUT"

@@ -36,7 +36,9 @@ Other params (read in :func:`main` only): ``~config`` YAML file with a ``sim:`` 
 (:class:`~slam_predict.sim.SimConfig`, e.g. $(find slam_predict)/config/robot.yaml; default: the
 world file's robot with the default SimConfig), ``~odom_model`` and ``~integrator`` (override the
 config), ``~seed`` (int; default: fresh entropy, logged), ``~laser_z`` (m, default 0),
-``~ground_truth_frame_id``.
+``~ground_truth_frame_id``, ``~wait_for_service`` (default empty: start at once; else do not
+step until that service exists — the ROS path's orchestrator offers ``/orchestrator/ready`` once
+the run's nodes are up). The odometry model and errors in use are set as ``~odom_error``.
 """
 from __future__ import annotations
 
@@ -262,7 +264,12 @@ def main(argv=None) -> int:
     rospy.loginfo("stage_sim: %s (%d x %d cells at %g m), seed %d, odometry %s, speedup %g",
                   world.name, world.shape[1], world.shape[0], world.resolution, int(seed),
                   sim.odom_error, node.settings.speedup)
+    rospy.set_param("~odom_error", sim.odom_error)  # for run records (orchestrator)
     try:
+        wait = rospy.get_param("~wait_for_service", "")  # e.g. the orchestrator's ~ready
+        if wait:
+            rospy.loginfo("stage_sim: waiting for %s before stepping", wait)
+            rospy.wait_for_service(wait)
         node.run()
     except rospy.ROSInterruptException:
         pass

@@ -1,0 +1,205 @@
+"""``batch_explore``: a batch of exploration runs through the ROS graph, one launch per run.
+
+The batch logic is the in-process one (:class:`slam_predict.collect.batch.Batch`: worlds × runs,
+``runs: auto`` estimation, per-run seeds, resume — finished runs are never redone, an
+interrupted run's temporary folder is removed and the run redone); only the episode differs:
+:func:`launch_episode` starts ``single_run.launch`` with the roslaunch Python API
+(``ROSLaunchParent``), waits until its ``required`` orchestrator has written the record and
+exited, shuts the run's nodes down and returns run.json. ``DATA/summary.csv`` is regenerated at
+the end (:func:`slam_predict.collect.summary.write_summary`).
+
+Node choices (launch args ``sim``, ``slam``, ``nav``, ``explore``): ``slam_predict`` (our nodes,
+the default), the real packages ``stage`` (stage_ros/stageros), ``gmapping``
+(gmapping/slam_gmapping), ``move_base`` (move_base/move_base), ``explore_lite``
+(explore_lite/explore), or ``none`` (started elsewhere, e.g. on a real robot).
+
+Seeds: run ``i`` of world ``w`` gets ``run_seed(base_seed, w, i)`` (as the in-process batch);
+the simulator, explorer and SLAM nodes get the three children of ``SeedSequence(seed)`` in the
+in-process loop's order, as 31-bit integers (XML-RPC ints are signed 32-bit; the run seed
+itself is passed as a string).
+"""
+from __future__ import annotations
+
+import logging
+import time
+from pathlib import Path
+from typing import Dict, List
+
+import numpy as np
+
+from slam_predict.errors import InputError, did_you_mean
+
+LOG = logging.getLogger(__name__)
+PACKAGE, LAUNCH = "slam_predict", "single_run.launch"
+CHOICES = {
+    "sim": ("slam_predict", "stage", "none"),
+    "slam": ("slam_predict", "gmapping", "none"),
+    "nav": ("slam_predict", "move_base", "none"),
+    "explore": ("slam_predict", "explore_lite", "none"),
+}
+# options passed through to single_run.launch as name:=value when set
+PASS_THROUGH = ("max_sim_time", "max_wall_time", "snapshot_interval",
+                "ground_truth_source", "ground_truth_topic", "ground_truth_frame",
+                "ground_truth_fixed_frame", "speedup",
+                "odom_model", "orchestrator_config")
+RUN_TIMEOUT_MARGIN_S = 300.0
+
+
+def node_seeds(seed: int) -> Dict[str, int]:
+    """Seeds of the simulator, explorer and SLAM nodes of a run (in-process loop's order)."""
+    children = np.random.SeedSequence(int(seed)).spawn(3)
+    return {name: int(child.generate_state(1)[0] >> 1)  # 31 bits: an XML-RPC int param
+            for name, child in zip(("sim_seed", "explore_seed", "slam_seed"), children)}
+
+
+def check_choices(options: Dict) -> None:
+    """InputError for an unknown node choice (one line, with a did-you-mean hint)."""
+    for key, allowed in CHOICES.items():
+        value = str(options.get(key, "slam_predict"))
+        if value not in allowed:
+            raise InputError(f"{key}:={value} is not one of {', '.join(allowed)}"
+                             + did_you_mean(value, allowed))
+
+
+def find_worlds(path: str) -> Dict[str, str]:
+    """World name → file: every ``*.world`` in a folder (sorted), or one world file."""
+    p = Path(path).expanduser()
+    if p.is_dir():
+        files = sorted(p.glob("*.world"))
+        if not files:
+            raise InputError("no *.world files in this folder", str(p))
+    elif p.is_file():
+        files = [p]
+    else:
+        raise InputError("no such world file or folder", str(p))
+    return {f.stem: str(f.resolve()) for f in files}
+
+
+def component_configs(settings_path=None) -> Dict[str, str]:
+    """The node config files a collect.yaml names (absolute), as single_run.launch args, so
+    the nodes run with the configs whose hashes the record states."""
+    from slam_predict.collect.settings import DEFAULT_SETTINGS, CollectFiles
+    from slam_predict.config import from_dict, load_yaml
+
+    path = Path(settings_path or DEFAULT_SETTINGS).resolve()
+    files = from_dict(CollectFiles, load_yaml(path), str(path))
+    base = path.parent
+    return {"settings": str(path), "robot_config": str(base / files.robot),
+            "gmapping_config": str(base / files.gmapping),
+            "nav_config_dir": str((base / files.navigation).resolve()),
+            "explore_config": str(base / files.explore)}
+
+
+def launch_arguments(spec) -> List[str]:
+    """``name:=value`` arguments of single_run.launch for a :class:`RunSpec`."""
+    options = spec.options
+    args = {"world": spec.world_path, "world_name": spec.world, "run_index": spec.index,
+            "seed": spec.seed, "out": spec.out_dir, **node_seeds(spec.seed),
+            **component_configs(options.get("settings") or None)}
+    for key in CHOICES:
+        args[key] = options.get(key, "slam_predict")
+    for key in PASS_THROUGH:
+        if options.get(key) not in (None, ""):
+            args[key] = options[key]
+    return [f"{k}:={v}" for k, v in args.items()]
+
+
+def launch_episode(spec) -> dict:
+    """One run through the ROS graph (the batch's episode function); returns run.json.
+
+    Raises RuntimeError when the run ended without a record (a node died, the run timed out).
+    """
+    import json
+
+    import roslaunch
+
+    check_choices(spec.options)
+    path = spec.options.get("launch_file") or roslaunch.rlutil.resolve_launch_arguments(
+        [PACKAGE, LAUNCH])[0]
+    uuid = roslaunch.rlutil.get_or_generate_uuid(None, False)
+    parent = roslaunch.parent.ROSLaunchParent(uuid, [(path, launch_arguments(spec))],
+                                              is_core=False, show_summary=False)
+    timeout = float(spec.options.get("run_timeout") or 0) or _default_timeout(spec.options)
+    started = time.monotonic()
+    parent.start()
+    try:
+        while not parent.runner.pm.is_shutdown and not _interrupted():
+            if time.monotonic() - started > timeout:
+                LOG.error("%s run %d: no record after %.0f s wall: stopping it", spec.world,
+                          spec.index, timeout)
+                break
+            parent.spin_once()
+            time.sleep(0.1)
+    finally:
+        parent.shutdown()
+    wall = time.monotonic() - started
+    run_json = Path(spec.out_dir) / "run.json"
+    if not run_json.is_file():
+        raise RuntimeError(f"run ended after {wall:.0f} s wall without a record in {spec.out_dir}"
+                           " (see the nodes' logs in ~/.ros/log)")
+    LOG.info("%s run %d: %.1f s wall including launch and shutdown", spec.world, spec.index, wall)
+    return json.loads(run_json.read_text())
+
+
+def _interrupted() -> bool:
+    try:
+        import rospy
+        return rospy.core.is_initialized() and rospy.is_shutdown()
+    except ImportError:
+        return False
+
+
+def _default_timeout(options: Dict) -> float:
+    """Per-run wall limit: the stop rule's wall-clock limit plus a margin for launch/shutdown."""
+    wall = float(options.get("max_wall_time") or 0)
+    if wall <= 0:
+        from slam_predict.collect.settings import load_settings
+        wall = load_settings(options.get("settings") or None).stop.max_wall_time_s
+    return wall + RUN_TIMEOUT_MARGIN_S
+
+
+def run_batch(worlds: str, runs, out: str, options: Dict, base_seed: int = 0,
+              max_runs: int = 50) -> int:
+    """Run (or resume) the batch; returns the number of failed runs."""
+    from slam_predict.collect.batch import Batch, BatchConfig
+    from slam_predict.collect.summary import write_summary
+
+    check_choices(options)
+    runs = runs if runs == "auto" else int(runs)
+    config = BatchConfig(runs=runs, max_runs=max_runs, jobs=1, base_seed=base_seed,
+                         progress=False, episode="slam_predict.ros.batch_runner:launch_episode",
+                         options=dict(options))
+    batch = Batch(find_worlds(worlds), out, config)
+    Path(out).mkdir(parents=True, exist_ok=True)
+    done = batch.run()
+    path = write_summary(Path(out))
+    LOG.info("%d runs done, %d failed; summary %s", done, len(batch.failures), path)
+    for failure in batch.failures:
+        LOG.error("failed: %s", failure)
+    return len(batch.failures)
+
+
+def main(argv=None) -> int:
+    """Node entry point: ~worlds, ~runs, ~out, ~base_seed, ~max_runs and the run options."""
+    import rospy
+
+    from slam_predict.ros.rosout import forward_logging
+
+    rospy.init_node("batch_explore", argv=argv)
+    forward_logging(rospy)
+    get = rospy.get_param
+    options = {key: get(f"~{key}", "slam_predict") for key in CHOICES}
+    for key in PASS_THROUGH + ("settings", "run_timeout", "launch_file"):
+        value = get(f"~{key}", "")
+        if value not in ("", None):
+            options[key] = value
+    try:
+        failures = run_batch(str(get("~worlds")), get("~runs", 1), str(get("~out")), options,
+                             int(get("~base_seed", 0)), int(get("~max_runs", 50)))
+    except InputError as exc:
+        rospy.logfatal("batch_explore: %s", exc.one_line())
+        return 2
+    except KeyError as exc:
+        rospy.logfatal("batch_explore: parameter %s is not set", exc)
+        return 2
+    return 1 if failures else 0

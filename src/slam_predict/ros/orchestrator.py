@@ -1,0 +1,253 @@
+"""One run of the ROS path: the stop rule, the 10 Hz trajectories and the run record.
+
+:class:`RunMonitor` is the orchestrator node's logic as a plain class, fed by calls (so it is
+tested without a master): ``tick(t)`` for every /clock message (or timer tick on a real robot),
+``set_map(grid)`` for every /map, ``resolve(lookup)`` to turn the queued sample times into poses
+once tf and the ground-truth source have them, ``set_explorer_end`` when the explorer gives up.
+
+It applies the same rules as the in-process episode (:mod:`slam_predict.collect.episode`):
+
+* a sample is queued at every multiple of ``sample_period_s`` (0.1 s; the first at t0 + 0.1 s
+  as the in-process loop's first step; ticks may be missed or irregular) and holds ground truth, the SLAM pose (tf map→base_link, i.e. map→odom ∘
+  odom→base_link) and the odometry pose (tf odom→base_link) at that time; samples whose poses
+  never arrive within ``max_sample_delay_s`` of ROS time are dropped (and counted);
+* the SLAM map (the latest /map) is snapshotted over the full xmin..xmax extent every
+  ``interval`` s (:class:`~slam_predict.collect.stopping.SnapshotMSE`); the run stops on MSE
+  convergence or after ``max_snapshots``, when the robot is stuck (no 0.1 m of ground-truth
+  progress for ``stuck_timeout_s`` while the explorer is still running), at ``max_sim_time_s``
+  or after ``max_wall_time_s`` of wall time;
+* stalls are counted as in Stage: a stall starts at a sample where odometry advanced while the
+  ground truth did not move at all (the simulator refused the move).
+
+Times: ``t`` is the ROS time of a tick (sim time, starting at 0, under /clock); the stop rule
+uses the elapsed time ``t − t0`` (``t0`` = 0 in simulation, the first tick on a real robot).
+"""
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from types import SimpleNamespace
+from typing import Callable, Deque, Dict, List, Optional
+
+import numpy as np
+
+from slam_predict.collect import record as rec
+from slam_predict.collect.stopping import SnapshotMSE, StopConfig, grid_to_snapshot
+
+LOG = logging.getLogger(__name__)
+STUCK_DISTANCE_M = 0.1          # the in-process episode's progress distance
+STILL_EPS = 1e-9                # m / rad: "did not move at all" (a refused move)
+TIME_EPS = 1e-6                 # s: tick times are compared with this tolerance
+
+
+@dataclass
+class Sample:
+    """Poses at one sample time (s): ground truth (world), SLAM (map), odometry (odom)."""
+
+    t: float
+    ground_truth: np.ndarray
+    slam: np.ndarray
+    odom: np.ndarray
+
+
+class Unavailable(Exception):
+    """A pose at a sample time will never be available (a gap in its source)."""
+
+
+# lookup(t, now) -> Sample (ready), None (not yet), or raises Unavailable (see RunMonitor.resolve)
+PoseLookup = Callable[[float, float], Optional[Sample]]
+
+
+@dataclass
+class MonitorSettings:
+    """Sampling of the run (s of ROS time)."""
+
+    sample_period_s: float = 0.1
+    max_sample_delay_s: float = 10.0
+
+
+@dataclass
+class RunMonitor:
+    """Stop rule, stuck/limit checks and trajectory sampling of one run (module docstring).
+
+    Args:
+        stop: the stop-rule settings; interval_s: snapshot interval for this building (s).
+        extent: (xmin, ymin, xmax, ymax) m of the snapshot canvas (GMapping's map extent).
+        settings: sampling; t0: elapsed-time origin (s); wall_clock: monotonic seconds.
+        on_snapshot: called with (index from 1, image) for each snapshot taken.
+    """
+
+    stop: StopConfig
+    interval_s: float
+    extent: tuple = (-100.0, -100.0, 100.0, 100.0)
+    settings: MonitorSettings = field(default_factory=MonitorSettings)
+    t0: float = 0.0
+    wall_clock: Callable[[], float] = time.monotonic
+    on_snapshot: Optional[Callable[[int, np.ndarray], None]] = None
+
+    def __post_init__(self) -> None:
+        self.rule = SnapshotMSE(self.stop, self.interval_s)
+        self.samples: List[Sample] = []
+        self.pending: Deque[float] = deque()
+        self.grid = None
+        self.reason: Optional[str] = None
+        self.explorer_end: Optional[Dict] = None
+        self.now: Optional[float] = None
+        self.t_stop: Optional[float] = None
+        self.dropped = 0
+        self.stalls = 0
+        self._stalled = False
+        self._next_k = 1
+        self._anchor: Optional[np.ndarray] = None
+        self._anchor_t = self.t0
+        self.wall_start = self.wall_clock()
+
+    # -- inputs ----------------------------------------------------------------------------
+    def tick(self, t: float) -> Optional[str]:
+        """ROS time advanced to ``t`` (s): queue a sample, snapshot, check the stop rules.
+
+        Returns the stop reason once the run has ended (later ticks only advance ``now``).
+        """
+        if self.now is not None and t < self.now - TIME_EPS:
+            LOG.warning("time went backwards (%.3f s -> %.3f s): tick ignored", self.now, t)
+            return self.reason
+        self.now = t
+        if self.reason is not None:
+            return self.reason
+        period = self.settings.sample_period_s
+        while self.t0 + self._next_k * period <= t + TIME_EPS:  # every grid time up to t,
+            self.pending.append(self.t0 + self._next_k * period)  # even if ticks were missed
+            self._next_k += 1
+        elapsed = t - self.t0
+        if self.rule.due(elapsed) and self.grid is not None:
+            self._snapshot(elapsed)
+        reason = self._stop_reason(elapsed)
+        if reason:
+            self.reason, self.t_stop = reason, t
+            LOG.info("run stops at %.1f s: %s", elapsed, reason)
+        return self.reason
+
+    def set_map(self, grid) -> None:
+        """The latest SLAM map (:class:`slam_predict.slam.OccupancyGrid`)."""
+        self.grid = grid
+
+    def set_explorer_end(self, t: float, reason: str) -> None:
+        """The explorer stopped (no frontier left...): the robot idles, the MSE rule decides."""
+        if self.explorer_end is None:
+            self.explorer_end = {"t": float(t - self.t0), "reason": str(reason)}
+
+    def request_stop(self, reason: str = "stop_requested") -> None:
+        """End the run now (e.g. the operator ends a laboratory run), at the latest tick."""
+        if self.reason is None:
+            self.reason = reason
+            self.t_stop = self.now if self.now is not None else self.t0
+
+    def resolve(self, lookup: PoseLookup) -> int:
+        """Turn queued sample times into samples, in order; returns how many were added.
+
+        ``lookup(t, now)`` returns the :class:`Sample` at ``t``, None while some pose is not
+        available yet, or raises :class:`Unavailable`; a sample that is unavailable, or still
+        missing ``max_sample_delay_s`` after its time, is dropped.
+        """
+        added = 0
+        now = self.now if self.now is not None else -math.inf
+        while self.pending:
+            t = self.pending[0]
+            try:
+                sample = lookup(t, now)
+            except Unavailable as exc:
+                self.pending.popleft()
+                self.dropped += 1
+                LOG.warning("sample at %.2f s dropped: %s", t, exc)
+                continue
+            if sample is None:
+                if now - t < self.settings.max_sample_delay_s:
+                    break
+                self.pending.popleft()
+                self.dropped += 1
+                LOG.warning("sample at %.2f s dropped: poses unavailable for %.1f s", t, now - t)
+                continue
+            self.pending.popleft()
+            self._add(sample)
+            added += 1
+        return added
+
+    def drop_pending(self) -> int:
+        """Give up on every queued sample (end of run); returns how many were dropped."""
+        count = len(self.pending)
+        self.dropped += count
+        self.pending.clear()
+        return count
+
+    # -- state -----------------------------------------------------------------------------
+    @property
+    def done(self) -> bool:
+        """The stop rule has ended the run."""
+        return self.reason is not None
+
+    @property
+    def sim_duration_s(self) -> float:
+        """Elapsed ROS time of the run (s): up to the stop, or to the latest tick."""
+        end = self.t_stop if self.t_stop is not None else (self.now or self.t0)
+        return float(end - self.t0)
+
+    def still_for(self, elapsed: float) -> float:
+        """Time (s) since the ground truth last moved ``STUCK_DISTANCE_M``."""
+        return elapsed - (self._anchor_t - self.t0)
+
+    def trajectories(self) -> rec.Trajectories:
+        """The samples as :class:`~slam_predict.collect.record.Trajectories`."""
+        def stack(name: str) -> np.ndarray:
+            return np.array([getattr(s, name) for s in self.samples], float).reshape(-1, 3)
+        return rec.Trajectories(np.array([s.t for s in self.samples], float),
+                                stack("ground_truth"), stack("slam"), stack("odom"))
+
+    # -- internals -------------------------------------------------------------------------
+    def _snapshot(self, elapsed: float) -> None:
+        xmin, ymin, xmax, ymax = self.extent
+        canvas = SimpleNamespace(delta=float(self.grid.resolution), xmin=xmin, ymin=ymin,
+                                 xmax=xmax, ymax=ymax)
+        from slam_predict.collect.episode import full_extent_grid
+        image = grid_to_snapshot(full_extent_grid(self.grid, canvas))
+        self.rule.add(elapsed, image)
+        while self.rule.next_time <= elapsed + TIME_EPS:  # late first map: no burst of snapshots
+            self.rule.next_time += self.interval_s
+        if self.on_snapshot is not None:
+            self.on_snapshot(len(self.rule.times), image)
+        mse = self.rule.mses[-1] if self.rule.mses else None
+        LOG.info("snapshot %d at %.1f s (MSE %s)", len(self.rule.times), elapsed,
+                 "-" if mse is None else f"{mse:.2f}")
+
+    def _stop_reason(self, elapsed: float) -> Optional[str]:
+        stop = self.stop
+        if self.rule.reason:
+            return self.rule.reason
+        if self.explorer_end is None and self.still_for(elapsed) >= stop.stuck_timeout_s:
+            return "stuck"
+        if elapsed + TIME_EPS >= stop.max_sim_time_s:
+            return "max_sim_time"
+        if self.wall_clock() - self.wall_start >= stop.max_wall_time_s:
+            return "wall_time_limit"
+        return None
+
+    def _add(self, sample: Sample) -> None:
+        gt = np.asarray(sample.ground_truth, float)
+        odom = np.asarray(sample.odom, float)
+        if self.samples:
+            prev = self.samples[-1]
+            stalled = _moved(prev.odom, odom) > STILL_EPS and _moved(prev.ground_truth, gt) <= STILL_EPS
+            if stalled and not self._stalled:
+                self.stalls += 1
+            self._stalled = stalled
+        if self._anchor is None or math.hypot(*(gt[:2] - self._anchor)) > STUCK_DISTANCE_M:
+            self._anchor, self._anchor_t = gt[:2].copy(), float(sample.t)
+        self.samples.append(Sample(float(sample.t), gt, np.asarray(sample.slam, float), odom))
+
+
+def _moved(a: np.ndarray, b: np.ndarray) -> float:
+    """Largest of the translation (m) and the |rotation| (rad) between two poses."""
+    dth = (b[2] - a[2] + math.pi) % (2 * math.pi) - math.pi
+    return max(math.hypot(b[0] - a[0], b[1] - a[1]), abs(dth))

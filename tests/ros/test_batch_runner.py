@@ -1,0 +1,84 @@
+"""batch_explore's pure parts: worlds, node choices, per-node seeds, single_run.launch arguments."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from slam_predict.collect.batch import Batch, BatchConfig, RunSpec
+from slam_predict.collect.store import run_seed
+from slam_predict.errors import InputError
+from slam_predict.ros import batch_runner as br
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_node_seeds_follow_the_in_process_split_and_fit_xmlrpc():
+    seeds = br.node_seeds(123)
+    children = np.random.SeedSequence(123).spawn(3)   # ClosedLoop: sim, explore, slam
+    assert seeds == {"sim_seed": int(children[0].generate_state(1)[0] >> 1),
+                     "explore_seed": int(children[1].generate_state(1)[0] >> 1),
+                     "slam_seed": int(children[2].generate_state(1)[0] >> 1)}
+    assert len(set(seeds.values())) == 3 and br.node_seeds(123) == seeds
+    for seed in range(50):
+        assert all(0 <= v < 2 ** 31 for v in br.node_seeds(seed).values())
+
+
+def test_find_worlds(tmp_path):
+    assert br.find_worlds(str(ROOT / "worlds" / "tiny.world")) == {
+        "tiny": str((ROOT / "worlds" / "tiny.world").resolve())}
+    worlds = br.find_worlds(str(ROOT / "worlds"))
+    assert "tiny" in worlds and list(worlds) == sorted(worlds)
+    with pytest.raises(InputError, match="no \\*.world files"):
+        br.find_worlds(str(tmp_path))
+    with pytest.raises(InputError, match="no such world file or folder"):
+        br.find_worlds(str(tmp_path / "missing"))
+
+
+def test_choices_are_checked_with_a_hint():
+    br.check_choices({"sim": "stage", "slam": "gmapping", "nav": "none",
+                      "explore": "explore_lite"})
+    with pytest.raises(InputError, match="nav:=move_bas is not one of .*did you mean 'move_base'"):
+        br.check_choices({"nav": "move_bas"})
+
+
+def test_launch_arguments_of_a_batch_run(tmp_path):
+    batch = Batch({"tiny": str(ROOT / "worlds" / "tiny.world")}, tmp_path,
+                  BatchConfig(runs=2, base_seed=7, options={"nav": "move_base",
+                                                            "max_sim_time": 30.0,
+                                                            "ground_truth_source": ""}))
+    spec = batch.pending()[1]
+    args = dict(a.split(":=", 1) for a in br.launch_arguments(spec))
+    assert args["world"] == str(ROOT / "worlds" / "tiny.world") and args["world_name"] == "tiny"
+    assert args["run_index"] == "1" and args["seed"] == str(run_seed(7, "tiny", 1))
+    assert args["out"] == str(tmp_path / "tiny" / "run_001")
+    assert args["sim_seed"] == str(br.node_seeds(spec.seed)["sim_seed"])
+    assert args["nav"] == "move_base" and args["sim"] == "slam_predict"
+    assert args["max_sim_time"] == "30.0" and "ground_truth_source" not in args
+    config = ROOT / "config"
+    assert args["settings"] == str(config / "collect.yaml")
+    assert args["robot_config"] == str(config / "robot.yaml")
+    assert args["gmapping_config"] == str(config / "gmapping.yaml")
+    assert args["nav_config_dir"] == str(config)
+    assert args["explore_config"] == str(config / "explore.yaml")
+
+
+def test_component_configs_follow_the_settings_file(tmp_path):
+    (tmp_path / "nav").mkdir()
+    settings = tmp_path / "collect.yaml"
+    settings.write_text("robot: my_robot.yaml\nnavigation: nav\n")
+    got = br.component_configs(str(settings))
+    assert got["robot_config"] == str(tmp_path / "my_robot.yaml")
+    assert got["nav_config_dir"] == str(tmp_path / "nav")
+    assert got["gmapping_config"] == str(tmp_path / "gmapping.yaml")
+    settings.write_text("robots: x.yaml\n")
+    with pytest.raises(InputError, match="unknown config key 'robots'.*did you mean 'robot'"):
+        br.component_configs(str(settings))
+
+
+def test_run_spec_options_reach_the_launch(tmp_path):
+    spec = RunSpec("/w/a.world", "a", 0, 5, str(tmp_path / "a" / "run_000"),
+                   {"sim": "stage", "speedup": 0.0, "odom_model": "fixed"})
+    args = br.launch_arguments(spec)
+    assert "sim:=stage" in args and "odom_model:=fixed" in args and "speedup:=0.0" in args
