@@ -1,0 +1,190 @@
+"""``slam-predict learn``: build the learning dataset, evaluate models, train a model folder.
+
+* ``learn dataset --errors CSV (--worlds DIR | --features CSV) --setting S --out DATASET.csv``
+  joins per-building error statistics (collection summary or thesis table) with features.
+* ``learn evaluate DATASET --out DIR`` runs the repeated 80/20 splits (and leave-one-building-
+  out) and writes tables, CSVs and figures.
+* ``learn train DATASET --name NAME`` evaluates, fits the best models on every building and
+  writes ``models/NAME`` with its card.
+"""
+from __future__ import annotations
+
+import argparse
+import logging
+import os
+
+from slam_predict.errors import InputError
+
+NAME = "learn"
+HELP = "build learning datasets, evaluate regression models, train shipped models"
+LOG = logging.getLogger(__name__)
+
+
+def _common(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--config", metavar="YAML",
+                        help="learning configuration (default: config/learning.yaml)")
+    parser.add_argument("--splits", type=int, metavar="N", help="number of random splits")
+    parser.add_argument("--no-loo", action="store_true",
+                        help="skip leave-one-building-out")
+    parser.add_argument("--models", nargs="+", metavar="KIND",
+                        help="model kinds (single fregression elasticnet random_forest "
+                             "gradient_boosting)")
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    sub = parser.add_subparsers(dest="learn_command", metavar="ACTION")
+    ds = sub.add_parser("dataset", help="join error statistics with feature vectors")
+    ds.add_argument("--errors", required=True, metavar="CSV",
+                    help="summary.csv of a collection or a thesis stats_*.csv")
+    src = ds.add_mutually_exclusive_group(required=True)
+    src.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
+    src.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
+    ds.add_argument("--setting", help="robot setting of the errors (realistic, optimistic...)")
+    ds.add_argument("--slam-config-hash", help="SLAM configuration hash (default: the table's)")
+    ds.add_argument("--feature-version", help="feature version of a --features table")
+    ds.add_argument("--feature-config", metavar="YAML",
+                    help="feature configuration (section 'features'; default: the defaults)")
+    ds.add_argument("--save-features", metavar="CSV",
+                    help="with --worlds: also write the feature table (reusable by --features)")
+    ds.add_argument("--out", required=True, metavar="CSV", help="dataset file to write")
+    ds.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    ev = sub.add_parser("evaluate", help="repeated splits + leave-one-out → tables and plots")
+    ev.add_argument("dataset", metavar="DATASET", help="dataset CSV from 'learn dataset'")
+    ev.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    ev.add_argument("--title", default="Evaluation", help="title of tables.md")
+    ev.add_argument("--reference-features", nargs="+", metavar="COLUMN",
+                    help="use the dataset's ref_* columns as the only features (development)")
+    _common(ev)
+    tr = sub.add_parser("train", help="evaluate, fit the best models and write models/NAME")
+    tr.add_argument("dataset", metavar="DATASET", help="dataset CSV from 'learn dataset'")
+    tr.add_argument("--name", required=True, help="model folder name")
+    tr.add_argument("--models-dir", metavar="DIR", help="where model folders go (default models/)")
+    tr.add_argument("--description", default="", help="one sentence for the card")
+    tr.add_argument("--priority", type=int, default=0,
+                    help="rank among models of the same setting for '--model best'")
+    tr.add_argument("--evaluation-out", metavar="DIR", help="also write the evaluation here")
+    _common(tr)
+
+
+def default_config_path() -> str:
+    from slam_predict.learn.store import default_models_dir
+
+    return str(default_models_dir().parent / "config" / "learning.yaml")
+
+
+def load_learning_config(args: argparse.Namespace):
+    from slam_predict.config import from_dict, load_yaml, to_dict
+    from slam_predict.learn.config import LearningConfig
+
+    path = args.config or default_config_path()
+    data = load_yaml(path) if (args.config or os.path.isfile(path)) else {}
+    config = from_dict(LearningConfig, data.get("learning", data), path)
+    changes = to_dict(config)
+    if args.splits is not None:
+        if args.splits < 1:
+            raise InputError(f"--splits must be ≥ 1, got {args.splits}")
+        changes["evaluation"]["n_splits"] = args.splits
+    if args.no_loo:
+        changes["evaluation"]["leave_one_out"] = False
+    if args.models:
+        changes["models"] = list(args.models)
+    return from_dict(LearningConfig, changes, "command line")
+
+
+def _feature_config(path):
+    from slam_predict.config import load_yaml
+
+    if path is None:
+        return {}
+    data = load_yaml(path)
+    return data.get("features", data)
+
+
+def run_dataset(args: argparse.Namespace) -> int:
+    from slam_predict.learn import dataset as ds
+
+    errors = ds.read_error_table(args.errors, args.setting or "")
+    if args.slam_config_hash:
+        for row in errors:
+            row.slam_config_hash = args.slam_config_hash
+    if any(not row.setting for row in errors):
+        raise InputError("the table has no setting column: give --setting", args.errors)
+    if args.worlds:
+        from slam_predict.learn.featurize import features_from_worlds, full_feature_config
+
+        feature_config = full_feature_config(_feature_config(args.feature_config))
+        features, version = features_from_worlds(args.worlds, [r.world for r in errors],
+                                                 feature_config, args.jobs)
+        if args.save_features:
+            ds.write_feature_table(features, version, args.save_features,
+                                   {"feature_config": feature_config,
+                                    "worlds": os.path.abspath(args.worlds)})
+    else:
+        feature_config = ds.read_meta(args.features).get("feature_config") or {}
+        features = ds.read_feature_table(args.features)
+        version = args.feature_version or ""
+        if not version and not all("feature_version" in v for v in features.values()):
+            raise InputError("features table has no feature_version column: give "
+                             "--feature-version", args.features)
+    data = ds.join(errors, features, version)
+    meta = {"errors": os.path.abspath(args.errors), "setting": args.setting,
+            "features_from": os.path.abspath(args.worlds or args.features),
+            "feature_config": feature_config}
+    ds.write_dataset(data, args.out, meta)
+    print(f"{args.out}: {len(data)} buildings × {len(data.feature_names)} features "
+          f"(setting {', '.join(sorted(set(data.setting)))}, feature version "
+          f"{', '.join(sorted(set(data.feature_version)))})")
+    return 0
+
+
+def _read(path: str, reference=None):
+    from slam_predict.learn import dataset as ds
+
+    data = ds.read_dataset(path)
+    if reference:
+        data = ds.reference_as_features(data, reference)
+    return data
+
+
+def run_evaluate(args: argparse.Namespace) -> int:
+    from slam_predict.learn.results import run_evaluation, write_evaluation
+    from slam_predict.learn.tables import best_table
+
+    config = load_learning_config(args)
+    data = _read(args.dataset, args.reference_features)
+    outcome = run_evaluation(data, config, n_jobs=args.jobs)
+    write_evaluation(data, config, outcome, args.out, args.title)
+    print(best_table(outcome.summary), end="")
+    print(f"written to {args.out}")
+    return 0
+
+
+def run_train(args: argparse.Namespace) -> int:
+    from slam_predict.learn.results import run_evaluation, write_evaluation
+    from slam_predict.learn.store import default_models_dir
+    from slam_predict.learn.dataset import read_meta
+    from slam_predict.learn.train import check_trainable, train_store
+
+    config = load_learning_config(args)
+    data = _read(args.dataset)
+    check_trainable(data)
+    outcome = run_evaluation(data, config, n_jobs=args.jobs)
+    if args.evaluation_out:
+        write_evaluation(data, config, outcome, args.evaluation_out, f"Model {args.name}")
+    meta = read_meta(args.dataset)
+    sources = {"dataset": os.path.basename(args.dataset),
+               **{k: os.path.basename(str(v)) for k, v in meta.items()
+                  if k in ("errors", "features_from") and v}}
+    out = train_store(data, config, outcome, args.name, args.models_dir or default_models_dir(),
+                      args.description, args.priority, meta.get("feature_config") or {},
+                      sources)
+    print(f"model written to {out}")
+    return 0
+
+
+def run(args: argparse.Namespace) -> int:
+    actions = {"dataset": run_dataset, "evaluate": run_evaluate, "train": run_train}
+    if args.learn_command not in actions:
+        raise InputError("choose an action: dataset, evaluate or train")
+    return actions[args.learn_command](args)

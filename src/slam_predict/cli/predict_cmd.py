@@ -1,0 +1,118 @@
+"""``slam-predict predict PLAN``: GMapping's expected localization error from a floor plan.
+
+Prints the four components (mean and std over runs of the mean relation error: translation in
+m, rotation in rad and deg), each with its 90 % interval and the model used; ``--json`` prints
+one JSON object instead. PLAN is an image (with ``--resolution`` or a map_server YAML beside
+it), a map YAML, a Stage .world or a layout XML; ``--world W`` takes the scale and the start
+pose from the Stage world W (PLAN may then be omitted: W's own floorplan is used).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+from slam_predict.errors import InputError
+
+NAME = "predict"
+HELP = "predict GMapping's localization error on a floor plan"
+COMPONENT_CHOICES = ("all", "trans_mean", "trans_std", "rot_mean", "rot_std")
+LABELS = {"trans_mean": "mean translational error", "trans_std": "std of translational error",
+          "rot_mean": "mean rotational error", "rot_std": "std of rotational error"}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from slam_predict.cli.worlds_cmd import add_plan_arguments
+
+    parser.add_argument("plan", metavar="PLAN", nargs="?",
+                        help="floor plan: image (.png/.pgm...), map_server .yaml, .world or "
+                             "layout .xml")
+    parser.add_argument("--world", metavar="W",
+                        help="Stage .world giving PLAN's scale and start pose (or the plan "
+                             "itself when PLAN is omitted)")
+    add_plan_arguments(parser, plan=False)
+    parser.add_argument("--component", default="all", metavar="C",
+                        help="all (default), trans_mean, trans_std, rot_mean or rot_std")
+    parser.add_argument("--model", default="best",
+                        help="model folder name under models/ (or a path), default best")
+    parser.add_argument("--setting",
+                        help="robot setting (realistic, optimistic): with --model best the "
+                             "default is realistic; with a named model it must match its card")
+    parser.add_argument("--models-dir", metavar="DIR", help="model folders (default models/)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def _world_scale(world_path: str, plan: str):
+    """(resolution m/px, start (x, y, yaw deg)) for image ``plan`` from Stage world W."""
+    from slam_predict.world.bitmap import read_grey
+    from slam_predict.world.load import load_plan
+
+    ref = load_plan(world_path)
+    rows, cols = read_grey(plan).shape[:2]
+    width, height = ref.size_m
+    res_x, res_y = width / cols, height / rows
+    if abs(res_x - res_y) > 0.01 * res_x:
+        raise InputError(f"the world's floorplan size {width:g} x {height:g} m does not keep "
+                         f"the aspect ratio of {plan} ({cols} x {rows} px)", world_path)
+    x, y, yaw = ref.start_pose
+    return res_x, [float(x), float(y), math.degrees(yaw)]
+
+
+def load_world(args: argparse.Namespace):
+    """The World to predict on, from PLAN and/or --world and the plan options."""
+    from slam_predict.cli.worlds_cmd import load_plan_from_args
+
+    if args.world and args.resolution is not None:
+        raise InputError("give either --world or --resolution, not both")
+    if args.plan is None and args.world is None:
+        raise InputError("give a floor plan (PLAN) or --world W")
+    if args.world and (args.plan is None or args.plan.lower().endswith(".world")):
+        if args.plan is not None and args.plan != args.world:
+            raise InputError("give either a .world PLAN or --world, not both")
+        return load_plan_from_args(argparse.Namespace(**{**vars(args), "plan": args.world}))
+    if args.world:
+        from slam_predict.errors import require_file
+
+        require_file(args.plan, "plan")
+        resolution, start = _world_scale(require_file(args.world, "world"), args.plan)
+        changes = {"resolution": resolution, "start": args.start or start}
+        return load_plan_from_args(argparse.Namespace(**{**vars(args), **changes}))
+    return load_plan_from_args(args)
+
+
+def _interval(entry: dict, digits: int) -> str:
+    return f"{entry['low']:.{digits}f}–{entry['high']:.{digits}f}"
+
+
+def format_text(result: dict, components) -> str:
+    """Human-readable lines: value, interval and model per component, then warnings."""
+    conf = f"{100 * result['confidence']:g} %"
+    lines = [f"{result['world']}: predicted GMapping localization error "
+             f"(setting {result['setting']}, model {result['model_store']}, {conf} intervals)"]
+    for comp in components:
+        e = result[comp]
+        if e["unit"] == "m":
+            text = f"{e['value']:.3f} m ({conf} interval {_interval(e, 3)} m)"
+        else:
+            deg = {k: math.degrees(e[k]) for k in ("value", "low", "high")}
+            text = (f"{e['value']:.4f} rad = {deg['value']:.2f} deg ({conf} interval "
+                    f"{_interval(e, 4)} rad = {_interval(deg, 2)} deg)")
+        lines.append(f"  {comp:<10s} {LABELS[comp]:<27s} {text}  [{e['model']}]")
+    lines += [f"warning: {w}" for w in result["warnings"]]
+    return "\n".join(lines)
+
+
+def run(args: argparse.Namespace) -> int:
+    from slam_predict.learn.predict import components_of, predict_plan
+
+    components = components_of(args.component)  # before the (slow) feature computation
+    world = load_world(args)
+    setting = args.setting or ("realistic" if args.model == "best" else None)
+    result = predict_plan(world, args.model, setting, args.component, args.models_dir)
+    if args.json:
+        keys = ["world", "setting", "model_store", "confidence", *components, "warnings",
+                "features"]
+        print(json.dumps({k: result[k] for k in keys}, indent=2))
+    else:
+        print(format_text(result, components))
+    return 0

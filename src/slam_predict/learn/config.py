@@ -1,0 +1,98 @@
+"""Typed configuration of learning and evaluation (``config/learning.yaml``)."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional, Tuple
+
+from slam_predict.learn.estimators import THESIS_ALPHAS, THESIS_L1_RATIOS
+
+MODEL_KINDS = ("single", "fregression", "elasticnet", "random_forest", "gradient_boosting")
+
+
+@dataclass
+class FRegressionConfig:
+    """F-regression voting: subsets per K, their size, inner CV folds, largest K (None = F)."""
+
+    n_subsets: int = 100
+    subset_fraction: float = 0.8
+    cv: int = 5
+    max_k: Optional[int] = None
+
+
+@dataclass
+class ElasticNetConfig:
+    """ElasticNet grids (the thesis') and CV folds; ``scale_target`` standardises y too."""
+
+    l1_ratios: Tuple[float, ...] = THESIS_L1_RATIOS
+    alphas: Tuple[float, ...] = THESIS_ALPHAS
+    cv: int = 5
+    scale_target: bool = True
+
+
+@dataclass
+class ForestConfig:
+    """scikit-learn RandomForestRegressor settings."""
+
+    n_estimators: int = 100
+    min_samples_leaf: int = 2
+    max_features: float = 0.5
+
+
+@dataclass
+class BoostingConfig:
+    """scikit-learn GradientBoostingRegressor settings."""
+
+    n_estimators: int = 100
+    learning_rate: float = 0.1
+    max_depth: int = 2
+    subsample: float = 0.8
+
+
+@dataclass
+class ConformalConfig:
+    """Prediction intervals: coverage, ``cv_plus`` or ``split``, conformity score."""
+
+    confidence: float = 0.9
+    method: str = "cv_plus"
+    cv: int = 5
+    calibration_fraction: float = 0.25
+    conformity: str = "absolute"
+
+
+@dataclass
+class EvaluationConfig:
+    """Repeated random splits (seeds first_seed … first_seed + n_splits − 1) and LOBO."""
+
+    n_splits: int = 20
+    first_seed: int = 0
+    test_fraction: float = 0.2
+    leave_one_out: bool = True
+    loo_models: str = "best"  # "best": best + best single per component; "all": every kind
+
+
+@dataclass
+class LearningConfig:
+    """Everything ``slam-predict learn`` needs; ``seed`` feeds every estimator's random_state."""
+
+    models: Tuple[str, ...] = MODEL_KINDS
+    seed: int = 0
+    fregression: FRegressionConfig = field(default_factory=FRegressionConfig)
+    elasticnet: ElasticNetConfig = field(default_factory=ElasticNetConfig)
+    random_forest: ForestConfig = field(default_factory=ForestConfig)
+    gradient_boosting: BoostingConfig = field(default_factory=BoostingConfig)
+    conformal: ConformalConfig = field(default_factory=ConformalConfig)
+    evaluation: EvaluationConfig = field(default_factory=EvaluationConfig)
+
+    def __post_init__(self) -> None:
+        for kind in self.models:
+            if kind not in MODEL_KINDS:
+                raise ValueError(f"unknown model kind '{kind}' (choose from "
+                                 f"{', '.join(MODEL_KINDS)})")
+        if self.conformal.method not in ("cv_plus", "split"):
+            raise ValueError("conformal.method must be 'cv_plus' or 'split'")
+        if self.conformal.conformity not in ("absolute", "scaled"):
+            raise ValueError("conformal.conformity must be 'absolute' or 'scaled'")
+        if self.evaluation.loo_models not in ("best", "all"):
+            raise ValueError("evaluation.loo_models must be 'best' or 'all'")
+        if not 0.0 < self.evaluation.test_fraction < 1.0:
+            raise ValueError("evaluation.test_fraction must lie in (0, 1)")

@@ -1,0 +1,90 @@
+"""Feature vectors of a folder of worlds (e.g. the one ``worlds import-thesis`` writes).
+
+Each building ``NAME`` is the plan file ``DIR/NAME.world`` (else ``DIR/NAME.<any plan suffix>``,
+else ``DIR/NAME/NAME.world``); features are computed with
+:func:`slam_predict.features.vector.compute_features` in worker processes. The feature
+version is ``features.vector.feature_version``: the definition version plus the hash of the
+full feature configuration, so models refuse feature vectors computed differently.
+"""
+from __future__ import annotations
+
+import logging
+import os
+from pathlib import Path
+from typing import Any, Dict, Iterable, Mapping, Optional, Tuple
+
+from slam_predict.errors import InputError
+from slam_predict.world.load import PLAN_SUFFIXES
+
+LOG = logging.getLogger(__name__)
+
+
+def find_plan(folder: Path, name: str) -> Optional[Path]:
+    """The plan file of building ``name`` in ``folder``, or None."""
+    for candidate in (folder / f"{name}.world", folder / name / f"{name}.world"):
+        if candidate.is_file():
+            return candidate
+    for suffix in PLAN_SUFFIXES:
+        if (folder / f"{name}{suffix}").is_file():
+            return folder / f"{name}{suffix}"
+    return None
+
+
+def feature_config(overrides: Optional[Mapping[str, Any]] = None, source: str = "features"):
+    """A :class:`FeaturesConfig` from a plain dict (defaults for missing keys)."""
+    from slam_predict.config import from_dict
+    from slam_predict.features.vector import FeaturesConfig
+
+    return from_dict(FeaturesConfig, dict(overrides or {}), source)
+
+
+def full_feature_config(overrides: Optional[Mapping[str, Any]] = None) -> Dict[str, Any]:
+    """The complete feature configuration (defaults + ``overrides``) as a plain dict."""
+    from slam_predict.config import to_dict
+
+    return to_dict(feature_config(overrides))
+
+
+def version_of(config_dict: Mapping[str, Any]) -> str:
+    """The feature version (definition + configuration hash) of a feature configuration."""
+    from slam_predict.features.vector import feature_version
+
+    return feature_version(feature_config(config_dict))
+
+
+def compute(world, config_dict: Mapping[str, Any]) -> Dict[str, float]:
+    """The feature vector of ``world`` under the configuration ``config_dict``."""
+    from slam_predict.features.vector import compute_features
+
+    values = compute_features(world, feature_config(config_dict))
+    return {k: float(v) for k, v in values.items()}
+
+
+def _one(path: str, config_dict: Mapping[str, Any]) -> Dict[str, float]:
+    from slam_predict.world.load import load_plan
+
+    return compute(load_plan(path), config_dict)
+
+
+def features_from_worlds(folder: os.PathLike | str, names: Iterable[str],
+                         feature_config: Optional[Mapping[str, Any]] = None,
+                         n_jobs: int = 1) -> Tuple[Dict[str, Dict[str, float]], str]:
+    """({building: {feature: value}}, feature version) for the buildings that have a plan."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise InputError("worlds folder not found", folder)
+    plans = {}
+    for name in names:
+        path = find_plan(folder, name)
+        if path is None:
+            LOG.info("no plan for %s in %s", name, folder)
+        else:
+            plans[name] = str(path)
+    if not plans:
+        raise InputError("no plan of any listed building in this folder", folder)
+    LOG.info("computing features of %d buildings", len(plans))
+    from joblib import Parallel, delayed
+
+    config = full_feature_config(feature_config)
+    values = Parallel(n_jobs=n_jobs)(delayed(_one)(p, config) for p in plans.values())
+    return dict(zip(plans, values)), version_of(config)

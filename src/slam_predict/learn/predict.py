@@ -1,0 +1,125 @@
+"""Floor plan → features → the four error components with conformal intervals.
+
+:func:`predict_plan` computes the plan's features with the feature configuration stored in
+the model card, then evaluates each component's best model. Values are clipped at 0 (an error
+statistic cannot be negative); features outside the training range and clipped values are
+reported as warnings.
+"""
+from __future__ import annotations
+
+import logging
+import math
+from typing import Any, Dict, List, Optional, Sequence
+
+import numpy as np
+
+from slam_predict.errors import InputError, did_you_mean
+from slam_predict.learn.dataset import COMPONENTS, UNITS
+from slam_predict.learn.plain import predict_plain
+from slam_predict.learn.store import ModelStore, default_models_dir, resolve_store
+
+LOG = logging.getLogger(__name__)
+
+
+def components_of(component: str) -> Sequence[str]:
+    """``all`` → the four components; one name → itself; InputError otherwise."""
+    if component == "all":
+        return COMPONENTS
+    if component not in COMPONENTS:
+        choices = ("all",) + COMPONENTS
+        raise InputError(f"unknown component '{component}' (choose from "
+                         f"{', '.join(choices)})" + did_you_mean(component, choices))
+    return (component,)
+
+
+def range_warning(features: Dict[str, float], used: Sequence[str],
+                  ranges: Dict[str, List[float]], shown: int = 6) -> Optional[str]:
+    """One warning naming the used features outside their training range (None if none)."""
+    outside = []
+    for name in used:
+        low, high = ranges.get(name, (-math.inf, math.inf))
+        if not low <= features[name] <= high:
+            outside.append(f"{name} = {features[name]:.4g} not in [{low:.4g}, {high:.4g}]")
+    if not outside:
+        return None
+    more = f" (and {len(outside) - shown} more)" if len(outside) > shown else ""
+    return ("the prediction extrapolates: features outside the training range: "
+            + "; ".join(outside[:shown]) + more)
+
+
+def _evaluate(store: ModelStore, component: str, model_id: str, x: np.ndarray):
+    """(value, low, high): from the model's plain form if any, else the pickled model."""
+    form = store.plain(component, model_id)
+    if form is not None:
+        return tuple(float(v) for v in predict_plain(form, x)[0])
+    estimator = store.estimator(component, model_id)
+    low, high = estimator.predict_interval(x)[0]
+    return float(estimator.predict(x)[0]), float(low), float(high)
+
+
+def predict_features(features: Dict[str, float], store: ModelStore,
+                     component: str = "all") -> Dict[str, Any]:
+    """Predictions of ``store`` for one feature vector (name → value)."""
+    card = store.card
+    names = list(card["features"])
+    missing = [n for n in names if n not in features]
+    if missing:
+        raise InputError(f"feature '{missing[0]}' needed by model {store.name} was not computed")
+    x = np.array([[float(features[n]) for n in names]])
+    result: Dict[str, Any] = {"model_store": store.name, "setting": card["setting"],
+                              "confidence": card.get("confidence", 0.9)}
+    warnings_: List[str] = list(store.notes)
+    used_all: List[str] = []
+    for comp in components_of(component):
+        model_id = store.best(comp)
+        used = card["components"][comp]["models"][model_id]["features_used"]
+        bad = [n for n in used if not math.isfinite(float(features[n]))]
+        if bad:
+            raise InputError(f"feature '{bad[0]}' could not be computed for this plan")
+        value, low, high = _evaluate(store, comp, model_id, x)
+        if value < 0:
+            warnings_.append(f"{comp} predicted {value:.4g} {UNITS[comp]} < 0, clipped to 0")
+        result[comp] = {"value": max(value, 0.0), "low": max(low, 0.0), "high": max(high, 0.0),
+                        "model": f"{store.name}/{model_id}", "unit": UNITS[comp]}
+        used_all += [n for n in used if n not in used_all]
+    note = range_warning(features, used_all, card.get("feature_ranges", {}))
+    result["warnings"] = warnings_ + ([note] if note else [])
+    return result
+
+
+def compute_plan_features(world, card: Dict[str, Any]) -> Dict[str, float]:
+    """The plan's features with the card's feature configuration."""
+    from slam_predict.learn.featurize import compute
+
+    return compute(world, card.get("feature_config") or {})
+
+
+def check_feature_version(store: ModelStore) -> None:
+    """InputError unless this installation computes the card's feature version."""
+    from slam_predict.learn.featurize import version_of
+
+    current = version_of(store.card.get("feature_config") or {})
+    if current != store.card["feature_version"]:
+        raise InputError(f"model uses feature version {store.card['feature_version']}, this "
+                         f"slam_predict computes {current}; retrain with "
+                         "'slam-predict learn train'", store.path / "card.json")
+
+
+def predict_plan(world, model: str = "best", setting: Optional[str] = "realistic",
+                 component: str = "all", models_dir=None) -> Dict[str, Any]:
+    """Predict the error components of ``world`` (a :class:`World`).
+
+    Args:
+        model: a model folder name under ``models_dir`` (or a path), or ``best``.
+        setting: robot setting the model must have been trained for (None: any).
+        component: ``all`` or one of COMPONENTS.
+        models_dir: where model folders live (default: the package's ``models/``).
+    """
+    components_of(component)
+    store = resolve_store(models_dir or default_models_dir(), model, setting, None)
+    check_feature_version(store)
+    features = compute_plan_features(world, store.card)
+    result = predict_features(features, store, component)
+    result["world"] = world.name
+    result["features"] = features
+    return result
