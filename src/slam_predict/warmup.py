@@ -14,6 +14,7 @@ MODULES = (
     "slam_predict.nav.kernels",
     "slam_predict.features.kernels",
     "slam_predict.metric.kernels",
+    "slam_predict.world.raster",
 )
 
 

@@ -1,0 +1,285 @@
+"""Frontier exploration: choose frontier goals, watch the navigator, stop when none is left.
+
+Strategies (``strategy``):
+
+* ``nearest`` (the thesis): the frontier nearest the robot by Euclidean distance (to its
+  nearest cell); frontiers within ``tie_tolerance`` of the nearest tie and one is drawn with the
+  seeded generator. The goal point is the frontier cell nearest its centroid among those at
+  least ``goal_clearance`` from walls (:func:`~slam_predict.explore.frontiers.clear_goal`). The
+  goal is kept while its frontier lasts (some frontier cell within ``goal_frontier_radius`` of
+  the chosen frontier's reference cell) and replaced when it has been seen.
+* ``explore_lite``: explore_lite's cost potential_scale·min_distance·res − gain_scale·size·res
+  (its extra ×res included), lowest first, goal = the frontier centroid, re-chosen at every
+  tick (a changed target preempts the goal); no progress for ``progress_timeout`` blacklists.
+
+A frontier whose goal point is closer than ``near_frontier_distance`` to the robot (typically
+the laser's blind sector behind it) gives an in-place goal: the robot's position, facing it.
+
+A frontier whose goal was just visited is skipped until the next map arrives (the SLAM map
+lags the robot by up to map_update_interval).
+
+Common rules: a goal not reached within its time limit (goal_timeout_factor × first plan length
+/ max_vel_x + goal_timeout_offset, recorded) or ABORTED by the navigator is dropped, and the next
+goal is a random frontier; an ABORTED goal is blacklisted (frontiers whose goal lies within
+``blacklist_radius`` are skipped), as is one reached or timed out ``max_goal_attempts`` times.
+Exploration ends when no frontier is left (``no_frontiers``) or all are blacklisted
+(``all_frontiers_blacklisted``).
+"""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional, Protocol, Tuple
+
+import numpy as np
+
+from slam_predict.explore.frontiers import Frontier, clear_goal, find_frontiers
+
+LOG = logging.getLogger(__name__)
+STRATEGIES = ("nearest", "explore_lite")
+
+SUCCEEDED, ABORTED, PREEMPTED = 3, 4, 2  # actionlib_msgs/GoalStatus
+
+
+@dataclass
+class ExploreConfig:
+    """explore_lite's parameters plus the thesis' goal timeout (m, s, Hz)."""
+
+    strategy: str = "nearest"
+    robot_base_frame: str = "base_link"
+    costmap_topic: str = "map"
+    costmap_updates_topic: str = "map_updates"
+    visualize: bool = True
+    planner_frequency: float = 1.0
+    progress_timeout: float = 30.0
+    potential_scale: float = 3.0
+    orientation_scale: float = 0.0
+    gain_scale: float = 1.0
+    transform_tolerance: float = 0.3
+    min_frontier_size: float = 0.75
+    goal_timeout_factor: float = 2.0
+    goal_timeout_offset: float = 30.0
+    max_vel_x: float = 0.85
+    tie_tolerance: float = 0.05
+    blacklist_radius: float = 0.5
+    goal_frontier_radius: float = 1.0
+    max_goal_attempts: int = 3
+    goal_yaw: str = "approach"
+    near_frontier_distance: float = 1.0
+    goal_clearance: float = 0.5
+
+    def __post_init__(self) -> None:
+        if self.strategy not in STRATEGIES:
+            raise ValueError(f"strategy must be one of {', '.join(STRATEGIES)}, got "
+                             f"'{self.strategy}'")
+        if self.goal_yaw not in ("approach", "zero"):
+            raise ValueError("goal_yaw must be 'approach' or 'zero'")
+        if not (self.planner_frequency > 0 and self.max_vel_x > 0):
+            raise ValueError("planner_frequency and max_vel_x must be > 0")
+
+
+class GoalClient(Protocol):
+    """What the explorer needs from move_base (in-process navigator or actionlib client)."""
+
+    def send_goal(self, target: Tuple[float, float, float], t: float) -> None: ...
+
+    def cancel(self, t: float) -> None: ...
+
+    def status(self) -> Optional[int]: ...
+
+    def plan_length(self) -> Optional[float]: ...
+
+
+@dataclass
+class Goal:
+    """The explorer's current goal."""
+
+    target: Tuple[float, float, float]
+    t_sent: float
+    frontier_point: np.ndarray
+    frontier_size: int
+    min_distance: float
+    time_limit: Optional[float] = None
+    last_progress: float = 0.0
+
+
+@dataclass
+class ExploreLog:
+    """What happened: one dict per goal outcome, and the stop reason."""
+
+    goals: List[Dict[str, Any]] = field(default_factory=list)
+    stop_reason: Optional[str] = None
+    t_stop: Optional[float] = None
+
+    def counts(self) -> Dict[str, int]:
+        """Goal outcomes by kind."""
+        out: Dict[str, int] = {}
+        for g in self.goals:
+            out[g["outcome"]] = out.get(g["outcome"], 0) + 1
+        return out
+
+
+class Explorer:
+    """Frontier exploration driven by :meth:`step`; see the module docstring."""
+
+    def __init__(self, cfg: ExploreConfig, client: GoalClient, rng: np.random.Generator):
+        self.cfg = cfg
+        self.client = client
+        self.rng = rng
+        self.goal: Optional[Goal] = None
+        self.blacklist: List[np.ndarray] = []
+        self.attempts: List[Tuple[np.ndarray, int]] = []
+        self.random_next = False
+        self.frontiers: List[Frontier] = []
+        self.recent: List[Tuple[np.ndarray, object]] = []
+        self._grid = None
+        self.log = ExploreLog()
+        self._next_tick = -math.inf
+
+    @property
+    def done(self) -> bool:
+        """True once exploration has stopped."""
+        return self.log.stop_reason is not None
+
+    # ------------------------------------------------------------------------------- step
+    def step(self, t: float, grid, robot_pose) -> None:
+        """Check the current goal, and at ``planner_frequency`` (or at once after a goal ended)
+        recompute the frontiers and choose a goal. ``grid``: the SLAM map (None = none yet)."""
+        if self.done or grid is None:
+            return
+        self._grid = grid
+        self.recent = [(p, g) for p, g in self.recent if g is grid]
+        ended = self._check_goal(t)
+        if not ended and t + 1e-9 < self._next_tick:
+            return
+        self._next_tick = t + 1.0 / self.cfg.planner_frequency
+        self.frontiers = find_frontiers(grid, robot_pose[:2], self.cfg.min_frontier_size)
+        candidates = [f for f in self.frontiers if not self._blacklisted(f)]
+        if not candidates:
+            self._stop(t, "all_frontiers_blacklisted" if self.frontiers else "no_frontiers")
+            return
+        # frontiers just visited stay out until the map has been refreshed
+        fresh = [f for f in candidates if not self._near(f.goal, [p for p, _ in self.recent])]
+        if not fresh:
+            return
+        if self.cfg.strategy == "explore_lite":
+            self._explore_lite(t, fresh, grid.resolution, robot_pose)
+        else:
+            self._nearest(t, fresh, robot_pose)
+
+    def _check_goal(self, t: float) -> bool:
+        """Handle the navigator's outcome or the time limit; True if the goal ended."""
+        goal = self.goal
+        if goal is None:
+            return True
+        status = self.client.status()
+        if goal.time_limit is None and self.client.plan_length() is not None:
+            goal.time_limit = (self.cfg.goal_timeout_factor * self.client.plan_length()
+                               / self.cfg.max_vel_x + self.cfg.goal_timeout_offset)
+        if status == SUCCEEDED:
+            self._end_goal(t, "succeeded")
+            self._count_attempt(goal.frontier_point)
+            return True
+        if status == ABORTED:
+            self._end_goal(t, "aborted")
+            self.blacklist.append(goal.frontier_point)
+            self.random_next = True
+            return True
+        if status == PREEMPTED:  # by someone else: just choose again
+            self._end_goal(t, "preempted")
+            return True
+        if goal.time_limit is not None and t - goal.t_sent > goal.time_limit:
+            self.client.cancel(t)
+            self._end_goal(t, "timeout")
+            self._count_attempt(goal.frontier_point)
+            self.random_next = True
+            return True
+        return False
+
+    def _end_goal(self, t: float, outcome: str) -> None:
+        goal = self.goal
+        if outcome != "replaced":
+            self.recent.append((goal.frontier_point, self._grid))
+        self.log.goals.append({"target": [round(v, 3) for v in goal.target], "t_sent": goal.t_sent,
+                               "t_end": t, "outcome": outcome, "time_limit": goal.time_limit})
+        LOG.debug("goal (%.2f, %.2f) %s after %.1f s", goal.target[0], goal.target[1], outcome,
+                  t - goal.t_sent)
+        self.goal = None
+
+    def _count_attempt(self, point: np.ndarray) -> None:
+        for k, (p, n) in enumerate(self.attempts):
+            if np.hypot(*(p - point)) <= self.cfg.blacklist_radius:
+                self.attempts[k] = (p, n + 1)
+                if n + 1 >= self.cfg.max_goal_attempts:
+                    self.blacklist.append(p)
+                return
+        self.attempts.append((point, 1))
+        if self.cfg.max_goal_attempts <= 1:
+            self.blacklist.append(point)
+
+    def _blacklisted(self, frontier: Frontier) -> bool:
+        return self._near(frontier.goal, self.blacklist)
+
+    def _near(self, point: np.ndarray, points: List[np.ndarray]) -> bool:
+        return any(np.hypot(*(point - p)) <= self.cfg.blacklist_radius for p in points)
+
+    def _stop(self, t: float, reason: str) -> None:
+        if self.goal is not None:
+            self.client.cancel(t)
+            self._end_goal(t, "cancelled")
+        self.log.stop_reason = reason
+        self.log.t_stop = t
+        LOG.info("exploration stopped at %.1f s: %s", t, reason)
+
+    # -------------------------------------------------------------------------- strategies
+    def _nearest(self, t: float, candidates: List[Frontier], robot_pose) -> None:
+        if self.goal is not None and self._goal_alive(candidates):
+            return
+        if self.random_next:
+            choice = candidates[int(self.rng.integers(len(candidates)))]
+            self.random_next = False
+        else:
+            dist = np.array([f.min_distance for f in candidates])
+            ties = np.nonzero(dist <= dist.min() + self.cfg.tie_tolerance)[0]
+            choice = candidates[int(ties[self.rng.integers(len(ties))])]
+        self._send(t, choice, clear_goal(choice, self._grid, self.cfg.goal_clearance), robot_pose)
+
+    def _goal_alive(self, candidates: List[Frontier]) -> bool:
+        target = self.goal.frontier_point
+        radius = self.cfg.goal_frontier_radius
+        return any(np.min(np.hypot(*(f.cells - target).T)) <= radius for f in candidates)
+
+    def _explore_lite(self, t: float, candidates: List[Frontier], res: float, robot_pose) -> None:
+        cfg = self.cfg
+        if self.random_next:
+            choice = candidates[int(self.rng.integers(len(candidates)))]
+            self.random_next = False
+        else:
+            cost = [cfg.potential_scale * f.min_distance * res - cfg.gain_scale * f.size * res
+                    for f in candidates]
+            choice = candidates[int(np.argmin(cost))]
+        goal = self.goal
+        if goal is not None and np.hypot(*(choice.centroid - np.array(goal.target[:2]))) < 0.01:
+            if choice.min_distance < goal.min_distance:
+                goal.last_progress, goal.min_distance = t, choice.min_distance
+            elif t - goal.last_progress > cfg.progress_timeout:
+                self.blacklist.append(goal.frontier_point)
+                self.client.cancel(t)
+                self._end_goal(t, "no_progress")
+            return
+        self._send(t, choice, choice.centroid, robot_pose)
+
+    def _send(self, t: float, frontier: Frontier, point, robot_pose) -> None:
+        heading = math.atan2(point[1] - robot_pose[1], point[0] - robot_pose[0])
+        yaw = heading if self.cfg.goal_yaw == "approach" else 0.0
+        if math.hypot(point[0] - robot_pose[0], point[1] - robot_pose[1]) < \
+                self.cfg.near_frontier_distance:
+            # a frontier next to the robot (e.g. its blind sector): turn to face it
+            point, yaw = robot_pose[:2], heading
+        if self.goal is not None:
+            self._end_goal(t, "replaced")
+        target = (float(point[0]), float(point[1]), float(yaw))
+        self.goal = Goal(target, t, np.array(frontier.goal, dtype=float), frontier.size,
+                         frontier.min_distance, last_progress=t)
+        self.client.send_goal(target, t)

@@ -1,0 +1,121 @@
+"""Frontiers on a SLAM occupancy grid: free cells (0) with an unknown (−1) 4-neighbour,
+grouped into 8-connected clusters; clusters shorter than ``min_frontier_size`` (cells × m/cell,
+explore_lite's measure) are dropped.
+
+Each :class:`Frontier` has its cells (world m), size, centroid, a goal point — the frontier cell
+nearest the centroid, a known free cell where a centroid may fall in a wall — and
+``min_distance``, the Euclidean distance (m) from the robot to its nearest cell.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import List, Sequence
+
+import numpy as np
+from scipy import ndimage
+
+EIGHT = np.ones((3, 3), bool)
+
+
+@dataclass
+class Frontier:
+    """A cluster of frontier cells; positions in the grid's frame (m)."""
+
+    cells: np.ndarray
+    size: int
+    centroid: np.ndarray
+    goal: np.ndarray
+    min_distance: float
+
+    def length(self, resolution: float) -> float:
+        """explore_lite's frontier size in m (cells × resolution)."""
+        return self.size * resolution
+
+
+def frontier_mask(data: np.ndarray) -> np.ndarray:
+    """Free cells with at least one unknown 4-neighbour (bool, same shape)."""
+    unknown = data == -1
+    near = np.zeros_like(unknown)
+    near[1:, :] |= unknown[:-1, :]
+    near[:-1, :] |= unknown[1:, :]
+    near[:, 1:] |= unknown[:, :-1]
+    near[:, :-1] |= unknown[:, 1:]
+    return (data == 0) & near
+
+
+def known_box(data: np.ndarray):
+    """(r0, r1, c0, c1) of the known cells grown by one cell, or None when all is unknown."""
+    known = data != -1
+    rows = np.nonzero(known.any(axis=1))[0]
+    if len(rows) == 0:
+        return None
+    cols = np.nonzero(known.any(axis=0))[0]
+    return (max(0, rows[0] - 1), min(data.shape[0], rows[-1] + 2),
+            max(0, cols[0] - 1), min(data.shape[1], cols[-1] + 2))
+
+
+def find_frontiers(grid, robot_xy: Sequence[float], min_frontier_size: float) -> List[Frontier]:
+    """Frontier clusters of ``grid`` (data, origin, resolution) sorted by ``min_distance``."""
+    data = np.asarray(grid.data)
+    box = known_box(data)
+    if box is None:
+        return []
+    r0, r1, c0, c1 = box
+    mask = frontier_mask(data[r0:r1, c0:c1])
+    labels, count = ndimage.label(mask, structure=EIGHT)
+    if count == 0:
+        return []
+    res = float(grid.resolution)
+    ox, oy = float(grid.origin[0]), float(grid.origin[1])
+    rows, cols = np.nonzero(labels)
+    ids = labels[rows, cols]
+    order = np.argsort(ids, kind="stable")
+    rows, cols, ids = rows[order], cols[order], ids[order]
+    splits = np.nonzero(np.diff(ids))[0] + 1
+    xs = ox + (cols + c0 + 0.5) * res
+    ys = oy + (rows + r0 + 0.5) * res
+    rx, ry = float(robot_xy[0]), float(robot_xy[1])
+    out: List[Frontier] = []
+    for part in np.split(np.arange(len(ids)), splits):
+        if len(part) * res < min_frontier_size:
+            continue
+        cells = np.stack([xs[part], ys[part]], axis=1)
+        centroid = cells.mean(axis=0)
+        goal = cells[int(np.argmin(np.hypot(*(cells - centroid).T)))]
+        dist = float(np.min(np.hypot(cells[:, 0] - rx, cells[:, 1] - ry)))
+        out.append(Frontier(cells, len(part), centroid, goal, dist))
+    out.sort(key=lambda f: f.min_distance)
+    return out
+
+
+def clear_goal(frontier: Frontier, grid, clearance: float, search: float = 1.0) -> np.ndarray:
+    """A goal point for ``frontier`` away from walls, so the robot is not sent into a spot it
+    cannot turn in: the known free cell nearest the frontier's reference cell (``goal``) among
+    the frontier cells and the free cells within ``search`` m of it that are at least
+    ``clearance`` m from every occupied cell of ``grid``; when there is none, the frontier cell
+    with the most clearance. ``clearance`` 0 returns ``frontier.goal``."""
+    if clearance <= 0:
+        return frontier.goal
+    data = np.asarray(grid.data)
+    res = float(grid.resolution)
+    ox, oy = float(grid.origin[0]), float(grid.origin[1])
+    cols = np.floor((frontier.cells[:, 0] - ox) / res).astype(int)
+    rows = np.floor((frontier.cells[:, 1] - oy) / res).astype(int)
+    pad = int(np.ceil((clearance + search) / res)) + 1
+    r0, c0 = max(0, rows.min() - pad), max(0, cols.min() - pad)
+    r1, c1 = min(data.shape[0], rows.max() + pad + 1), min(data.shape[1], cols.max() + pad + 1)
+    window = data[r0:r1, c0:c1]
+    free_of_walls = window != 100
+    dist = (np.full(window.shape, np.inf) if free_of_walls.all()
+            else ndimage.distance_transform_edt(free_of_walls) * res)
+    ok = (window == 0) & (dist >= clearance)
+    if not ok.any():
+        return frontier.cells[int(np.argmax(dist[rows - r0, cols - c0]))]
+    rr, cc = np.nonzero(ok)
+    xs = ox + (cc + c0 + 0.5) * res
+    ys = oy + (rr + r0 + 0.5) * res
+    gap = np.hypot(xs - frontier.goal[0], ys - frontier.goal[1])
+    k = int(np.argmin(gap))
+    if gap[k] > search + res:
+        return frontier.cells[int(np.argmax(dist[rows - r0, cols - c0]))]
+    return np.array([xs[k], ys[k]])

@@ -1,0 +1,214 @@
+"""The in-process closed loop: simulator → map source → explorer → navigator, in sim time.
+
+Each iteration advances the simulator by one ``interval_sim`` with the last command; a scan
+goes to the map source (``perfect`` or a SLAM back-end such as GMapping) and to the local
+costmap; a processed scan refreshes map→odom and, every ``map_update_interval`` (as
+slam_gmapping publishes), the map handed to the global costmap and the explorer; the explorer
+checks its goal; the navigator runs when its controller period is due (a controller faster than
+``interval_sim`` runs once per step). Nothing sleeps; a seed fixes every random draw (one
+SeedSequence spawned into simulator, explorer and SLAM generators).
+
+:class:`ClosedLoop` is stepped by :meth:`ClosedLoop.step` (the collection episodes add their own
+stop rules around it); :meth:`ClosedLoop.run` explores until the explorer stops.
+"""
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import time
+from collections import defaultdict
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional, Tuple
+
+import numpy as np
+
+from slam_predict.errors import InputError
+from slam_predict.explore.explorer import ExploreConfig, Explorer
+from slam_predict.explore.mapsource import PerfectMap, PerfectMapConfig
+from slam_predict.geometry import compose, inverse, wrap_angle
+from slam_predict.nav.config import MoveBaseConfig
+from slam_predict.nav.navigator import GoalRecord, Navigator
+from slam_predict.sim import SimConfig, Simulator
+from slam_predict.slam import LaserGeometry
+from slam_predict.world.model import World
+
+LOG = logging.getLogger(__name__)
+MAP_SOURCES = ("perfect", "gmapping")
+
+
+class NavigatorClient:
+    """The explorer's goal client over an in-process :class:`Navigator`."""
+
+    def __init__(self, navigator: Navigator):
+        self.navigator = navigator
+        self.record: Optional[GoalRecord] = None
+
+    def send_goal(self, target, t: float) -> None:
+        self.record = self.navigator.send_goal(target, t)
+
+    def cancel(self, t: float) -> None:
+        if self.record is not None and not self.record.done:
+            self.navigator.cancel_goal(t)
+
+    def status(self) -> Optional[int]:
+        return None if self.record is None else int(self.record.status)
+
+    def plan_length(self) -> Optional[float]:
+        return None if self.record is None else self.record.plan_length
+
+
+@dataclass
+class LoopLog:
+    """Per-step records of a run (sim time s, true poses, commands) and summary counters."""
+
+    t: List[float] = field(default_factory=list)
+    true_poses: List[np.ndarray] = field(default_factory=list)
+    commands: List[Tuple[float, float, float]] = field(default_factory=list)
+    stalls: int = 0
+    stalled_steps: int = 0
+    distance_m: float = 0.0
+    rotation_rad: float = 0.0
+
+
+class ClosedLoop:
+    """Simulator + map source + navigator + explorer for one World and seed.
+
+    Args:
+        world: the environment (its start pose is the robot's).
+        seed: fixes every random draw of the run.
+        nav: move_base configuration; explore: explorer configuration; sim: simulator.
+        map_source: ``perfect`` or ``gmapping``.
+        perfect: perfect map source settings; slam_params: the SLAM back-end's parameters
+            (``None`` = its defaults).
+    """
+
+    def __init__(self, world: World, seed: int, nav: MoveBaseConfig, explore: ExploreConfig,
+                 sim: SimConfig, map_source: str = "perfect",
+                 perfect: Optional[PerfectMapConfig] = None, slam_params=None):
+        if map_source not in MAP_SOURCES:
+            raise InputError(f"unknown map source '{map_source}' (expected "
+                             f"{' or '.join(MAP_SOURCES)})")
+        sim_ss, explore_ss, slam_ss = np.random.SeedSequence(seed).spawn(3)
+        self.world = world
+        self.seed = seed
+        self.map_source_name = map_source
+        self.sim = Simulator(world, sim, np.random.default_rng(sim_ss))
+        laser = LaserGeometry(self.sim.laser_angles, tuple(self.sim.laser_pose),
+                              float(self.sim.laser.range_max))
+        self._scan_truth = np.array(world.start_pose, dtype=float)
+        if map_source == "perfect":
+            perfect = perfect or PerfectMapConfig()
+            self.source = PerfectMap(world, laser, lambda: self._scan_truth, perfect)
+            self.map_update_interval = perfect.map_update_interval
+            self.world_T_map = np.zeros(3)
+        else:
+            self.source, self.map_update_interval = _make_slam(map_source, slam_params, laser,
+                                                               np.random.default_rng(slam_ss))
+            self.world_T_map = np.array(world.start_pose, dtype=float)
+        # odom starts at the start pose: map_T_odom = map_T_world ⊕ world_T_odom
+        self.map_T_odom = compose(inverse(self.world_T_map), world.start_pose)
+        self.navigator = Navigator(nav)
+        self.client = NavigatorClient(self.navigator)
+        explore = _with_speed(explore, nav.TrajectoryPlannerROS.max_vel_x)
+        self.explorer = Explorer(explore, self.client, np.random.default_rng(explore_ss))
+        self.control_period = 1.0 / nav.controller_frequency
+        self.grid = None
+        self.log = LoopLog()
+        self.timing: Dict[str, float] = defaultdict(float)
+        self.cmd = (0.0, 0.0)
+        self.state = None
+        self._last_map_t = -math.inf
+        self._next_control = 0.0
+        self._prev_stalled = False
+
+    @property
+    def t(self) -> float:
+        """Current sim time, s."""
+        return 0.0 if self.state is None else float(self.state.t)
+
+    @property
+    def robot_pose_map(self) -> np.ndarray:
+        """The robot pose the navigation stack believes, map frame."""
+        odom = np.zeros(3) if self.state is None else self.state.odom_pose
+        return compose(self.map_T_odom, odom)
+
+    def step(self) -> bool:
+        """Advance one simulator step; returns False once the explorer has stopped."""
+        tick = time.perf_counter()
+        state = self.sim.step(*self.cmd)
+        self.timing["sim"] += time.perf_counter() - tick
+        self._record(state)
+        if state.scan is not None:
+            self._handle_scan(state)
+        tick = time.perf_counter()
+        self.explorer.step(state.t, self.grid, self.robot_pose_map)
+        self.timing["explorer"] += time.perf_counter() - tick
+        if self.explorer.done:
+            self.cmd = (0.0, 0.0)
+            return False
+        if state.t + 1e-9 >= self._next_control:
+            self._next_control = max(self._next_control + self.control_period, state.t)
+            tick = time.perf_counter()
+            self.cmd = self.navigator.step(state.t, state.odom_pose, self.map_T_odom,
+                                           state.velocity)
+            self.timing["navigator"] += time.perf_counter() - tick
+            self.log.commands.append((float(state.t), self.cmd[0], self.cmd[1]))
+        return True
+
+    def _handle_scan(self, state) -> None:
+        tick = time.perf_counter()
+        self._scan_truth = state.scan_true_pose
+        pose = self.source.update(state.scan_odom_pose, state.scan, state.t)
+        if pose is not None:
+            self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
+            if self.grid is None or state.t - self._last_map_t >= self.map_update_interval - 1e-9:
+                self.grid = self.source.map()
+                self._last_map_t = state.t
+                self.navigator.set_map(self.grid)
+        self.timing["map_source"] += time.perf_counter() - tick
+        laser = self.sim.laser
+        self.navigator.add_scan(state.scan, self.sim.laser_angles, laser.range_min,
+                                laser.range_max, state.scan_odom_pose, self.sim.laser_pose,
+                                self.map_T_odom)
+
+    def _record(self, state) -> None:
+        log = self.log
+        if log.true_poses:
+            prev = log.true_poses[-1]
+            log.distance_m += float(math.hypot(*(state.true_pose[:2] - prev[:2])))
+            log.rotation_rad += float(abs(wrap_angle(state.true_pose[2] - prev[2])))
+        log.t.append(float(state.t))
+        log.true_poses.append(np.array(state.true_pose, dtype=float))
+        if state.stalled:
+            log.stalled_steps += 1
+            if not self._prev_stalled:
+                log.stalls += 1
+        self._prev_stalled = bool(state.stalled)
+        self.state = state
+
+    def run(self, max_sim_time: float) -> str:
+        """Step until the explorer stops or ``max_sim_time`` s; returns the stop reason."""
+        while self.t < max_sim_time:
+            if not self.step():
+                return str(self.explorer.log.stop_reason)
+        if self.explorer.goal is not None:
+            self.client.cancel(self.t)
+        return "max_sim_time"
+
+
+def _with_speed(cfg: ExploreConfig, max_vel_x: float) -> ExploreConfig:
+    """The explorer's time limit uses the controller's max_vel_x."""
+    return dataclasses.replace(cfg, max_vel_x=float(max_vel_x))
+
+
+def _make_slam(name: str, params, laser: LaserGeometry, rng):
+    """A SLAM back-end from the registry of :mod:`slam_predict.slam` and its map interval."""
+    try:
+        from slam_predict import slam
+        from slam_predict.slam.gmapping.params import GMappingParams
+        backend = slam.create(name, params=params if params is not None else GMappingParams(),
+                              laser=laser, rng=rng)
+    except ImportError as exc:
+        raise InputError(f"map source '{name}' is not available ({exc})") from None
+    return backend, float(getattr(backend.params, "map_update_interval", 5.0))

@@ -1,0 +1,129 @@
+"""The ``perfect`` map source: an occupancy grid built from the simulated scans at the TRUE
+poses, so the map grows only as the robot sees, with no localisation error.
+
+It has the SLAM back-end interface (:class:`slam_predict.slam.SlamBackend`:
+``update(odom_pose, ranges, t) -> pose``, ``map()``, ``pose()``, ``map_to_odom()``) so the
+closed loop swaps it for GMapping without other changes. The map is counted the way GMapping
+counts: along each beam every cell gets a visit, the end cell a visit and a hit (beams longer
+than ``maxUrange`` are cut there and mark no hit, beams beyond ``maxRange`` or non-positive are
+dropped); a cell is unknown (−1) until visited, occupied (100) when hits/visits > occ_thresh,
+else free (0). The map frame is the world frame; the grid covers the world's bitmap plus
+``margin`` at ``delta`` m/cell.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+
+from slam_predict.geometry import compose, inverse
+from slam_predict.nav import kernels
+from slam_predict.slam import LaserGeometry, OccupancyGrid, SlamBackend
+from slam_predict.world.model import World
+
+
+@dataclass
+class PerfectMapConfig:
+    """Parameters (GMapping's names where they exist): m, m, m, ratio, m, s."""
+
+    delta: float = 0.05
+    maxUrange: float = 30.0
+    maxRange: Optional[float] = None
+    occ_thresh: float = 0.25
+    margin: float = 1.0
+    map_update_interval: float = 5.0
+
+    def __post_init__(self) -> None:
+        if not (self.delta > 0 and self.maxUrange > 0 and 0 < self.occ_thresh < 1):
+            raise ValueError("delta and maxUrange must be > 0 and occ_thresh in (0, 1)")
+        if self.maxRange is not None and not self.maxRange > 0:
+            raise ValueError("maxRange must be > 0")
+
+
+class PerfectMap(SlamBackend):
+    """Ground-truth-pose mapping of the simulated scans.
+
+    Args:
+        world: gives the extent of the grid.
+        laser: beam angles, laser pose on the robot and the sensor's range_max.
+        truth: returns the robot's true world pose when the scan being fed was taken.
+        config: see :class:`PerfectMapConfig`.
+    """
+
+    name = "perfect"
+
+    def __init__(self, world: World, laser: LaserGeometry, truth: Callable[[], np.ndarray],
+                 config: Optional[PerfectMapConfig] = None):
+        self.config = config or PerfectMapConfig()
+        self.laser = laser
+        self.truth = truth
+        cfg = self.config
+        rows, cols = world.shape
+        x_left = world.origin[0] - cols * world.resolution / 2.0 - cfg.margin
+        y_bottom = world.origin[1] - rows * world.resolution / 2.0 - cfg.margin
+        nx = int(math.ceil((cols * world.resolution + 2 * cfg.margin) / cfg.delta))
+        ny = int(math.ceil((rows * world.resolution + 2 * cfg.margin) / cfg.delta))
+        self.origin = (x_left, y_bottom)
+        self.hits = np.zeros((ny, nx), np.int32)
+        self.visits = np.zeros((ny, nx), np.int32)
+        sensor_max = laser.range_max if np.isfinite(laser.range_max) else math.inf
+        self.max_range = cfg.maxRange if cfg.maxRange is not None else sensor_max
+        self.max_urange = min(cfg.maxUrange, self.max_range)
+        self._cos = np.cos(laser.angles)
+        self._sin = np.sin(laser.angles)
+        self._pose = np.zeros(3)
+        self._map_to_odom = np.zeros(3)
+        self._grid: Optional[OccupancyGrid] = None
+        self.scans = 0
+
+    @property
+    def world_T_map(self) -> np.ndarray:
+        """The map frame's pose in the world frame (identity: the map frame is the world's)."""
+        return np.zeros(3)
+
+    def update(self, odom_pose, scan_ranges, t: float) -> np.ndarray:
+        """Integrate one scan taken at the true pose ``truth()``; returns that pose."""
+        true_pose = np.asarray(self.truth(), dtype=float)
+        laser = compose(true_pose, np.asarray(self.laser.pose_in_base, dtype=float))
+        ranges = np.asarray(scan_ranges, dtype=float)
+        keep = np.isfinite(ranges) & (ranges > 0) & (ranges <= self.max_range)
+        r = np.minimum(ranges[keep], self.max_urange)
+        hit = ranges[keep] <= self.max_urange
+        c, s = math.cos(laser[2]), math.sin(laser[2])
+        bx = c * self._cos[keep] - s * self._sin[keep]
+        by = s * self._cos[keep] + c * self._sin[keep]
+        ox, oy = self.origin
+        d = self.config.delta
+        ends_x = np.floor((laser[0] + r * bx - ox) / d).astype(np.int64)
+        ends_y = np.floor((laser[1] + r * by - oy) / d).astype(np.int64)
+        x0 = int(math.floor((laser[0] - ox) / d))
+        y0 = int(math.floor((laser[1] - oy) / d))
+        kernels.count_rays(self.hits, self.visits, x0, y0, ends_x, ends_y, hit)
+        self._pose = true_pose
+        self._map_to_odom = compose(true_pose, inverse(np.asarray(odom_pose, dtype=float)))
+        self._grid = None
+        self.scans += 1
+        return true_pose.copy()
+
+    def map(self) -> OccupancyGrid:
+        """The current grid (int8 −1/0/100, row 0 = lowest y)."""
+        if self._grid is None:
+            data = np.full(self.hits.shape, -1, np.int8)
+            seen = self.visits > 0
+            occupied = self.hits > self.config.occ_thresh * self.visits
+            data[seen] = 0
+            data[seen & occupied] = 100
+            self._grid = OccupancyGrid(data, self.config.delta, self.origin)
+        return self._grid
+
+    def occupancy_grid(self) -> OccupancyGrid:
+        """Alias of :meth:`map`."""
+        return self.map()
+
+    def pose(self) -> np.ndarray:
+        return self._pose.copy()
+
+    def map_to_odom(self) -> np.ndarray:
+        return self._map_to_odom.copy()

@@ -1,0 +1,156 @@
+"""One exploration run end to end: settings from config/, the closed loop, its summary and files.
+
+``explore_world(world, seed, settings, map_source, max_sim_time)`` returns the summary that
+``slam-predict explore`` writes as ``explore.json``; :func:`write_outputs` writes it and the
+map picture (``explore.png``) atomically.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Dict, Optional
+
+import numpy as np
+
+from slam_predict.atomic import write_text
+from slam_predict.config import config_hash, from_dict, load_config, load_yaml
+from slam_predict.explore.coverage import coverage, reachable_free, render_png
+from slam_predict.explore.explorer import ExploreConfig
+from slam_predict.explore.loop import ClosedLoop
+from slam_predict.explore.mapsource import PerfectMapConfig
+from slam_predict.nav.config import MoveBaseConfig, load_nav_config
+from slam_predict.sim import SimConfig
+from slam_predict.world.model import World
+
+DEFAULT_CONFIG_DIR = Path(__file__).resolve().parents[3] / "config"
+
+
+@dataclass
+class LoopSettings:
+    """The closed loop's own settings (``loop:`` in closed_loop.yaml)."""
+
+    max_sim_time: float = 10800.0
+
+
+@dataclass
+class ExploreSettings:
+    """Every configuration a closed-loop exploration needs."""
+
+    nav: MoveBaseConfig
+    explore: ExploreConfig
+    sim: SimConfig
+    perfect: PerfectMapConfig
+    loop: LoopSettings
+    gmapping: Any = None
+
+
+def load_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
+                  map_source: str = "perfect") -> ExploreSettings:
+    """Settings from the project's YAML files in ``config_dir`` (missing files: defaults)."""
+    config_dir = Path(config_dir)
+
+    def path(name: str) -> Optional[Path]:
+        p = config_dir / name
+        return p if p.is_file() else None
+
+    explore = load_config(ExploreConfig, path("explore.yaml")) if path("explore.yaml") \
+        else ExploreConfig()
+    sim = load_config(SimConfig, path("robot.yaml"), "sim") if path("robot.yaml") else SimConfig()
+    closed = load_yaml(path("closed_loop.yaml")) if path("closed_loop.yaml") else {}
+    source = str(path("closed_loop.yaml"))
+    perfect = from_dict(PerfectMapConfig, closed.get("perfect_map", {}), source)
+    loop = from_dict(LoopSettings, closed.get("loop", {}), source)
+    gmapping = None
+    if map_source == "gmapping" and path("gmapping.yaml"):
+        from slam_predict.slam.gmapping.params import load_params
+        gmapping = load_params(path("gmapping.yaml"))
+    return ExploreSettings(load_nav_config(config_dir), explore, sim, perfect, loop, gmapping)
+
+
+def explore_world(world: World, seed: int, settings: ExploreSettings, map_source: str = "perfect",
+                  max_sim_time: Optional[float] = None):
+    """Run the closed loop until the explorer stops (or ``max_sim_time`` s); returns
+    (summary dict, the finished :class:`ClosedLoop`)."""
+    limit = settings.loop.max_sim_time if max_sim_time is None else float(max_sim_time)
+    loop = ClosedLoop(world, seed, settings.nav, settings.explore, settings.sim, map_source,
+                      settings.perfect, settings.gmapping)
+    start = time.perf_counter()
+    reason = loop.run(limit)
+    wall = time.perf_counter() - start
+    return summarize(loop, reason, wall, settings), loop
+
+
+def summarize(loop: ClosedLoop, reason: str, wall: float, settings: ExploreSettings) -> Dict:
+    """The explore.json content of a finished loop."""
+    world = loop.world
+    grid = loop.source.map()
+    reach = reachable_free(world, loop.navigator.global_costmap.inscribed_radius)
+    cov = coverage(world, grid, reach, loop.world_T_map)
+    log = loop.log
+    cmds = np.array(log.commands) if log.commands else np.zeros((0, 3))
+    goals = [{"id": g.id, "target": [round(v, 3) for v in g.target], "status": g.status.name,
+              "text": g.text, "t_sent": round(g.t_sent, 2),
+              "t_end": None if g.t_end is None else round(g.t_end, 2),
+              "plan_length_m": None if g.plan_length is None else round(g.plan_length, 3),
+              "recoveries": g.recoveries} for g in loop.navigator.history]
+    total = sum(loop.timing.values()) or 1.0
+    return {
+        "world": world.name,
+        "source": world.provenance.get("source"),
+        "seed": loop.seed,
+        "map_source": loop.map_source_name,
+        "coverage": round(cov, 4),
+        "reachable_free_m2": round(float(reach.sum()) * world.resolution ** 2, 2),
+        "sim_time_s": round(loop.t, 2),
+        "wall_time_s": round(wall, 2),
+        "distance_m": round(log.distance_m, 3),
+        "rotation_rad": round(log.rotation_rad, 3),
+        "stalls": log.stalls,
+        "stalled_steps": log.stalled_steps,
+        "stalls_per_500m": round(500.0 * log.stalls / log.distance_m, 3) if log.distance_m else 0.0,
+        "stop_reason": reason,
+        "frontier_free_stop": reason == "no_frontiers",
+        "start_pose": [round(float(v), 4) for v in world.start_pose],
+        "explorer_goals": loop.explorer.log.counts(),
+        "goal_time_limits_s": [g["time_limit"] for g in loop.explorer.log.goals],
+        "navigator_goals": goals,
+        "commands": command_stats(cmds, settings.nav),
+        "timing_s": {k: round(v, 3) for k, v in sorted(loop.timing.items())},
+        "timing_share": {k: round(v / total, 4) for k, v in sorted(loop.timing.items())},
+        "config_hashes": {"move_base": config_hash(settings.nav),
+                          "explore": config_hash(settings.explore),
+                          "sim": config_hash(settings.sim),
+                          "perfect_map": config_hash(settings.perfect)},
+    }
+
+
+def command_stats(cmds: np.ndarray, nav: MoveBaseConfig) -> Dict[str, float]:
+    """Largest |v|, |ω| and command-to-command accelerations of the published commands."""
+    if len(cmds) < 2:
+        return {"count": int(len(cmds))}
+    dt = np.diff(cmds[:, 0])
+    dt[dt <= 0] = math.nan
+    tp = nav.TrajectoryPlannerROS
+    return {
+        "count": int(len(cmds)),
+        "max_abs_v": float(np.max(np.abs(cmds[:, 1]))),
+        "max_abs_w": float(np.max(np.abs(cmds[:, 2]))),
+        "max_acc_v": float(np.nanmax(np.abs(np.diff(cmds[:, 1])) / dt)),
+        "max_acc_w": float(np.nanmax(np.abs(np.diff(cmds[:, 2])) / dt)),
+        "limit_v": tp.max_vel_x, "limit_w": tp.max_vel_theta,
+        "limit_acc_v": tp.acc_lim_x, "limit_acc_w": tp.acc_lim_theta,
+    }
+
+
+def write_outputs(out_dir: os.PathLike | str, summary: Dict, loop: ClosedLoop) -> Path:
+    """Write ``explore.json`` and ``explore.png`` (map + true path) into ``out_dir``."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    poses = np.array(loop.log.true_poses) if loop.log.true_poses else np.zeros((0, 3))
+    render_png(out / "explore.png", loop.source.map(), poses[:, :2], loop.world_T_map)
+    write_text(out / "explore.json", json.dumps(summary, indent=1) + "\n")
+    return out

@@ -1,0 +1,299 @@
+"""Typed configuration of the navigation stack, with the parameter names of move_base,
+costmap_2d, navfn / global_planner and base_local_planner (ros_interfaces.md §3).
+
+Defaults are the ROS defaults (the *effective* ones: base_local_planner's .cfg values, which the
+first dynamic-reconfigure call applies over the code defaults). The project's thesis values
+live in ``config/*.yaml`` and are loaded with :func:`load_nav_config`, which merges the files
+the way a move_base launch file does::
+
+    move_base.yaml            -> /move_base (controller_frequency, planner_patience, ...)
+    costmap_common.yaml       -> /move_base/global_costmap and /move_base/local_costmap
+    global_costmap.yaml       -> /move_base (top-level key ``global_costmap``)
+    local_costmap.yaml        -> /move_base (top-level key ``local_costmap``)
+    base_local_planner.yaml   -> /move_base (top-level key ``TrajectoryPlannerROS``)
+
+so the same files work with ``<rosparam command="load">`` and in-process.
+
+Deviations (documented in docs/architecture.md): costmaps take the pre-hydro flat parameters
+(``static_map``, ``obstacle_range``, ...; one laser observation source); ``holonomic_robot`` is
+false by default (the simulated robot is differential drive); recovery behaviours are listed as
+``{name, type, reset_distance, layer_names}`` mappings; ``smooth_cmd_vel`` (an extension,
+default on) clamps each published command to the previous one ± acc_lim·Δt, the acceleration
+the rollouts already assume, so commands respect the acceleration limits.
+"""
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from typing import Any, Dict, Optional, Tuple
+
+from slam_predict.config import from_dict, load_yaml
+from slam_predict.errors import InputError
+
+GLOBAL_PLANNERS = ("navfn/NavfnROS", "global_planner/GlobalPlanner")
+LOCAL_PLANNERS = ("base_local_planner/TrajectoryPlannerROS",)
+RECOVERY_TYPES = ("clear_costmap_recovery/ClearCostmapRecovery", "rotate_recovery/RotateRecovery")
+
+
+@dataclass
+class CostmapConfig:
+    """One costmap_2d instance (Costmap2DROS + static, obstacle and inflation layers).
+
+    Units: m, Hz, s. ``footprint`` is a polygon in the robot frame; when empty the robot is a
+    circle of ``robot_radius`` (costmap_2d makes a 16-gon of it).
+    """
+
+    global_frame: str = "map"
+    robot_base_frame: str = "base_link"
+    update_frequency: float = 5.0
+    publish_frequency: float = 0.0
+    transform_tolerance: float = 0.3
+    width: float = 10.0
+    height: float = 10.0
+    resolution: float = 0.05
+    origin_x: float = 0.0
+    origin_y: float = 0.0
+    rolling_window: bool = False
+    static_map: bool = True
+    track_unknown_space: bool = False
+    footprint: Tuple[Tuple[float, float], ...] = ()
+    robot_radius: float = 0.46
+    footprint_padding: float = 0.01
+    footprint_clearing_enabled: bool = True
+    # static layer
+    lethal_cost_threshold: int = 100
+    unknown_cost_value: int = -1
+    trinary_costmap: bool = True
+    # obstacle layer (one laser source named by observation_sources; "" = no obstacle layer)
+    observation_sources: str = "scan"
+    marking: bool = True
+    clearing: bool = False
+    obstacle_range: float = 2.5
+    raytrace_range: float = 3.0
+    max_obstacle_height: float = 2.0
+    # inflation layer
+    inflation_radius: float = 0.55
+    cost_scaling_factor: float = 10.0
+    inflate_unknown: bool = False
+
+    def __post_init__(self) -> None:
+        if not self.resolution > 0:
+            raise ValueError("resolution must be > 0")
+        if self.rolling_window and not (self.width > 0 and self.height > 0):
+            raise ValueError("a rolling window needs width and height > 0")
+        if self.update_frequency < 0 or self.inflation_radius < 0:
+            raise ValueError("update_frequency and inflation_radius must be >= 0")
+        if self.footprint and len(self.footprint) < 3:
+            raise ValueError("footprint needs at least 3 points")
+
+
+@dataclass
+class NavfnConfig:
+    """navfn/NavfnROS parameters (m). ``default_tolerance``: how far from an unreachable goal
+    the plan may end (the reachable cell nearest the goal within ±tolerance)."""
+
+    allow_unknown: bool = True
+    default_tolerance: float = 0.0
+    planner_window_x: float = 0.0
+    planner_window_y: float = 0.0
+    visualize_potential: bool = False
+
+
+@dataclass
+class GlobalPlannerConfig:
+    """global_planner/GlobalPlanner parameters. The search is always an exact 8-connected grid
+    search (``use_dijkstra`` picks Dijkstra vs A*; both return the optimal path)."""
+
+    allow_unknown: bool = True
+    default_tolerance: float = 0.0
+    use_dijkstra: bool = True
+    use_quadratic: bool = True
+    use_grid_path: bool = False
+    old_navfn_behavior: bool = False
+    lethal_cost: int = 253
+    neutral_cost: int = 50
+    cost_factor: float = 3.0
+    outline_map: bool = True
+    visualize_potential: bool = False
+
+
+@dataclass
+class TrajectoryPlannerConfig:
+    """base_local_planner/TrajectoryPlannerROS parameters (m, s, rad, m/s, rad/s, m/s², rad/s²).
+
+    ``meter_scoring`` multiplies path_distance_bias and goal_distance_bias by the costmap
+    resolution (noetic); ``meter_scoring_occdist`` (an extension) also multiplies occdist_scale,
+    as earlier base_local_planner releases did in their reconfigure callback.
+    """
+
+    acc_lim_x: float = 2.5
+    acc_lim_y: float = 2.5
+    acc_lim_theta: float = 3.2
+    max_vel_x: float = 0.55
+    min_vel_x: float = 0.0
+    max_vel_theta: float = 1.0
+    min_vel_theta: float = -1.0
+    min_in_place_vel_theta: float = 0.4
+    escape_vel: float = -0.1
+    sim_time: float = 1.7
+    sim_granularity: float = 0.025
+    angular_sim_granularity: float = 0.025
+    vx_samples: int = 20
+    vtheta_samples: int = 20
+    path_distance_bias: float = 0.6
+    goal_distance_bias: float = 0.8
+    occdist_scale: float = 0.01
+    heading_lookahead: float = 0.325
+    oscillation_reset_dist: float = 0.05
+    escape_reset_dist: float = 0.10
+    escape_reset_theta: float = math.pi / 2.0
+    holonomic_robot: bool = False
+    y_vels: Tuple[float, ...] = (-0.3, -0.1, 0.1, 0.3)
+    dwa: bool = False
+    heading_scoring: bool = False
+    heading_scoring_timestep: float = 0.8
+    simple_attractor: bool = False
+    meter_scoring: bool = False
+    meter_scoring_occdist: bool = False
+    xy_goal_tolerance: float = 0.10
+    yaw_goal_tolerance: float = 0.05
+    latch_xy_goal_tolerance: bool = False
+    prune_plan: bool = True
+    trans_stopped_velocity: float = 0.01
+    rot_stopped_velocity: float = 0.01
+
+    def __post_init__(self) -> None:
+        if self.holonomic_robot:
+            raise ValueError("holonomic_robot: true is not supported (the simulated robot is "
+                             "differential drive)")
+        if self.heading_scoring or self.simple_attractor:
+            raise ValueError("heading_scoring and simple_attractor are not supported")
+        if self.vx_samples < 1 or self.vtheta_samples < 1:
+            raise ValueError("vx_samples and vtheta_samples must be >= 1")
+        if not (self.sim_time > 0 and self.sim_granularity > 0 and self.angular_sim_granularity > 0):
+            raise ValueError("sim_time and the granularities must be > 0")
+
+
+@dataclass
+class RecoveryBehaviorConfig:
+    """One entry of move_base's ``recovery_behaviors`` list, with its own parameters."""
+
+    name: str = "conservative_reset"
+    type: str = "clear_costmap_recovery/ClearCostmapRecovery"
+    reset_distance: float = 3.0
+    layer_names: Tuple[str, ...] = ("obstacles",)
+    affected_maps: str = "both"
+    invert_area_to_clear: bool = False
+
+    def __post_init__(self) -> None:
+        if self.type not in RECOVERY_TYPES:
+            raise ValueError(f"recovery type must be one of {', '.join(RECOVERY_TYPES)}, "
+                             f"got '{self.type}'")
+        if self.affected_maps not in ("local", "global", "both"):
+            raise ValueError("affected_maps must be local, global or both")
+
+
+def _default_recoveries() -> Tuple[RecoveryBehaviorConfig, ...]:
+    clear = "clear_costmap_recovery/ClearCostmapRecovery"
+    rotate = "rotate_recovery/RotateRecovery"
+    return (RecoveryBehaviorConfig("conservative_reset", clear, 3.0),
+            RecoveryBehaviorConfig("rotate_recovery", rotate),
+            RecoveryBehaviorConfig("aggressive_reset", clear, 4 * 0.46),
+            RecoveryBehaviorConfig("rotate_recovery", rotate))
+
+
+def _local_defaults() -> CostmapConfig:
+    return CostmapConfig(global_frame="odom", rolling_window=True, static_map=False, width=6.0,
+                         height=6.0)
+
+
+@dataclass
+class MoveBaseConfig:
+    """move_base parameters, with its costmaps and planners as nested sections."""
+
+    base_global_planner: str = "navfn/NavfnROS"
+    base_local_planner: str = "base_local_planner/TrajectoryPlannerROS"
+    controller_frequency: float = 20.0
+    planner_frequency: float = 0.0
+    controller_patience: float = 15.0
+    planner_patience: float = 5.0
+    max_planning_retries: int = -1
+    oscillation_timeout: float = 0.0
+    oscillation_distance: float = 0.5
+    conservative_reset_dist: float = 3.0
+    clearing_rotation_allowed: bool = True
+    recovery_behavior_enabled: bool = True
+    shutdown_costmaps: bool = False
+    smooth_cmd_vel: bool = True
+    recovery_behaviors: Tuple[RecoveryBehaviorConfig, ...] = field(
+        default_factory=_default_recoveries)
+    global_costmap: CostmapConfig = field(default_factory=CostmapConfig)
+    local_costmap: CostmapConfig = field(default_factory=_local_defaults)
+    NavfnROS: NavfnConfig = field(default_factory=NavfnConfig)
+    GlobalPlanner: GlobalPlannerConfig = field(default_factory=GlobalPlannerConfig)
+    TrajectoryPlannerROS: TrajectoryPlannerConfig = field(default_factory=TrajectoryPlannerConfig)
+
+    def __post_init__(self) -> None:
+        if self.base_global_planner not in GLOBAL_PLANNERS:
+            raise ValueError(f"base_global_planner must be one of {', '.join(GLOBAL_PLANNERS)}")
+        if self.base_local_planner not in LOCAL_PLANNERS:
+            raise ValueError(f"base_local_planner must be one of {', '.join(LOCAL_PLANNERS)}")
+        if not self.controller_frequency > 0:
+            raise ValueError("controller_frequency must be > 0")
+        if self.planner_frequency < 0:
+            raise ValueError("planner_frequency must be >= 0")
+
+    @property
+    def sim_period(self) -> float:
+        """The controller period, s (base_local_planner's sim_period)."""
+        return 1.0 / self.controller_frequency
+
+
+# The files of a move_base launch and where their content goes in the parameter tree.
+NAV_FILES = ("move_base.yaml", "costmap_common.yaml", "global_costmap.yaml",
+             "local_costmap.yaml", "base_local_planner.yaml")
+
+
+def merge_nav_files(config_dir: os.PathLike | str) -> Dict[str, Any]:
+    """The /move_base parameter tree built from the five YAML files in ``config_dir``.
+
+    Missing files are skipped (ROS defaults apply); costmap_common.yaml is loaded into both
+    costmaps before their own files, as ``<rosparam ns="global_costmap">`` does.
+    """
+    config_dir = os.fspath(config_dir)
+
+    def read(name: str) -> Dict[str, Any]:
+        path = os.path.join(config_dir, name)
+        return load_yaml(path) if os.path.exists(path) else {}
+
+    tree: Dict[str, Any] = dict(read("move_base.yaml"))
+    common = read("costmap_common.yaml")
+    for name in ("global_costmap", "local_costmap"):
+        own = read(f"{name}.yaml").get(name, {})
+        tree[name] = {**common, **tree.get(name, {}), **own}
+    planner = read("base_local_planner.yaml")
+    for key, value in planner.items():
+        tree[key] = {**tree.get(key, {}), **value} if isinstance(value, dict) else value
+    return tree
+
+
+def load_nav_config(config_dir: os.PathLike | str,
+                    overrides: Optional[Dict[str, Any]] = None) -> MoveBaseConfig:
+    """A :class:`MoveBaseConfig` from the move_base YAML files in ``config_dir``.
+
+    ``overrides`` (a partial tree) is merged last, one level deep per section.
+    """
+    tree = merge_nav_files(config_dir)
+    for key, value in (overrides or {}).items():
+        if isinstance(value, dict) and isinstance(tree.get(key), dict):
+            tree[key] = {**tree[key], **value}
+        else:
+            tree[key] = value
+    source = os.path.join(os.fspath(config_dir), "move_base.yaml")
+    try:
+        return from_dict(MoveBaseConfig, tree, source)
+    except InputError:
+        raise
+    except (TypeError, ValueError) as exc:  # pragma: no cover - from_dict wraps these
+        raise InputError(str(exc), source) from None

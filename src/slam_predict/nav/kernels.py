@@ -1,0 +1,493 @@
+"""numba kernels of the navigation stack: costmap inflation, grid search, ray tracing, BFS.
+
+Grids are indexed ``[my, mx]`` (row = y cell, column = x cell), as costmap_2d's
+``index = my * size_x + mx``; the rollout kernels live in :mod:`slam_predict.nav.rollout`.
+``warmup()`` compiles everything (listed in :mod:`slam_predict.warmup`).
+"""
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+FREE = 0
+INSCRIBED = 253
+LETHAL = 254
+NO_INFORMATION = 255
+
+
+# --------------------------------------------------------------------------------------------
+# Inflation (costmap_2d InflationLayer::updateCosts)
+# --------------------------------------------------------------------------------------------
+@numba.njit(cache=True)
+def inflate(master, min_i, min_j, max_i, max_j, radius, cost_cache, dist_cache, bin_of, nbins,
+            inflate_unknown, cell, src, nxt):
+    """Brushfire inflation of LETHAL cells of ``master`` (uint8 [ny, nx]) in place.
+
+    Sources: LETHAL cells within the update window [min_i, max_i) x [min_j, max_j) grown by
+    ``radius`` cells. Cells whose cost would be FREE are not queued: cost falls with distance,
+    so they and everything beyond them would leave ``master`` unchanged. Cells are processed in bins of exact distance to their source (FIFO
+    inside a bin, as costmap_2d's ``std::map<double, vector>``; a cell enqueued into an
+    already-passed bin is dropped, as there). Costs are only written inside the window:
+    ``max(old, cost)``, except that unknown cells take only costs >= INSCRIBED (or > FREE with
+    ``inflate_unknown``).
+
+    ``cell``, ``src``, ``nxt`` (int32, same length) are the work pool; returns the number of
+    queue entries used, or -1 when the pool was too small (``master`` is then partly
+    updated: restore it and retry with a larger pool).
+    """
+    ny, nx = master.shape
+    if radius <= 0:
+        return 0
+    wi0 = max(0, min_i - radius)
+    wj0 = max(0, min_j - radius)
+    wi1 = min(nx, max_i + radius)
+    wj1 = min(ny, max_j + radius)
+    seen = np.zeros(ny * nx, np.bool_)
+    cap = cell.shape[0]
+    head = np.full(nbins, -1, np.int64)
+    tail = np.full(nbins, -1, np.int64)
+    n = 0
+    for j in range(wj0, wj1):
+        for i in range(wi0, wi1):
+            if master[j, i] == LETHAL:
+                if n >= cap:
+                    return -1
+                idx = j * nx + i
+                cell[n] = idx
+                src[n] = idx
+                nxt[n] = -1
+                if tail[0] == -1:
+                    head[0] = n
+                else:
+                    nxt[tail[0]] = n
+                tail[0] = n
+                n += 1
+    for b in range(nbins):
+        node = head[b]
+        while node != -1:
+            c = cell[node]
+            if not seen[c]:
+                seen[c] = True
+                s = src[node]
+                mx = c % nx
+                my = c // nx
+                sx = s % nx
+                sy = s // nx
+                cost = cost_cache[abs(mx - sx), abs(my - sy)]
+                if min_i <= mx < max_i and min_j <= my < max_j:
+                    old = master[my, mx]
+                    if old == NO_INFORMATION and (
+                            (inflate_unknown and cost > FREE)
+                            or (not inflate_unknown and cost >= INSCRIBED)):
+                        master[my, mx] = cost
+                    elif old != NO_INFORMATION and cost > old:
+                        master[my, mx] = cost
+                for k in range(4):
+                    if k == 0:
+                        if mx == 0:
+                            continue
+                        qx = mx - 1
+                        qy = my
+                    elif k == 1:
+                        if my == 0:
+                            continue
+                        qx = mx
+                        qy = my - 1
+                    elif k == 2:
+                        if mx == nx - 1:
+                            continue
+                        qx = mx + 1
+                        qy = my
+                    else:
+                        if my == ny - 1:
+                            continue
+                        qx = mx
+                        qy = my + 1
+                    q = qy * nx + qx
+                    if seen[q]:
+                        continue
+                    dx = abs(qx - sx)
+                    dy = abs(qy - sy)
+                    if dist_cache[dx, dy] > radius or cost_cache[dx, dy] == FREE:
+                        continue  # (cost decreases with distance: zero from here on)
+                    qb = bin_of[dx, dy]
+                    if qb < b:
+                        continue
+                    if n >= cap:
+                        return -1
+                    cell[n] = q
+                    src[n] = s
+                    nxt[n] = -1
+                    if tail[qb] == -1:
+                        head[qb] = n
+                    else:
+                        nxt[tail[qb]] = n
+                    tail[qb] = n
+                    n += 1
+            node = nxt[node]
+    return n
+
+
+# --------------------------------------------------------------------------------------------
+# Grid search (navfn / global_planner equivalent): 8-connected A* with a goal window
+# --------------------------------------------------------------------------------------------
+@numba.njit(cache=True)
+def _heap_push(keys, vals, size, key, val):
+    """Push onto the binary min-heap keys[:size]; the caller checks the capacity."""
+    i = size
+    keys[i] = key
+    vals[i] = val
+    while i > 0:
+        parent = (i - 1) >> 1
+        if keys[parent] <= keys[i]:
+            break
+        keys[parent], keys[i] = keys[i], keys[parent]
+        vals[parent], vals[i] = vals[i], vals[parent]
+        i = parent
+    return size + 1
+
+
+@numba.njit(cache=True)
+def _heap_pop(keys, vals, size):
+    """Pop the smallest (key, value); returns (key, value, new size)."""
+    key = keys[0]
+    val = vals[0]
+    size -= 1
+    keys[0] = keys[size]
+    vals[0] = vals[size]
+    i = 0
+    while True:
+        left = 2 * i + 1
+        if left >= size:
+            break
+        small = left
+        if left + 1 < size and keys[left + 1] < keys[left]:
+            small = left + 1
+        if keys[i] <= keys[small]:
+            break
+        keys[small], keys[i] = keys[i], keys[small]
+        vals[small], vals[i] = vals[i], vals[small]
+        i = small
+    return key, val, size
+
+
+@numba.njit(cache=True)
+def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuristic_weight,
+                keys, vals):
+    """Cheapest 8-connected path from (sx, sy) towards the goal window.
+
+    ``cell_cost`` (float64 [ny, nx]): cost of entering a cell, per cell of travel (a diagonal
+    step costs sqrt(2) x); ``inf`` = blocked. The start cell is always usable (navfn clears the
+    robot cell). The window [win_x0, win_x1] x [win_y0, win_y1] (inclusive, cells) holds the
+    acceptable end cells; the search stops as soon as (gx, gy) is settled, or once every
+    traversable window cell is settled, or when the queue is empty. The end cell is the settled
+    window cell nearest to (gx, gy) (ties: first in row-major order). With a consistent
+    heuristic (``heuristic_weight`` <= the smallest cell cost) every settled cell has its
+    optimal cost, so the returned path is optimal for its end cell.
+
+    ``keys`` (float64) / ``vals`` (int64) are the heap storage. Returns (path as int64 [n, 2]
+    of (x, y) cells from start to end, its cost, status): status 0 = done (n = 0 when no window
+    cell is reachable), -1 = the heap storage was too small (retry with more).
+    """
+    ny, nx = cell_cost.shape
+    g = np.full(ny * nx, np.inf)
+    parent = np.full(ny * nx, -1, np.int64)
+    closed = np.zeros(ny * nx, np.bool_)
+    to_settle = 0
+    for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
+        for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
+            if np.isfinite(cell_cost[y, x]) or (x == sx and y == sy):
+                to_settle += 1
+    cap = keys.shape[0]
+    size = 0
+    start = sy * nx + sx
+    g[start] = 0.0
+    h0 = heuristic_weight * math.hypot(sx - gx, sy - gy)
+    size = _heap_push(keys, vals, size, h0, start)
+    diag = math.sqrt(2.0)
+    goal_found = False
+    while size > 0 and to_settle > 0:
+        key, u, size = _heap_pop(keys, vals, size)
+        if closed[u]:
+            continue
+        closed[u] = True
+        ux = u % nx
+        uy = u // nx
+        if win_x0 <= ux <= win_x1 and win_y0 <= uy <= win_y1:
+            to_settle -= 1
+            if ux == gx and uy == gy:
+                goal_found = True
+                break
+        gu = g[u]
+        for dy in range(-1, 2):
+            vy = uy + dy
+            if vy < 0 or vy >= ny:
+                continue
+            for dx in range(-1, 2):
+                if dx == 0 and dy == 0:
+                    continue
+                vx = ux + dx
+                if vx < 0 or vx >= nx:
+                    continue
+                c = cell_cost[vy, vx]
+                if not np.isfinite(c):
+                    continue
+                v = vy * nx + vx
+                if closed[v]:
+                    continue
+                step = diag if dx != 0 and dy != 0 else 1.0
+                gv = gu + step * c
+                if gv < g[v]:
+                    g[v] = gv
+                    parent[v] = u
+                    h = heuristic_weight * math.hypot(vx - gx, vy - gy)
+                    if size >= cap:
+                        return np.empty((0, 2), np.int64), np.inf, -1
+                    size = _heap_push(keys, vals, size, gv + h, v)
+    end = -1
+    if goal_found:
+        end = gy * nx + gx
+    else:
+        best = np.inf
+        for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
+            for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
+                idx = y * nx + x
+                if closed[idx]:
+                    d = (x - gx) * (x - gx) + (y - gy) * (y - gy)
+                    if d < best:
+                        best = d
+                        end = idx
+    if end < 0:
+        return np.empty((0, 2), np.int64), np.inf, 0
+    count = 1
+    node = end
+    while node != start:
+        node = parent[node]
+        count += 1
+    path = np.empty((count, 2), np.int64)
+    node = end
+    for k in range(count - 1, -1, -1):
+        path[k, 0] = node % nx
+        path[k, 1] = node // nx
+        if k > 0:
+            node = parent[node]
+    return path, g[end], 0
+
+
+# --------------------------------------------------------------------------------------------
+# BFS distance grids (base_local_planner MapGrid::computeTargetDistance)
+# --------------------------------------------------------------------------------------------
+@numba.njit(cache=True, inline="always")
+def _visit(costs, within_robot, dist, qx, qy, nd, unreached, obstacle, queue, tail):
+    """BFS step into (qx, qy): obstacle cells get ``obstacle``, free ones ``nd`` and are queued."""
+    if dist[qy, qx] != unreached:
+        return tail
+    c = costs[qy, qx]
+    if not within_robot[qy, qx] and (c == LETHAL or c == INSCRIBED or c == NO_INFORMATION):
+        dist[qy, qx] = obstacle
+        return tail
+    dist[qy, qx] = nd
+    queue[tail, 0] = qx
+    queue[tail, 1] = qy
+    return tail + 1
+
+
+@numba.njit(cache=True)
+def target_distance(costs, within_robot, seeds_x, seeds_y, dist, queue):
+    """4-connected BFS distance (cells) from the seed cells over a costmap (uint8 [ny, nx]),
+    written into ``dist`` (float64 [ny, nx]); ``queue`` (int32 [ny·nx, 2]) is work space.
+
+    Lethal, inscribed and unknown cells (unless inside the robot's footprint) get the obstacle
+    value ny·nx and are not expanded; unreached cells keep ny·nx + 1 (base_local_planner's
+    obstacleCosts / unreachableCellCosts). Seeds get 0 whatever their cost.
+    """
+    ny, nx = costs.shape
+    obstacle = float(ny * nx)
+    unreached = obstacle + 1.0
+    dist[:, :] = unreached
+    head = 0
+    tail = 0
+    for k in range(seeds_x.shape[0]):
+        x = seeds_x[k]
+        y = seeds_y[k]
+        if dist[y, x] == 0.0:
+            continue
+        dist[y, x] = 0.0
+        queue[tail, 0] = x
+        queue[tail, 1] = y
+        tail += 1
+    while head < tail:
+        cx = queue[head, 0]
+        cy = queue[head, 1]
+        head += 1
+        nd = dist[cy, cx] + 1.0
+        if cx > 0:
+            tail = _visit(costs, within_robot, dist, cx - 1, cy, nd, unreached, obstacle, queue, tail)
+        if cx < nx - 1:
+            tail = _visit(costs, within_robot, dist, cx + 1, cy, nd, unreached, obstacle, queue, tail)
+        if cy > 0:
+            tail = _visit(costs, within_robot, dist, cx, cy - 1, nd, unreached, obstacle, queue, tail)
+        if cy < ny - 1:
+            tail = _visit(costs, within_robot, dist, cx, cy + 1, nd, unreached, obstacle, queue, tail)
+
+
+# --------------------------------------------------------------------------------------------
+# Ray tracing (costmap_2d ObstacleLayer and an occupancy counter for the map source)
+# --------------------------------------------------------------------------------------------
+@numba.njit(cache=True)
+def _bresenham_mark(grid, x0, y0, x1, y1, max_len, value):
+    """costmap_2d raytraceLine: set ``value`` on the cells from (x0, y0) towards (x1, y1),
+    at most ``max_len`` cells of the dominant axis, then on the cell where it stopped."""
+    ny, nx = grid.shape
+    dx = x1 - x0
+    dy = y1 - y0
+    adx = abs(dx)
+    ady = abs(dy)
+    sxs = 1 if dx > 0 else (-1 if dx < 0 else 0)
+    sys_ = 1 if dy > 0 else (-1 if dy < 0 else 0)
+    dist = math.hypot(dx, dy)
+    scale = 1.0 if dist == 0.0 else min(1.0, max_len / dist)
+    x = x0
+    y = y0
+    if adx >= ady:
+        err = adx // 2
+        end = min(int(scale * adx), adx)
+        for _ in range(end):
+            if 0 <= x < nx and 0 <= y < ny:
+                grid[y, x] = value
+            x += sxs
+            err += ady
+            if err >= adx:
+                y += sys_
+                err -= adx
+    else:
+        err = ady // 2
+        end = min(int(scale * ady), ady)
+        for _ in range(end):
+            if 0 <= x < nx and 0 <= y < ny:
+                grid[y, x] = value
+            y += sys_
+            err += adx
+            if err >= ady:
+                x += sxs
+                err -= ady
+    if 0 <= x < nx and 0 <= y < ny:
+        grid[y, x] = value
+
+
+@numba.njit(cache=True)
+def obstacle_update(grid, ox, oy, res, sensor_x, sensor_y, points, raytrace_range,
+                    obstacle_range, clearing, marking):
+    """One laser observation into an obstacle layer (uint8 [ny, nx], origin (ox, oy) m).
+
+    ``points`` (n, 2): world endpoints of the valid returns. Clearing first (raytrace to each
+    point, clipped to the map, at most ``raytrace_range``), then marking LETHAL the points
+    closer than ``obstacle_range`` — the order of ObstacleLayer::updateBounds.
+    """
+    ny, nx = grid.shape
+    end_x = ox + nx * res
+    end_y = oy + ny * res
+    if clearing and sensor_x >= ox and sensor_y >= oy and sensor_x < end_x and sensor_y < end_y:
+        x0 = int((sensor_x - ox) / res)
+        y0 = int((sensor_y - oy) / res)
+        cell_range = max(0.0, math.ceil(raytrace_range / res))
+        for k in range(points.shape[0]):
+            wx = points[k, 0]
+            wy = points[k, 1]
+            a = wx - sensor_x
+            b = wy - sensor_y
+            if wx < ox:
+                t = (ox - sensor_x) / a
+                wx = ox
+                wy = sensor_y + b * t
+            if wy < oy:
+                t = (oy - sensor_y) / b
+                wx = sensor_x + a * t
+                wy = oy
+            if wx > end_x:
+                t = (end_x - sensor_x) / a
+                wx = end_x - 0.001
+                wy = sensor_y + b * t
+            if wy > end_y:
+                t = (end_y - sensor_y) / b
+                wx = sensor_x + a * t
+                wy = end_y - 0.001
+            if wx < ox or wy < oy:
+                continue
+            x1 = int((wx - ox) / res)
+            y1 = int((wy - oy) / res)
+            if x1 >= nx or y1 >= ny:
+                continue
+            _bresenham_mark(grid, x0, y0, x1, y1, cell_range, FREE)
+    if marking:
+        sq_range = obstacle_range * obstacle_range
+        for k in range(points.shape[0]):
+            px = points[k, 0]
+            py = points[k, 1]
+            if (px - sensor_x) ** 2 + (py - sensor_y) ** 2 >= sq_range:
+                continue
+            if px < ox or py < oy:
+                continue
+            mx = int((px - ox) / res)
+            my = int((py - oy) / res)
+            if mx < nx and my < ny:
+                grid[my, mx] = LETHAL
+
+
+@numba.njit(cache=True)
+def count_rays(hits, visits, x0, y0, ends_x, ends_y, is_hit):
+    """Hit/visit counting along beams (GMapping's map update, on integer cells [y, x]).
+
+    Every cell from (x0, y0) up to (excluding) the end cell gets a visit; the end cell gets a
+    visit and, when ``is_hit``, a hit. Cells outside the grid are skipped.
+    """
+    ny, nx = hits.shape
+    for k in range(ends_x.shape[0]):
+        x1 = ends_x[k]
+        y1 = ends_y[k]
+        dx = abs(x1 - x0)
+        dy = abs(y1 - y0)
+        sx = 1 if x1 >= x0 else -1
+        sy = 1 if y1 >= y0 else -1
+        err = dx - dy
+        x = x0
+        y = y0
+        while x != x1 or y != y1:
+            if 0 <= x < nx and 0 <= y < ny:
+                visits[y, x] += 1
+            e2 = 2 * err
+            if e2 > -dy:
+                err -= dy
+                x += sx
+            if e2 < dx:
+                err += dx
+                y += sy
+        if 0 <= x1 < nx and 0 <= y1 < ny:
+            visits[y1, x1] += 1
+            if is_hit[k]:
+                hits[y1, x1] += 1
+
+
+def warmup() -> None:
+    """Compile every kernel of the navigation stack on tiny inputs."""
+    from slam_predict.nav import rollout
+    grid = np.zeros((6, 6), np.uint8)
+    grid[2, 2] = LETHAL
+    r = 2
+    dist = np.hypot(*np.meshgrid(np.arange(r + 2), np.arange(r + 2), indexing="ij"))
+    uniq, bins = np.unique(dist, return_inverse=True)
+    costs = np.where(dist == 0, LETHAL, INSCRIBED).astype(np.uint8)
+    pool = np.empty(200, np.int32)
+    inflate(grid, 0, 0, 6, 6, r, costs, dist, bins.reshape(dist.shape).astype(np.int64),
+            len(uniq), False, pool, pool.copy(), pool.copy())
+    cost = np.ones((6, 6))
+    grid_search(cost, 0, 0, 5, 5, 5, 5, 5, 5, 1.0, np.empty(300), np.empty(300, np.int64))
+    target_distance(grid, np.zeros((6, 6), np.bool_), np.array([0]), np.array([0]),
+                    np.empty((6, 6)), np.empty((36, 2), np.int32))
+    obstacle_update(grid, 0.0, 0.0, 0.1, 0.05, 0.05, np.array([[0.45, 0.35]]), 3.0, 2.5,
+                    True, True)
+    counts = np.zeros((6, 6), np.int32)
+    count_rays(counts, counts.copy(), 0, 0, np.array([5]), np.array([3]), np.array([True]))
+    rollout.warmup()

@@ -1,0 +1,162 @@
+"""Global planner: navfn / global_planner costs, exact 8-connected search, goal tolerance.
+
+Cell costs follow the chosen planner (ros_interfaces.md §3.4):
+
+* ``navfn/NavfnROS``: c ≤ 252 → 50 + 0.8·c; INSCRIBED and LETHAL blocked; NO_INFORMATION →
+  253 when ``allow_unknown`` (else blocked); the outer ring of the map blocked;
+* ``global_planner/GlobalPlanner``: c < lethal_cost − 1 (or unknown when allowed) →
+  min(c·cost_factor + neutral_cost, lethal_cost − 1); others blocked.
+
+Entering a cell costs its value times the step length in cells (1 or √2). The search
+(:func:`slam_predict.nav.kernels.grid_search`, A* with a consistent heuristic) returns the
+cheapest such path — where navfn interpolates a potential field and descends its gradient, we
+return the exact optimum of the 8-connected cost (deviation documented). When the goal cell is
+blocked or unreachable, the plan ends at the reachable cell nearest the goal within
+±``default_tolerance`` (navfn's rule). The search runs on the bounding box of the known cells,
+start and goal, grown by ``search_margin`` m, so a mostly unknown 200 m × 200 m SLAM map costs
+no more than the explored part.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+import numpy as np
+
+from slam_predict.nav import kernels
+from slam_predict.nav.config import MoveBaseConfig
+from slam_predict.nav.costmap import INSCRIBED, NO_INFORMATION, Costmap
+
+
+@dataclass
+class Plan:
+    """A global plan: ``poses`` (n, 3) x, y, yaw in the costmap frame; ``cost`` in planner
+    units; ``length`` m; ``reaches_goal``: the end cell is the goal cell."""
+
+    poses: np.ndarray
+    cost: float
+    length: float
+    reaches_goal: bool
+
+    def __len__(self) -> int:
+        return len(self.poses)
+
+
+def navfn_cell_costs(costs: np.ndarray, allow_unknown: bool) -> np.ndarray:
+    """Per-cell travel costs (float, inf = blocked) of navfn's NavFn::setCostmap."""
+    c = costs.astype(np.float64)
+    out = np.where(costs < INSCRIBED, 50.0 + 0.8 * c, np.inf)
+    if allow_unknown:
+        out[costs == NO_INFORMATION] = 253.0
+    out[0, :] = np.inf
+    out[-1, :] = np.inf
+    out[:, 0] = np.inf
+    out[:, -1] = np.inf
+    return out
+
+
+def global_planner_cell_costs(costs: np.ndarray, allow_unknown: bool, lethal_cost: int,
+                              neutral_cost: int, cost_factor: float,
+                              outline_map: bool = True) -> np.ndarray:
+    """Per-cell travel costs of global_planner's Expander::getCost."""
+    c = costs.astype(np.float64)
+    usable = costs < lethal_cost - 1
+    if allow_unknown:
+        usable |= costs == NO_INFORMATION
+    out = np.where(usable, np.minimum(c * cost_factor + neutral_cost, lethal_cost - 1), np.inf)
+    if outline_map:
+        out[0, :] = np.inf
+        out[-1, :] = np.inf
+        out[:, 0] = np.inf
+        out[:, -1] = np.inf
+    return out
+
+
+class GlobalPlanner:
+    """make_plan over a global costmap with the parameters of ``cfg.base_global_planner``."""
+
+    def __init__(self, cfg: MoveBaseConfig, search_margin: float = 2.0):
+        self.kind = cfg.base_global_planner
+        self.navfn = cfg.NavfnROS
+        self.gp = cfg.GlobalPlanner
+        self.search_margin = float(search_margin)
+
+    @property
+    def default_tolerance(self) -> float:
+        """The planner's ``default_tolerance`` (m)."""
+        return (self.navfn if self.kind == "navfn/NavfnROS" else self.gp).default_tolerance
+
+    def cell_costs(self, costs: np.ndarray) -> np.ndarray:
+        """Travel cost per cell of the configured planner (inf = blocked)."""
+        if self.kind == "navfn/NavfnROS":
+            return navfn_cell_costs(costs, self.navfn.allow_unknown)
+        gp = self.gp
+        return global_planner_cell_costs(costs, gp.allow_unknown, gp.lethal_cost, gp.neutral_cost,
+                                         gp.cost_factor, gp.outline_map)
+
+    def make_plan(self, costmap: Costmap, start: Sequence[float], goal: Sequence[float],
+                  tolerance: Optional[float] = None) -> Optional[Plan]:
+        """Plan from ``start`` (x, y[, yaw]) to ``goal`` (x, y, yaw) in the costmap frame.
+
+        Returns None when start or goal is off the map or nothing within the tolerance is
+        reachable.
+        """
+        tol = self.default_tolerance if tolerance is None else float(tolerance)
+        s = costmap.world_to_map(float(start[0]), float(start[1]))
+        g = costmap.world_to_map(float(goal[0]), float(goal[1]))
+        if s is None or g is None:
+            return None
+        tol_cells = int(math.floor(tol / costmap.resolution + 1e-9))
+        box = self._search_box(costmap, s, g, tol_cells)
+        x0, y0, x1, y1 = box
+        sub = costmap.costs[y0:y1, x0:x1]
+        cell_cost = self.cell_costs(sub)
+        sx, sy = s[0] - x0, s[1] - y0
+        gx, gy = g[0] - x0, g[1] - y0
+        weight = float(np.min(cell_cost[np.isfinite(cell_cost)], initial=1.0))
+        cell_cost = np.ascontiguousarray(cell_cost)
+        cap = max(1024, 2 * cell_cost.size)
+        while True:
+            path, cost, status = kernels.grid_search(
+                cell_cost, sx, sy, gx, gy, gx - tol_cells, gy - tol_cells, gx + tol_cells,
+                gy + tol_cells, min(weight, 50.0), np.empty(cap), np.empty(cap, np.int64))
+            if status == 0:
+                break
+            cap *= 2
+        if len(path) == 0:
+            return None
+        path = path + np.array([x0, y0])
+        return self._to_plan(costmap, path, float(cost), goal, g)
+
+    def _search_box(self, costmap: Costmap, s, g, tol_cells: int):
+        """Cells [x0, x1) x [y0, y1) worth searching: known cells, start, goal window, margin."""
+        known = costmap.costs != NO_INFORMATION
+        rows = np.nonzero(known.any(axis=1))[0]
+        cols = np.nonzero(known.any(axis=0))[0]
+        xs = [s[0], g[0] - tol_cells, g[0] + tol_cells]
+        ys = [s[1], g[1] - tol_cells, g[1] + tol_cells]
+        if len(rows):
+            xs += [int(cols[0]), int(cols[-1])]
+            ys += [int(rows[0]), int(rows[-1])]
+        margin = int(math.ceil(self.search_margin / costmap.resolution)) + 1
+        x0 = max(0, min(xs) - margin)
+        y0 = max(0, min(ys) - margin)
+        x1 = min(costmap.size_x, max(xs) + margin + 1)
+        y1 = min(costmap.size_y, max(ys) + margin + 1)
+        return x0, y0, x1, y1
+
+    @staticmethod
+    def _to_plan(costmap: Costmap, path: np.ndarray, cost: float, goal, goal_cell) -> Plan:
+        wx, wy = costmap.map_to_world(path[:, 0], path[:, 1])
+        xy = np.stack([wx, wy], axis=1)
+        reaches = bool(path[-1, 0] == goal_cell[0] and path[-1, 1] == goal_cell[1])
+        if reaches:
+            xy[-1] = (float(goal[0]), float(goal[1]))
+        yaw = np.zeros(len(xy))
+        if len(xy) > 1:
+            d = np.diff(xy, axis=0)
+            yaw[:-1] = np.arctan2(d[:, 1], d[:, 0])
+        yaw[-1] = float(goal[2]) if len(goal) > 2 else 0.0
+        length = float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) if len(xy) > 1 else 0.0
+        return Plan(np.column_stack([xy, yaw]), cost, length, reaches)

@@ -1,0 +1,240 @@
+"""``slam_gmapping``: a drop-in for the ROS slam_gmapping node, on :mod:`slam_predict.slam.gmapping`.
+
+Topics, frames, parameters and timing as slam_gmapping (ros_interfaces.md §2.1–2.2):
+
+* subscribes ``scan`` (sensor_msgs/LaserScan, queue 5); the odometry is tf ``odom_frame →
+  base_frame`` at the scan's stamp, the laser's mounting tf ``base_frame → laser frame`` is read
+  once at the first scan (the laser must be planar, upright or upside down);
+* publishes ``map`` (nav_msgs/OccupancyGrid, latched) and ``map_metadata`` (latched) after the
+  first processed scan and then whenever a processed scan is more than ``map_update_interval``
+  s newer than the last map; ``~entropy`` (std_msgs/Float64, latched, only when > 0);
+* broadcasts tf ``map_frame → odom_frame`` every ``transform_publish_period`` s (0 disables),
+  stamped now + ``tf_delay``; it changes only when a scan is processed (a broadcast whose stamp
+  would repeat the previous one is skipped: with sim time, slam_gmapping floods tf2 with
+  TF_REPEATED_DATA warnings there);
+* service ``dynamic_map`` (nav_msgs/GetMap).
+
+Every slam_gmapping parameter is read from the private namespace (see
+:class:`~slam_predict.slam.gmapping.params.GMappingParams`), plus ``~seed`` (int; default: fresh
+entropy, logged). Readings below ``range_min`` become ``range_max`` (slam_gmapping's rule); NaN
+readings are treated the same way (slam_gmapping would register them as garbage).
+"""
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import threading
+import time
+from typing import Optional, Tuple
+
+import numpy as np
+
+from slam_predict.slam.gmapping.params import GMappingParams
+from slam_predict.slam.laser import laser_geometry, prepare_ranges, quaternion_matrix
+
+LOG = logging.getLogger(__name__)
+SCAN_QUEUE = 5
+TF_WAIT = 1.0  # s of wall time to wait for the odometry tf of a scan
+
+
+class SlamGMappingNode:
+    """slam_gmapping's behaviour around a :class:`GMapping` back-end.
+
+    Args:
+        params: the slam_gmapping parameters.
+        seed: seed of the filter's random generator.
+        rospy_module: the ``rospy`` module (injected so tests can use a fake).
+        tf_buffer: a ``tf2_ros.Buffer`` (``lookup_transform``, ``can_transform``).
+        tf_broadcaster: a ``tf2_ros.TransformBroadcaster``.
+    """
+
+    def __init__(self, params: GMappingParams, seed: int, rospy_module, tf_buffer,
+                 tf_broadcaster):
+        self.params = params
+        self.seed = seed
+        self.rospy = rospy_module
+        self.tf_buffer = tf_buffer
+        self.tf_broadcaster = tf_broadcaster
+        self.slam = None
+        self.reverse = False
+        self.laser_count = 0
+        self.last_map_update: Optional[float] = None
+        self.map_msg = None
+        self.map_to_odom = np.zeros(3)
+        self._lock = threading.Lock()
+        self._map_lock = threading.Lock()
+        self._pubs = {}
+        self._last_tf_stamp: Optional[float] = None
+
+    # ------------------------------------------------------------------ wiring
+    def start(self) -> None:
+        """Advertise, subscribe, and start the map → odom broadcaster thread."""
+        from nav_msgs.msg import MapMetaData
+        from nav_msgs.srv import GetMap
+        from sensor_msgs.msg import LaserScan
+        from std_msgs.msg import Float64
+
+        from slam_predict.ros.conversions.slam import NumpyOccupancyGrid
+
+        rp = self.rospy
+        self._pubs["entropy"] = rp.Publisher("~entropy", Float64, queue_size=1, latch=True)
+        self._pubs["map"] = rp.Publisher("map", NumpyOccupancyGrid, queue_size=1, latch=True)
+        self._pubs["map_metadata"] = rp.Publisher("map_metadata", MapMetaData, queue_size=1,
+                                                  latch=True)
+        rp.Service("dynamic_map", GetMap, self.on_get_map)
+        rp.Subscriber("scan", LaserScan, self.on_scan, queue_size=SCAN_QUEUE)
+        if self.params.transform_publish_period > 0:
+            threading.Thread(target=self._publish_loop, daemon=True).start()
+
+    def _publish_loop(self) -> None:
+        rate = self.rospy.Rate(1.0 / self.params.transform_publish_period)
+        while not self.rospy.is_shutdown():
+            self.publish_transform()
+            try:
+                rate.sleep()
+            except Exception:  # ROSInterruptException / time moved backwards at shutdown
+                if self.rospy.is_shutdown():
+                    return
+
+    # ------------------------------------------------------------------ callbacks
+    def on_scan(self, msg) -> None:
+        """laserCallback: throttle, initialise on the first scan, add it, update the map."""
+        from slam_predict.ros.conversions.geometry import time_from_ros
+
+        self.laser_count += 1
+        if self.laser_count % self.params.throttle_scans != 0:
+            return
+        stamp = time_from_ros(msg.header.stamp)
+        if self.slam is None and not self._init_mapper(msg):
+            return
+        odom = self._lookup(self.params.odom_frame, self.params.base_frame, msg.header.stamp)
+        if odom is None:
+            LOG.warning("no %s -> %s transform at %.3f: scan skipped", self.params.odom_frame,
+                        self.params.base_frame, stamp)
+            return
+        if len(msg.ranges) != self.slam.filter.angles.size:
+            LOG.warning("scan with %d ranges, expected %d: skipped", len(msg.ranges),
+                        self.slam.filter.angles.size)
+            return
+        ranges = prepare_ranges(msg.ranges, msg.range_min, msg.range_max, self.reverse)
+        if self.slam.update(odom[0], ranges, stamp) is None:
+            return
+        with self._lock:
+            self.map_to_odom = self.slam.map_to_odom()
+        if self.map_msg is None or stamp - self.last_map_update > self.params.map_update_interval:
+            self.update_map(stamp)
+
+    def _init_mapper(self, msg) -> bool:
+        from slam_predict.slam.gmapping.filter import GMapping
+
+        lookup = self._lookup(self.params.base_frame, msg.header.frame_id, msg.header.stamp)
+        if lookup is None:
+            LOG.warning("cannot find the laser frame %s in %s: initialisation postponed",
+                        msg.header.frame_id, self.params.base_frame)
+            return False
+        translation, rotation = lookup[1], lookup[2]
+        laser, self.reverse = laser_geometry(rotation, translation, msg.angle_min,
+                                             msg.angle_increment, len(msg.ranges), msg.range_max)
+        if laser is None:
+            LOG.warning("laser %s is not planar: initialisation postponed", msg.header.frame_id)
+            return False
+        self.slam = GMapping(self.params, laser, np.random.default_rng(self.seed))
+        LOG.info("GMapping initialised: %d beams, maxRange %.2f m, maxUrange %.2f m, seed %d",
+                 laser.beams, self.slam.params.maxRange, self.slam.params.maxUrange, self.seed)
+        return True
+
+    def _lookup(self, parent: str, child: str, stamp):
+        """(planar pose (x, y, yaw), translation (3,), rotation 3 x 3) of child in parent."""
+        deadline = time.monotonic() + TF_WAIT
+        while True:
+            try:
+                tf = self.tf_buffer.lookup_transform(parent, child, stamp)
+                break
+            except Exception:  # tf2 LookupException / ExtrapolationException / ...
+                if time.monotonic() > deadline or self.rospy.is_shutdown():
+                    return None
+                time.sleep(0.01)
+        t, q = tf.transform.translation, tf.transform.rotation
+        rotation = quaternion_matrix(q.x, q.y, q.z, q.w)
+        yaw = math.atan2(rotation[1, 0], rotation[0, 0])
+        return np.array([t.x, t.y, yaw]), np.array([t.x, t.y, t.z]), rotation
+
+    def update_map(self, stamp: float) -> None:
+        """updateMap: rebuild from the best trajectory, publish entropy, map and metadata."""
+        from std_msgs.msg import Float64
+
+        from slam_predict.ros.conversions.slam import grid_to_ros
+
+        entropy = self.slam.entropy()
+        if entropy > 0.0:
+            self._pubs["entropy"].publish(Float64(entropy))
+        grid = self.slam.map()
+        now = self.rospy.get_time()
+        msg = grid_to_ros(grid, self.params.map_frame, now)
+        with self._map_lock:
+            self.map_msg = msg
+        self.last_map_update = stamp
+        self._pubs["map"].publish(msg)
+        self._pubs["map_metadata"].publish(msg.info)
+
+    def on_get_map(self, _request):
+        """dynamic_map: the latest map (the call fails before the first map)."""
+        from slam_predict.ros.conversions.slam import get_map_response
+
+        with self._map_lock:
+            msg = self.map_msg
+        if msg is None or msg.info.width == 0:
+            return None
+        return get_map_response(msg)
+
+    def publish_transform(self) -> None:
+        """Broadcast map → odom stamped now + tf_delay (skipped when the stamp would repeat the
+        previous one, as happens with sim time; tf2 would warn TF_REPEATED_DATA)."""
+        from slam_predict.ros.conversions.geometry import transform_to_ros
+
+        with self._lock:
+            pose = self.map_to_odom.copy()
+        stamp = self.rospy.get_time() + self.params.effective_tf_delay
+        if stamp == self._last_tf_stamp:
+            return
+        self._last_tf_stamp = stamp
+        self.tf_broadcaster.sendTransform(
+            transform_to_ros(pose, stamp, self.params.map_frame, self.params.odom_frame))
+
+
+def read_params(rospy_module) -> Tuple[GMappingParams, Optional[int]]:
+    """slam_gmapping parameters from the private namespace, and ``~seed`` (None if unset)."""
+    from slam_predict.config import from_dict
+
+    values = {}
+    for f in dataclasses.fields(GMappingParams):
+        if rospy_module.has_param("~" + f.name):
+            values[f.name] = rospy_module.get_param("~" + f.name)
+    seed = rospy_module.get_param("~seed", None)
+    return from_dict(GMappingParams, values, "~ (slam_gmapping parameters)"), seed
+
+
+def main(argv=None) -> int:
+    """Entry point of scripts/slam_gmapping."""
+    import rospy
+    import tf2_ros
+
+    from slam_predict.errors import InputError
+
+    rospy.init_node("slam_gmapping", argv=argv)
+    logging.basicConfig(level=logging.INFO, format="[slam_gmapping] %(levelname)s %(message)s")
+    try:
+        params, seed = read_params(rospy)
+    except InputError as exc:
+        rospy.logfatal(f"slam_gmapping: {exc.one_line()}")
+        return 2
+    if seed is None:
+        seed = int(np.random.SeedSequence().entropy % (2 ** 31))
+    rospy.loginfo(f"slam_gmapping: seed {seed}")
+    tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
+    tf2_ros.TransformListener(tf_buffer)
+    node = SlamGMappingNode(params, int(seed), rospy, tf_buffer, tf2_ros.TransformBroadcaster())
+    node.start()
+    rospy.spin()
+    return 0

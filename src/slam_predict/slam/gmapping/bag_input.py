@@ -1,0 +1,203 @@
+"""SLAM input from a ROS bag (ROS 1 .bag or ROS 2 folder, read with ``rosbags``), the way
+slam_gmapping would see it live.
+
+- Scans: the ``sensor_msgs/LaserScan`` topic (``scan_topic``; default: the bag's only one).
+- Odometry: tf ``odom_frame → base_frame`` at each scan's stamp (``/tf`` chains composed, each
+  dynamic link interpolated linearly in time, as tf does), or the poses of a
+  ``nav_msgs/Odometry`` topic (``odom_topic``) interpolated the same way. Scans outside the
+  odometry's time span are dropped, as slam_gmapping drops scans whose tf is not available.
+- Laser mounting: tf ``base_frame → scan frame`` (from ``/tf_static`` or ``/tf``), which must be
+  planar; readings below range_min become range_max; scans running clockwise are reversed.
+- No reference trajectory (bags carry none in a standard form).
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Dict, List, Optional, Tuple
+
+import numpy as np
+
+from slam_predict.errors import InputError, did_you_mean
+from slam_predict.slam.gmapping.runner import SlamInput
+from slam_predict.slam.laser import laser_geometry, prepare_ranges, quaternion_matrix
+
+SCAN_TYPE = "sensor_msgs/msg/LaserScan"
+ODOM_TYPE = "nav_msgs/msg/Odometry"
+TF_TOPICS = ("/tf", "/tf_static")
+
+
+def _stamp(header) -> float:
+    return header.stamp.sec + header.stamp.nanosec * 1e-9
+
+
+def _frame(name: str) -> str:
+    return name.lstrip("/")
+
+
+class TfTree:
+    """Transforms parent → child from tf messages: static, or dynamic samples over time."""
+
+    def __init__(self):
+        self.parent: Dict[str, str] = {}
+        self.samples: Dict[str, List[Tuple[float, np.ndarray]]] = {}
+        self.static: Dict[str, np.ndarray] = {}
+
+    def add(self, parent: str, child: str, t: float, value: np.ndarray, static: bool) -> None:
+        """One transform: ``value`` = (tx, ty, tz, qx, qy, qz, qw)."""
+        self.parent[child] = parent
+        if static:
+            self.static[child] = value
+        else:
+            self.samples.setdefault(child, []).append((t, value))
+
+    def _link(self, child: str, t: float) -> Optional[np.ndarray]:
+        if child in self.static:
+            return self.static[child]
+        rows = self.samples[child]
+        times = np.array([r[0] for r in rows])
+        if t < times[0] - 1e-9 or t > times[-1] + 1e-9:
+            return None
+        k = int(np.clip(np.searchsorted(times, t), 1, len(times) - 1)) if len(times) > 1 else 0
+        a, b = rows[max(k - 1, 0)], rows[k]
+        w = 0.0 if b[0] == a[0] else (t - a[0]) / (b[0] - a[0])
+        return _interpolate(a[1], b[1], float(np.clip(w, 0.0, 1.0)))
+
+    def lookup(self, parent: str, child: str, t: float):
+        """(translation (3,), rotation 3 x 3) of ``child`` in ``parent`` at ``t`` s, or None when
+        ``parent`` is not an ancestor of ``child`` or ``t`` is outside a link's samples."""
+        rotation, translation = np.eye(3), np.zeros(3)
+        frame = child
+        while frame != parent:
+            if frame not in self.parent:
+                return None
+            value = self._link(frame, t)
+            if value is None:
+                return None
+            r = quaternion_matrix(*value[3:7])
+            translation = r @ translation + value[:3]
+            rotation = r @ rotation
+            frame = self.parent[frame]
+        return translation, rotation
+
+
+def _interpolate(a: np.ndarray, b: np.ndarray, w: float) -> np.ndarray:
+    """Linear translation, normalised-linear quaternion (close to slerp for small steps)."""
+    qa, qb = a[3:7], b[3:7]
+    if np.dot(qa, qb) < 0:
+        qb = -qb
+    q = (1 - w) * qa + w * qb
+    return np.concatenate([(1 - w) * a[:3] + w * b[:3], q / np.linalg.norm(q)])
+
+
+def _value(transform) -> np.ndarray:
+    t, q = transform.translation, transform.rotation
+    return np.array([t.x, t.y, t.z, q.x, q.y, q.z, q.w], dtype=float)
+
+
+def _planar(translation: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    return np.array([translation[0], translation[1], np.arctan2(rotation[1, 0], rotation[0, 0])])
+
+
+def _pick_topic(reader, path: str, topic: Optional[str], msgtype: str, what: str) -> str:
+    topics = {c.topic: c.msgtype for c in reader.connections}
+    if topic is not None:
+        if topic not in topics:
+            raise InputError(f"{what} topic {topic} not in bag{did_you_mean(topic, topics)}", path)
+        if topics[topic] != msgtype:
+            raise InputError(f"topic {topic} has type {topics[topic]}, not {msgtype}", path)
+        return topic
+    found = sorted(t for t, kind in topics.items() if kind == msgtype)
+    if len(found) != 1:
+        raise InputError(f"{len(found)} {msgtype} topics in bag ({', '.join(found) or 'none'}): "
+                         f"choose the {what} topic", path)
+    return found[0]
+
+
+def read_bag_input(path: os.PathLike | str, scan_topic: Optional[str] = None,
+                   odom_topic: Optional[str] = None, base_frame: str = "base_link",
+                   odom_frame: str = "odom", max_scans: Optional[int] = None) -> SlamInput:
+    """A :class:`SlamInput` from a bag (see the module docstring)."""
+    from slam_predict.formats.rosbag import _open
+
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise InputError("ROS bag not found", path)
+    reader = _open(path)
+    try:
+        scan_topic = _pick_topic(reader, path, scan_topic, SCAN_TYPE, "scan")
+        if odom_topic is not None:
+            odom_topic = _pick_topic(reader, path, odom_topic, ODOM_TYPE, "odometry")
+        scans, tree, odom = _read_messages(reader, scan_topic, odom_topic)
+    finally:
+        reader.close()
+    if not scans:
+        raise InputError(f"no scans on {scan_topic}", path)
+    return _assemble(path, scans, tree, odom, base_frame, odom_frame, max_scans)
+
+
+def _read_messages(reader, scan_topic: str, odom_topic: Optional[str]):
+    wanted = {scan_topic, *TF_TOPICS} | ({odom_topic} if odom_topic else set())
+    connections = [c for c in reader.connections if c.topic in wanted]
+    scans, odom = [], []
+    tree = TfTree()
+    for conn, _, raw in reader.messages(connections=connections):
+        msg = reader.deserialize(raw, conn.msgtype)
+        if conn.topic == scan_topic:
+            scans.append(msg)
+        elif conn.topic == odom_topic:
+            p = msg.pose.pose
+            value = np.array([p.position.x, p.position.y, p.position.z, p.orientation.x,
+                              p.orientation.y, p.orientation.z, p.orientation.w])
+            odom.append((_stamp(msg.header), value))
+        else:
+            for tr in msg.transforms:
+                tree.add(_frame(tr.header.frame_id), _frame(tr.child_frame_id),
+                         _stamp(tr.header), _value(tr.transform), conn.topic == "/tf_static")
+    scans.sort(key=lambda m: _stamp(m.header))
+    odom.sort(key=lambda row: row[0])
+    return scans, tree, odom
+
+
+def _assemble(path, scans, tree: TfTree, odom, base_frame, odom_frame, max_scans) -> SlamInput:
+    first = scans[0]
+    t0 = _stamp(first.header)
+    mount = tree.lookup(base_frame, _frame(first.header.frame_id), t0)
+    if mount is None:
+        raise InputError(f"no tf from {base_frame} to the laser frame "
+                         f"{_frame(first.header.frame_id)}", path)
+    laser, reverse = laser_geometry(mount[1], mount[0], first.angle_min, first.angle_increment,
+                                    len(first.ranges), first.range_max)
+    if laser is None:
+        raise InputError("the laser is not mounted planar (slam_gmapping needs it level)", path)
+    source = TfTree()
+    for t, value in odom:
+        source.add(odom_frame, base_frame, t, value, static=False)
+    if not odom:
+        source = tree
+    times, poses, ranges = [], [], []
+    for msg in scans:
+        t = _stamp(msg.header)
+        found = source.lookup(odom_frame, base_frame, t)
+        if found is None or len(msg.ranges) != laser.beams:
+            continue
+        times.append(t)
+        poses.append(_planar(*found))
+        ranges.append(prepare_ranges(msg.ranges, msg.range_min, msg.range_max, reverse))
+        if max_scans is not None and len(times) >= max_scans:
+            break
+    if not times:
+        raise InputError(f"no scan has an odometry pose ({odom_frame} -> {base_frame})", path)
+    return SlamInput(path=path, times=np.array(times), odometry=np.array(poses),
+                     ranges=np.array(ranges), laser=laser, reference=None,
+                     info={"format": "rosbag", "scans_in_log": len(scans),
+                           "scans_with_odometry": len(times), "laser_frame":
+                           _frame(first.header.frame_id), "base_frame": base_frame,
+                           "odom_frame": odom_frame, "reversed": reverse,
+                           "laser_offset_m": float(mount[0][0])})
+
+
+def bag_like(path: os.PathLike | str) -> bool:
+    """Whether ``path`` looks like a ROS bag (.bag file, .db3/.mcap, or a ROS 2 bag folder)."""
+    p = Path(path)
+    return p.suffix in (".bag", ".db3", ".mcap") or (p.is_dir() and (p / "metadata.yaml").exists())

@@ -1,0 +1,146 @@
+"""Every slam_gmapping parameter, with the node's code defaults (ros_interfaces.md §2.2).
+
+Names are the ROS parameter names (private namespace of ``slam_gmapping``), so a user's YAML
+file carries over unchanged, e.g. ``../shared/baselines/gmapping_real_<log>.yaml``. Units: m, rad,
+s. ``maxRange``/``maxUrange`` may be left unset (None): the node derives them from the first scan
+(``range_max − 0.01`` and ``maxRange``), see :func:`resolve_ranges`.
+
+One option is ours: ``reproduce_freecell_bug`` (default True, i.e. behave exactly like upstream
+openslam_gmapping; False uses the intended "cell before the hit must be free" test).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+from dataclasses import dataclass
+from typing import Any, Mapping, Optional, Tuple
+
+from slam_predict.config import from_dict, load_yaml, to_dict
+from slam_predict.errors import InputError
+
+_Str = str  # the field ``str`` (a motion-noise parameter) shadows the builtin in the class body
+
+# Constants of openslam_gmapping that slam_gmapping does not expose.
+FULLNESS_THRESHOLD = 0.1
+FREE_CELL_RATIO = math.sqrt(2.0)
+ENLARGE_STEP = 10.0  # m
+NULL_LIKELIHOOD = -0.5
+PATCH_MAGNITUDE = 5  # patches of 32 x 32 cells
+
+
+@dataclass
+class GMappingParams:
+    """slam_gmapping parameters (defaults = slam_gmapping's code defaults)."""
+
+    # --- ROS wrapper
+    throttle_scans: int = 1
+    base_frame: _Str = "base_link"
+    map_frame: _Str = "map"
+    odom_frame: _Str = "odom"
+    transform_publish_period: float = 0.05
+    tf_delay: Optional[float] = None          # None: = transform_publish_period
+    map_update_interval: float = 5.0
+    # --- laser
+    maxRange: Optional[float] = None          # None: first scan's range_max - 0.01
+    maxUrange: Optional[float] = None         # None: = maxRange
+    # --- scan matcher
+    minimumScore: float = 0.0
+    sigma: float = 0.05
+    kernelSize: int = 1
+    lstep: float = 0.05
+    astep: float = 0.05
+    iterations: int = 5
+    lsigma: float = 0.075
+    ogain: float = 3.0
+    lskip: int = 0
+    # --- motion model
+    srr: float = 0.1
+    srt: float = 0.2
+    str: float = 0.1
+    stt: float = 0.2
+    # --- update triggers and filter
+    linearUpdate: float = 1.0
+    angularUpdate: float = 0.5
+    temporalUpdate: float = -1.0
+    resampleThreshold: float = 0.5
+    particles: int = 30
+    # --- initial map
+    xmin: float = -100.0
+    ymin: float = -100.0
+    xmax: float = 100.0
+    ymax: float = 100.0
+    delta: float = 0.05
+    occ_thresh: float = 0.25
+    # --- likelihood sampling: read by slam_gmapping but without effect on this code path
+    llsamplerange: float = 0.01
+    llsamplestep: float = 0.01
+    lasamplerange: float = 0.005
+    lasamplestep: float = 0.005
+    # --- ours
+    reproduce_freecell_bug: bool = True
+
+    def __post_init__(self):
+        if self.particles < 1:
+            raise ValueError("particles must be >= 1")
+        if self.delta <= 0:
+            raise ValueError("delta must be > 0")
+        if self.throttle_scans < 1:
+            raise ValueError("throttle_scans must be >= 1")
+        if self.kernelSize < 0 or self.lskip < 0 or self.iterations < 0:
+            raise ValueError("kernelSize, lskip and iterations must be >= 0")
+        if self.xmax <= self.xmin or self.ymax <= self.ymin:
+            raise ValueError("xmax/ymax must exceed xmin/ymin")
+        for name in ("sigma", "lsigma", "ogain"):
+            if getattr(self, name) <= 0:
+                raise ValueError(f"{name} must be > 0")
+        for name in ("srr", "srt", "str", "stt"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} must be >= 0")
+
+    @property
+    def effective_tf_delay(self) -> float:
+        """tf_delay, defaulting to transform_publish_period as slam_gmapping does (s)."""
+        return self.transform_publish_period if self.tf_delay is None else self.tf_delay
+
+
+def params_from_dict(data: Optional[Mapping[str, Any]], source: _Str = "<config>") -> GMappingParams:
+    """Strict construction from a mapping of slam_gmapping names (unknown keys rejected).
+
+    A ``type: gmapping`` entry (the SLAM back-end selector) is accepted and ignored.
+    """
+    data = dict(data or {})
+    kind = data.pop("type", "gmapping")
+    if kind != "gmapping":
+        raise InputError(f"SLAM type '{kind}' is not gmapping", source)
+    return from_dict(GMappingParams, data, source)
+
+
+def load_params(path: os.PathLike | _Str) -> GMappingParams:
+    """Load a slam_gmapping parameter YAML (flat mapping; e.g. the baseline files as they are)."""
+    return params_from_dict(load_yaml(path), os.fspath(path))
+
+
+def params_to_dict(params: GMappingParams) -> dict:
+    """Plain dict (for run metadata), the inverse of :func:`params_from_dict`."""
+    return to_dict(params)
+
+
+def resolve_ranges(params: GMappingParams, sensor_range_max: float) -> Tuple[float, float]:
+    """(maxRange, maxUrange) in m as slam_gmapping sets them at the first scan.
+
+    maxRange defaults to the sensor's range_max − 0.01; maxUrange to maxRange.
+    """
+    max_range = params.maxRange
+    if max_range is None:
+        if not math.isfinite(sensor_range_max):
+            raise ValueError("maxRange is not set and the sensor gives no range_max")
+        max_range = float(sensor_range_max) - 0.01
+    max_urange = max_range if params.maxUrange is None else params.maxUrange
+    return float(max_range), float(max_urange)
+
+
+def with_ranges(params: GMappingParams, sensor_range_max: float) -> GMappingParams:
+    """A copy of ``params`` with maxRange/maxUrange filled in (see :func:`resolve_ranges`)."""
+    max_range, max_urange = resolve_ranges(params, sensor_range_max)
+    return dataclasses.replace(params, maxRange=max_range, maxUrange=max_urange)

@@ -1,0 +1,166 @@
+"""numba kernels for the published map: Bresenham beams with free-space tracing.
+
+This is openslam_gmapping's ``registerScan`` with ``generateMap=true`` as slam_gmapping's
+``updateMap`` uses it: every beam with 0 < r ≤ maxRange is cropped to maxUrange; the cells of the
+Bresenham line (GridLineTraversal) from the laser cell to the end cell, end excluded, get a
+"free" visit; the end cell gets a hit (and a visit) only when the cropped range is < maxUrange.
+Counts go into dense int32 arrays covering the cell window [x0, x0 + w) × [y0, y0 + h) of the
+map; cells outside the window are ignored (callers size it with :func:`touched_cells`).
+"""
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from slam_predict.slam.gmapping.kernels import c_round
+
+
+@nb.njit(cache=True)
+def line_cells(x0, y0, x1, y1):
+    """GridLineTraversal::gridLine: the cells (K, 2) from (x0, y0) to (x1, y1), both included."""
+    dx = abs(x1 - x0)
+    dy = abs(y1 - y0)
+    n = max(dx, dy) + 1
+    out = np.empty((n, 2), dtype=np.int64)
+    if dy <= dx:
+        # walk x upwards from the end with the smaller x
+        if x0 > x1:
+            x, y, xend, ystep = x1, y1, x0, (1 if y0 > y1 else -1)
+        else:
+            x, y, xend, ystep = x0, y0, x1, (1 if y1 > y0 else -1)
+        d = 2 * dy - dx
+        out[0, 0], out[0, 1] = x, y
+        k = 1
+        while x < xend:
+            x += 1
+            if d < 0:
+                d += 2 * dy
+            else:
+                y += ystep
+                d += 2 * (dy - dx)
+            out[k, 0], out[k, 1] = x, y
+            k += 1
+    else:
+        if y0 > y1:
+            x, y, yend, xstep = x1, y1, y0, (1 if x0 > x1 else -1)
+        else:
+            x, y, yend, xstep = x0, y0, y1, (1 if x1 > x0 else -1)
+        d = 2 * dx - dy
+        out[0, 0], out[0, 1] = x, y
+        k = 1
+        while y < yend:
+            y += 1
+            if d < 0:
+                d += 2 * dx
+            else:
+                x += xstep
+                d += 2 * (dx - dy)
+            out[k, 0], out[k, 1] = x, y
+            k += 1
+    if out[0, 0] != x0 or out[0, 1] != y0:
+        out = out[::-1].copy()
+    return out
+
+
+@nb.njit(cache=True)
+def _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit):
+    """Free visits along the line a → b (b excluded), then the hit at b when ``hit``."""
+    w = hits.shape[0]
+    h = hits.shape[1]
+    cells = line_cells(ax, ay, bx, by)
+    for k in range(cells.shape[0]):
+        cx = cells[k, 0]
+        cy = cells[k, 1]
+        if cx == bx and cy == by:
+            continue
+        u = cx - x0
+        v = cy - y0
+        if 0 <= u < w and 0 <= v < h:
+            visits[u, v] += 1
+    if hit:
+        u = bx - x0
+        v = by - y0
+        if 0 <= u < w and 0 <= v < h:
+            hits[u, v] += 1
+            visits[u, v] += 1
+
+
+@nb.njit(cache=True)
+def _beam_cells(x, y, th, r, ca, sa, usable, sx2, sy2, cx, cy, delta):
+    """Laser cell, end cell and whether the (cropped) beam ends in a hit."""
+    d = min(r, usable)
+    c = math.cos(th)
+    s = math.sin(th)
+    hx = x + d * (c * ca - s * sa)
+    hy = y + d * (s * ca + c * sa)
+    ax = c_round((x - cx) / delta) + sx2
+    ay = c_round((y - cy) / delta) + sy2
+    bx = c_round((hx - cx) / delta) + sx2
+    by = c_round((hy - cy) / delta) + sy2
+    return ax, ay, bx, by, d < usable
+
+
+@nb.njit(cache=True)
+def touched_cells(poses, readings, ca, sa, max_range, usable, sx2, sy2, cx, cy, delta):
+    """(ixmin, iymin, ixmax, iymax): cell bounds of every laser and end cell of the scans."""
+    lo_x = lo_y = 1 << 40
+    hi_x = hi_y = -(1 << 40)
+    for k in range(poses.shape[0]):
+        for i in range(readings.shape[1]):
+            r = readings[k, i]
+            if r > max_range or r == 0.0:
+                continue
+            ax, ay, bx, by, _ = _beam_cells(poses[k, 0], poses[k, 1], poses[k, 2], r, ca[i],
+                                            sa[i], usable, sx2, sy2, cx, cy, delta)
+            lo_x = min(lo_x, ax, bx)
+            lo_y = min(lo_y, ay, by)
+            hi_x = max(hi_x, ax, bx)
+            hi_y = max(hi_y, ay, by)
+    return lo_x, lo_y, hi_x, hi_y
+
+
+@nb.njit(cache=True)
+def count_scans(poses, readings, ca, sa, max_range, usable, sx2, sy2, cx, cy, delta,
+                x0, y0, w, h):
+    """Hit and visit counts (w, h) int32 of the scans (K, B) taken from laser poses (K, 3)."""
+    hits = np.zeros((w, h), dtype=np.int32)
+    visits = np.zeros((w, h), dtype=np.int32)
+    for k in range(poses.shape[0]):
+        for i in range(readings.shape[1]):
+            r = readings[k, i]
+            if r > max_range or r == 0.0:
+                continue
+            ax, ay, bx, by, hit = _beam_cells(poses[k, 0], poses[k, 1], poses[k, 2], r, ca[i],
+                                              sa[i], usable, sx2, sy2, cx, cy, delta)
+            _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit)
+    return hits, visits
+
+
+@nb.njit(cache=True)
+def occupancy_values(hits, visits, occ_thresh):
+    """ROS occupancy per cell (w, h) int8: −1 unknown, 100 if n/visits > occ_thresh, else 0."""
+    out = np.empty(hits.shape, dtype=np.int8)
+    for u in range(hits.shape[0]):
+        for v in range(hits.shape[1]):
+            if visits[u, v] == 0:
+                out[u, v] = -1
+            elif hits[u, v] / visits[u, v] > occ_thresh:
+                out[u, v] = 100
+            else:
+                out[u, v] = 0
+    return out
+
+
+def warmup() -> None:
+    """Compile (or load from the cache) the kernels of this module on a tiny input."""
+    poses = np.zeros((1, 3))
+    readings = np.array([[1.0, 0.0, 3.0]])
+    ang = np.array([-0.5, 0.0, 0.5])
+    ca, sa = np.cos(ang), np.sin(ang)
+    geo = (64, 64, 0.0, 0.0, 0.05)
+    touched_cells(poses, readings, ca, sa, 2.0, 2.0, *geo)
+    hits, visits = count_scans(poses, readings, ca, sa, 2.0, 2.0, *geo, 0, 0, 128, 128)
+    occupancy_values(hits, visits, 0.25)
+    line_cells(0, 0, 3, -5)

@@ -1,0 +1,148 @@
+"""Explorer rules with a scripted goal client: nearest choice, seeded ties, time limits,
+aborts, blacklisting, in-place goals, stale maps, explore_lite's cost, stop reasons."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from slam_predict.explore.explorer import ABORTED, SUCCEEDED, ExploreConfig, Explorer
+
+RES = 0.1
+
+
+class FakeClient:
+    """Records goals; the test sets the status and plan length."""
+
+    def __init__(self):
+        self.sent = []
+        self.cancelled = []
+        self._status = None
+        self.length = None
+
+    def send_goal(self, target, t):
+        self.sent.append((t, target))
+        self._status = 1
+        self.length = None
+
+    def cancel(self, t):
+        self.cancelled.append(t)
+        self._status = 2
+
+    def status(self):
+        return self._status
+
+    def plan_length(self):
+        return self.length
+
+
+def grid_with_frontiers(*boxes):
+    """Known free 20 m x 20 m with unknown holes (x0, y0, x1, y1) in m; origin (0, 0)."""
+    data = np.zeros((200, 200), np.int8)
+    for x0, y0, x1, y1 in boxes:
+        data[int(y0 / RES):int(y1 / RES), int(x0 / RES):int(x1 / RES)] = -1
+    return SimpleNamespace(data=data, resolution=RES, origin=(0.0, 0.0))
+
+
+def explorer(**kw):
+    cfg = ExploreConfig(**{"goal_clearance": 0.0, "near_frontier_distance": 0.5, **kw})
+    client = FakeClient()
+    return Explorer(cfg, client, np.random.default_rng(0)), client
+
+
+def test_nearest_frontier_is_chosen_and_kept_while_it_lasts():
+    ex, client = explorer()
+    grid = grid_with_frontiers((15, 15, 17, 17), (4, 4, 6, 6))
+    robot = np.array([1.0, 1.0, 0.0])
+    ex.step(0.0, grid, robot)
+    (t, target), = client.sent
+    assert 3.5 < target[0] < 6.5 and 3.5 < target[1] < 6.5     # the near hole
+    assert target[2] == pytest.approx(np.arctan2(target[1] - 1, target[0] - 1))
+    ex.step(2.0, grid, robot)                                   # same map: keep the goal
+    assert len(client.sent) == 1
+    seen = grid_with_frontiers((15, 15, 17, 17))               # the near hole got mapped
+    ex.step(3.0, seen, robot)
+    assert len(client.sent) == 2 and client.sent[-1][1][0] > 14
+    assert ex.log.goals[-1]["outcome"] == "replaced"
+
+
+def test_ties_are_broken_by_the_seeded_generator():
+    picks = set()
+    for seed in range(12):
+        cfg = ExploreConfig(goal_clearance=0.0)
+        client = FakeClient()
+        ex = Explorer(cfg, client, np.random.default_rng(seed))
+        ex.step(0.0, grid_with_frontiers((4, 9, 6, 11), (14, 9, 16, 11)), np.array([10, 10, 0]))
+        picks.add(client.sent[0][1][0] > 10)
+        again = FakeClient()
+        Explorer(cfg, again, np.random.default_rng(seed)).step(
+            0.0, grid_with_frontiers((4, 9, 6, 11), (14, 9, 16, 11)), np.array([10, 10, 0]))
+        assert again.sent == client.sent                        # deterministic for a seed
+    assert picks == {True, False}
+
+
+def test_time_limit_drops_the_goal_and_a_random_frontier_follows():
+    ex, client = explorer()
+    grid = grid_with_frontiers((4, 4, 6, 6), (15, 15, 17, 17), (2, 15, 4, 17))
+    robot = np.array([1.0, 1.0, 0.0])
+    ex.step(0.0, grid, robot)
+    client.length = 4.25                              # first plan: 4.25 m
+    ex.step(0.1, grid, robot)
+    limit = 2.0 * 4.25 / 0.85 + 30.0
+    assert ex.goal.time_limit == pytest.approx(limit)
+    ex.step(limit - 0.1, grid, robot)
+    assert not client.cancelled
+    calls = []
+    ex.rng = SimpleNamespace(integers=lambda n: calls.append(n) or n - 1)
+    ex.step(limit + 0.2, grid, robot)
+    assert client.cancelled and ex.log.goals[0]["outcome"] == "timeout"
+    assert ex.log.goals[0]["time_limit"] == pytest.approx(limit)
+    assert calls and calls[0] == 2                    # random among the two fresh frontiers
+
+
+def test_aborted_goals_are_blacklisted_until_nothing_is_left():
+    ex, client = explorer()
+    grid = grid_with_frontiers((4, 4, 6, 6))
+    robot = np.array([1.0, 1.0, 0.0])
+    ex.step(0.0, grid, robot)
+    client._status = ABORTED
+    ex.step(0.5, grid, robot)
+    assert ex.done and ex.log.stop_reason == "all_frontiers_blacklisted"
+    assert ex.log.goals[0]["outcome"] == "aborted"
+
+
+def test_no_frontier_stops_exploration():
+    ex, client = explorer()
+    ex.step(0.0, grid_with_frontiers(), np.array([1.0, 1.0, 0.0]))
+    assert ex.done and ex.log.stop_reason == "no_frontiers" and not client.sent
+
+
+def test_near_frontier_gives_an_in_place_goal_and_waits_for_a_new_map():
+    ex, client = explorer(near_frontier_distance=1.0)
+    grid = grid_with_frontiers((5.3, 4.6, 5.6, 5.4))
+    robot = np.array([5.0, 5.0, np.pi])
+    ex.step(0.0, grid, robot)
+    target = client.sent[0][1]
+    assert target[:2] == pytest.approx((5.0, 5.0)) and abs(target[2]) < 0.5   # turn to face it
+    client._status = SUCCEEDED
+    ex.step(0.5, grid, robot)                          # same (stale) map: nothing new sent
+    assert len(client.sent) == 1 and not ex.done
+    fresh = grid_with_frontiers((5.3, 4.6, 5.6, 5.4))  # a new map object, frontier still there
+    ex.step(1.0, fresh, robot)
+    assert len(client.sent) == 2
+
+
+def test_explore_lite_cost_prefers_large_frontiers():
+    ex, client = explorer(strategy="explore_lite", potential_scale=1e-3, gain_scale=1.0)
+    grid = grid_with_frontiers((2, 2, 2.5, 2.5), (10, 10, 16, 16))
+    ex.step(0.0, grid, np.array([1.0, 1.0, 0.0]))
+    assert client.sent[0][1][0] > 9                    # the big one, although farther
+    ex2, client2 = explorer(strategy="explore_lite", potential_scale=100.0, gain_scale=1.0)
+    ex2.step(0.0, grid, np.array([1.0, 1.0, 0.0]))
+    assert client2.sent[0][1][0] < 3
+
+
+def test_config_rejects_unknown_strategy():
+    with pytest.raises(ValueError):
+        ExploreConfig(strategy="closest")

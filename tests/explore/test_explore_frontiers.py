@@ -1,0 +1,120 @@
+"""Frontier detection and clustering against slow references."""
+from __future__ import annotations
+
+from collections import deque
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from slam_predict.explore.frontiers import clear_goal, find_frontiers, frontier_mask
+
+
+def random_map(rng, shape=(50, 60)):
+    data = np.full(shape, -1, np.int8)
+    known = np.zeros(shape, bool)
+    for _ in range(6):  # a few known rectangles
+        r, c = rng.integers(0, shape[0] - 5), rng.integers(0, shape[1] - 5)
+        known[r:r + rng.integers(4, 25), c:c + rng.integers(4, 30)] = True
+    data[known] = 0
+    data[known & (rng.random(shape) < 0.08)] = 100
+    return data
+
+
+def ref_mask(data):
+    out = np.zeros(data.shape, bool)
+    rows, cols = data.shape
+    for r in range(rows):
+        for c in range(cols):
+            if data[r, c] != 0:
+                continue
+            for dr, dc in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                rr, cc = r + dr, c + dc
+                if 0 <= rr < rows and 0 <= cc < cols and data[rr, cc] == -1:
+                    out[r, c] = True
+    return out
+
+
+def ref_clusters(mask):
+    seen = np.zeros(mask.shape, bool)
+    clusters = []
+    for r, c in zip(*np.nonzero(mask)):
+        if seen[r, c]:
+            continue
+        queue, cells = deque([(r, c)]), []
+        seen[r, c] = True
+        while queue:
+            cr, cc = queue.popleft()
+            cells.append((cr, cc))
+            for dr in (-1, 0, 1):
+                for dc in (-1, 0, 1):
+                    rr, c2 = cr + dr, cc + dc
+                    if (0 <= rr < mask.shape[0] and 0 <= c2 < mask.shape[1] and mask[rr, c2]
+                            and not seen[rr, c2]):
+                        seen[rr, c2] = True
+                        queue.append((rr, c2))
+        clusters.append(cells)
+    return clusters
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_mask_and_clusters_match_references(seed):
+    rng = np.random.default_rng(seed)
+    data = random_map(rng)
+    np.testing.assert_array_equal(frontier_mask(data), ref_mask(data))
+    res, origin = 0.1, (-2.0, 1.0)
+    grid = SimpleNamespace(data=data, resolution=res, origin=origin)
+    robot = (0.5, 3.0)
+    found = find_frontiers(grid, robot, min_frontier_size=0.35)
+    expected = [c for c in ref_clusters(ref_mask(data)) if len(c) * res >= 0.35]
+    assert sorted(f.size for f in found) == sorted(len(c) for c in expected)
+    for f in found:
+        cells = {(int(round((y - origin[1]) / res - 0.5)), int(round((x - origin[0]) / res - 0.5)))
+                 for x, y in f.cells}
+        assert any(cells == set(c) for c in expected)
+        assert f.min_distance == pytest.approx(np.min(np.hypot(*(f.cells - robot).T)))
+        np.testing.assert_allclose(f.centroid, f.cells.mean(axis=0))
+        assert any(np.allclose(f.goal, cell) for cell in f.cells)
+    assert [f.min_distance for f in found] == sorted(f.min_distance for f in found)
+
+
+def test_no_frontier_when_fully_known_or_unknown():
+    grid = SimpleNamespace(data=np.zeros((10, 10), np.int8), resolution=0.05, origin=(0, 0))
+    assert find_frontiers(grid, (0, 0), 0.0) == []
+    grid.data[:] = -1
+    assert find_frontiers(grid, (0, 0), 0.0) == []
+
+
+def test_clear_goal_keeps_away_from_walls():
+    res = 0.05
+    data = np.full((40, 60), -1, np.int8)
+    data[:20, :] = 0                # known free below row 20, unknown above: frontier on row 19
+    data[:, :3] = data[:, 55:] = 100
+    data[15:19, 19:24] = 100        # a pillar just below the middle of the frontier
+    grid = SimpleNamespace(data=data, resolution=res, origin=(0.0, 0.0))
+    frontier = find_frontiers(grid, (1.0, 0.2), 0.5)[0]
+    occupied = (np.argwhere(data == 100)[:, ::-1] + 0.5) * res          # (x, y) centres
+
+    def clearance(p):
+        return np.min(np.hypot(*(occupied - p).T))
+
+    assert clearance(frontier.goal) < 0.5                     # the centroid cell is too close
+    goal = clear_goal(frontier, grid, 0.5)
+    assert clearance(goal) >= 0.5 - 1e-9
+    free = (np.argwhere(data == 0)[:, ::-1] + 0.5) * res
+    ok = [c for c in free if clearance(c) >= 0.5 - 1e-9]
+    best = min(ok, key=lambda c: np.hypot(*(c - frontier.goal)))     # brute force
+    np.testing.assert_allclose(goal, best)
+    assert np.hypot(*(goal - frontier.goal)) <= 1.0
+    np.testing.assert_allclose(clear_goal(frontier, grid, 0.0), frontier.goal)
+
+
+def test_clear_goal_falls_back_to_the_most_open_frontier_cell():
+    res = 0.05
+    data = np.full((30, 30), 100, np.int8)
+    data[5:12, 5:25] = 0              # a 0.35 m wide closet: nothing is 0.5 m from its walls
+    data[12, 5:25] = -1
+    grid = SimpleNamespace(data=data, resolution=res, origin=(0.0, 0.0))
+    frontier = find_frontiers(grid, (0.5, 0.4), 0.2)[0]
+    goal = clear_goal(frontier, grid, 0.5)
+    assert any(np.allclose(goal, c) for c in frontier.cells)

@@ -1,0 +1,153 @@
+"""The move_base state machine: outcomes, texts, retries, patience, preemption, limits."""
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from slam_predict.nav.config import load_nav_config
+from slam_predict.nav.navigator import (TEXT_NEW_GOAL, TEXT_NO_CONTROL, TEXT_NO_PLAN,
+                                        TEXT_OSCILLATING, TEXT_REACHED, GoalStatus, Navigator,
+                                        State)
+
+RES = 0.05
+IDENTITY = np.zeros(3)
+
+
+def room_grid(walls=()):
+    """An 8 m x 6 m room (map frame origin at its lower-left corner), walls 0.1 m thick."""
+    data = np.zeros((120, 160), np.int8)
+    data[:2, :] = data[-2:, :] = 100
+    data[:, :2] = data[:, -2:] = 100
+    for r0, r1, c0, c1 in walls:
+        data[r0:r1, c0:c1] = 100
+    return SimpleNamespace(data=data, origin=(0.0, 0.0), resolution=RES)
+
+
+@pytest.fixture(scope="module")
+def cfg(root):
+    return load_nav_config(root / "config")
+
+
+def drive(nav, pose, t0, seconds, dt=0.1, move=True):
+    """Step the navigator with an ideal unicycle (velocity = command); returns pose, t, cmds."""
+    t = t0
+    vel = (0.0, 0.0)
+    cmds = []
+    for _ in range(int(round(seconds / dt))):
+        t += dt
+        cmd = nav.step(t, pose, IDENTITY, vel)
+        cmds.append((t, *cmd))
+        if move:
+            v, w = cmd
+            pose = np.array([pose[0] + v * math.cos(pose[2]) * dt,
+                             pose[1] + v * math.sin(pose[2]) * dt, pose[2] + w * dt])
+            vel = cmd
+        if nav.goal is None:
+            break
+    return pose, t, np.array(cmds)
+
+
+def test_goal_reached_with_move_base_text_and_limited_commands(cfg):
+    nav = Navigator(cfg)
+    nav.set_map(room_grid())
+    start = np.array([1.0, 1.0, 0.0])
+    record = nav.send_goal((6.0, 4.0, math.pi / 2), 0.0)
+    pose, t, cmds = drive(nav, start, 0.0, 60.0)
+    assert record.status == GoalStatus.SUCCEEDED and record.text == TEXT_REACHED
+    assert math.hypot(pose[0] - 6.0, pose[1] - 4.0) <= 0.3
+    assert record.plan_length == pytest.approx(math.hypot(5, 3), rel=0.15)
+    tp = cfg.TrajectoryPlannerROS
+    dt = np.diff(cmds[:, 0])
+    assert np.all(np.abs(cmds[:, 1]) <= tp.max_vel_x + 1e-9)
+    assert np.all(np.abs(cmds[:, 2]) <= tp.max_vel_theta + 1e-9)
+    assert np.all(np.abs(np.diff(cmds[:, 1])) <= tp.acc_lim_x * dt + 1e-9)
+    assert np.all(np.abs(np.diff(cmds[:, 2])) <= tp.acc_lim_theta * dt + 1e-9)
+
+
+def test_unreachable_goal_aborts_after_retries_and_recovery(cfg, monkeypatch):
+    box = [(60, 62, 100, 140), (90, 92, 100, 140), (60, 92, 100, 102), (60, 92, 138, 140)]
+    nav = Navigator(cfg)
+    nav.set_map(room_grid(box))
+    calls = []
+    original = nav.planner.make_plan
+    monkeypatch.setattr(nav.planner, "make_plan",
+                        lambda *a, **k: calls.append(1) or original(*a, **k))
+    record = nav.send_goal((6.0, 3.8, 0.0), 0.0)
+    drive(nav, np.array([1.0, 1.0, 0.0]), 0.0, 10.0)
+    assert record.status == GoalStatus.ABORTED and record.text == TEXT_NO_PLAN
+    assert record.recoveries == ["conservative_reset"]
+    # max_planning_retries 3: four attempts, the recovery, four more attempts
+    assert len(calls) == 2 * (cfg.max_planning_retries + 1)
+    assert nav.goal is None and nav.state == State.PLANNING
+
+
+def test_planner_patience_without_retry_limit(cfg):
+    import dataclasses
+    unlimited = dataclasses.replace(cfg, max_planning_retries=-1)
+    nav = Navigator(unlimited)
+    nav.set_map(room_grid([(0, 120, 80, 82)]))       # a wall splitting the room
+    record = nav.send_goal((6.0, 3.0, 0.0), 0.0)
+    _, t, _ = drive(nav, np.array([1.0, 1.0, 0.0]), 0.0, 30.0)
+    assert record.status == GoalStatus.ABORTED and record.text == TEXT_NO_PLAN
+    assert t > 2 * unlimited.planner_patience      # patience, recovery, patience again
+
+
+def test_new_goal_preempts_and_cancel(cfg):
+    nav = Navigator(cfg)
+    nav.set_map(room_grid())
+    first = nav.send_goal((6.0, 4.0, 0.0), 0.0)
+    drive(nav, np.array([1.0, 1.0, 0.0]), 0.0, 1.0)
+    second = nav.send_goal((2.0, 4.0, 0.0), 1.0)
+    assert first.status == GoalStatus.PREEMPTED and first.text == TEXT_NEW_GOAL
+    assert second.status == GoalStatus.ACTIVE
+    nav.cancel_goal(1.5)
+    assert second.status == GoalStatus.PREEMPTED and second.text == ""
+    assert [g.id for g in nav.history] == [first.id, second.id]
+
+
+def test_no_valid_control_aborts_after_controller_patience(cfg):
+    nav = Navigator(cfg)
+    nav.set_map(room_grid())
+    pose = np.array([2.0, 3.0, 0.0])
+    # a wall seen by the laser (not in the SLAM map) closes the robot's side of the room
+    wall = np.column_stack([np.full(121, 3.0), np.linspace(0.0, 6.0, 121)])
+    ranges = np.hypot(wall[:, 0] - pose[0], wall[:, 1] - pose[1])
+    angles = np.arctan2(wall[:, 1] - pose[1], wall[:, 0] - pose[0])
+    order = np.argsort(angles)
+    nav.add_scan(ranges[order], angles[order], 0.0, 30.0, pose, IDENTITY, IDENTITY)
+    record = nav.send_goal((6.0, 3.0, 0.0), 0.0)
+    _, t, _ = drive(nav, pose, 0.0, 60.0, move=False)
+    assert record.status == GoalStatus.ABORTED and record.text == TEXT_NO_CONTROL
+    assert record.recoveries == ["conservative_reset"]
+    # move_base keeps last_valid_control across the recovery: the second failure aborts at once
+    assert cfg.controller_patience < t < cfg.controller_patience + 2.0
+
+
+def test_oscillation_timeout(cfg):
+    import dataclasses
+    osc = dataclasses.replace(cfg, oscillation_timeout=3.0)
+    nav = Navigator(osc)
+    nav.set_map(room_grid())
+    record = nav.send_goal((6.0, 4.0, 0.0), 0.0)
+    _, t, _ = drive(nav, np.array([1.0, 1.0, 0.0]), 0.0, 20.0, move=False)
+    assert record.status == GoalStatus.ABORTED and record.text == TEXT_OSCILLATING
+    assert 6.0 <= t <= 8.0
+
+
+def test_make_plan_and_clear_costmaps_services(cfg):
+    nav = Navigator(cfg)
+    nav.set_map(room_grid())
+    nav.step(0.0, np.array([1.0, 1.0, 0.0]), IDENTITY, (0.0, 0.0))
+    plan = nav.make_plan((1.0, 1.0), (7.0, 5.0, 0.0))
+    assert plan is not None and plan.reaches_goal
+    assert nav.make_plan((1.0, 1.0), (50.0, 5.0, 0.0)) is None
+    nav.add_scan(np.array([1.0]), np.array([0.0]), 0.0, 30.0, np.array([1.0, 1.0, 0.0]),
+                 IDENTITY, IDENTITY)
+    nav.local_costmap.update((1.0, 1.0, 0.0))
+    assert nav.local_costmap.costmap.costs.max() == 254
+    nav.clear_costmaps()
+    nav.local_costmap.update((1.0, 1.0, 0.0))
+    assert nav.local_costmap.costmap.costs.max() == 0

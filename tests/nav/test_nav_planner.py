@@ -1,0 +1,201 @@
+"""Global planner against a slow reference Dijkstra on random mazes; unknown space, tolerance."""
+from __future__ import annotations
+
+import heapq
+import math
+
+import numpy as np
+import pytest
+
+from slam_predict.nav.config import MoveBaseConfig, NavfnConfig
+from slam_predict.nav.costmap import (FREE, INSCRIBED, LETHAL, NO_INFORMATION, Costmap,
+                                      InflationLayer)
+from slam_predict.nav.planner import GlobalPlanner, navfn_cell_costs
+
+RES = 0.05
+
+
+def reference_dijkstra(cell_cost: np.ndarray, start, goal) -> float:
+    """Cheapest 8-connected cost start -> goal; entering cell v costs step·cost[v]."""
+    ny, nx = cell_cost.shape
+    best = {start: 0.0}
+    heap = [(0.0, start)]
+    done = set()
+    while heap:
+        d, (x, y) = heapq.heappop(heap)
+        if (x, y) in done:
+            continue
+        done.add((x, y))
+        if (x, y) == goal:
+            return d
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                if dx == dy == 0:
+                    continue
+                vx, vy = x + dx, y + dy
+                if not (0 <= vx < nx and 0 <= vy < ny) or not math.isfinite(cell_cost[vy, vx]):
+                    continue
+                nd = d + math.hypot(dx, dy) * cell_cost[vy, vx]
+                if nd < best.get((vx, vy), math.inf):
+                    best[(vx, vy)] = nd
+                    heapq.heappush(heap, (nd, (vx, vy)))
+    return math.inf
+
+
+def dfs_maze(rng, cells=8, scale=4) -> np.ndarray:
+    """A perfect maze (random DFS) with corridors ``scale`` - 1 cells wide; LETHAL walls."""
+    size = cells * scale + 1
+    grid = np.full((size, size), LETHAL, np.uint8)
+    seen = np.zeros((cells, cells), bool)
+    stack = [(0, 0)]
+    seen[0, 0] = True
+    while stack:
+        cx, cy = stack[-1]
+        grid[cy * scale + 1:(cy + 1) * scale, cx * scale + 1:(cx + 1) * scale] = FREE
+        options = [(cx + dx, cy + dy) for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))
+                   if 0 <= cx + dx < cells and 0 <= cy + dy < cells and not seen[cy + dy, cx + dx]]
+        if not options:
+            stack.pop()
+            continue
+        nx_, ny_ = options[rng.integers(len(options))]
+        seen[ny_, nx_] = True
+        x0, x1 = sorted((cx, nx_))
+        y0, y1 = sorted((cy, ny_))
+        grid[y0 * scale + 1:(y1 + 1) * scale, x0 * scale + 1:(x1 + 1) * scale] = FREE
+        stack.append((nx_, ny_))
+    return grid
+
+
+def random_blocks(rng, shape=(45, 50), p=0.3) -> np.ndarray:
+    grid = np.where(rng.random(shape) < p, LETHAL, FREE).astype(np.uint8)
+    return grid
+
+
+def planner(**navfn) -> GlobalPlanner:
+    return GlobalPlanner(MoveBaseConfig(NavfnROS=NavfnConfig(**navfn)))
+
+
+def world(cell) -> tuple:
+    return ((cell[0] + 0.5) * RES, (cell[1] + 0.5) * RES, 0.0)
+
+
+def free_cells(costs: np.ndarray):
+    ys, xs = np.nonzero(costs[1:-1, 1:-1] < INSCRIBED)
+    return list(zip(xs + 1, ys + 1))
+
+
+def path_cells(plan, costmap):
+    return np.array([costmap.world_to_map(x, y) for x, y, _ in plan.poses])
+
+
+def check_legal(plan, costmap):
+    cells = path_cells(plan, costmap)
+    steps = np.abs(np.diff(cells, axis=0))
+    assert steps.max() <= 1, "path jumps over cells"
+    values = costmap.costs[cells[1:, 1], cells[1:, 0]]
+    assert np.all(values < INSCRIBED), "path crosses lethal/inscribed cells"
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_length_within_5_percent_of_8_connected_dijkstra(seed):
+    rng = np.random.default_rng(seed)
+    grid = dfs_maze(rng) if seed % 2 else random_blocks(rng)
+    costmap = Costmap(grid, (0.0, 0.0), RES)
+    cells = free_cells(grid)
+    for _ in range(3):
+        s = cells[rng.integers(len(cells))]
+        g = cells[rng.integers(len(cells))]
+        unit = np.where(grid < INSCRIBED, 1.0, np.inf)
+        unit[[0, -1], :] = np.inf
+        unit[:, [0, -1]] = np.inf
+        ref = reference_dijkstra(unit, s, g)
+        plan = planner().make_plan(costmap, world(s), world(g))
+        if math.isinf(ref):
+            assert plan is None
+            continue
+        assert plan is not None and plan.reaches_goal
+        check_legal(plan, costmap)
+        assert plan.length <= 1.05 * ref * RES + 1e-9
+
+
+@pytest.mark.parametrize("kind", ["navfn/NavfnROS", "global_planner/GlobalPlanner"])
+@pytest.mark.parametrize("seed", range(5))
+def test_cost_within_1_percent_of_optimum(seed, kind):
+    rng = np.random.default_rng(100 + seed)
+    grid = dfs_maze(rng, cells=6, scale=6) if seed % 2 else random_blocks(rng, (40, 42), 0.15)
+    InflationLayer(0.2, 5.0, 0.06, RES).apply(grid)
+    grid[(grid < INSCRIBED) & (rng.random(grid.shape) < 0.2)] = 120  # extra cost patches
+    costmap = Costmap(grid, (0.0, 0.0), RES)
+    gp = GlobalPlanner(MoveBaseConfig(base_global_planner=kind))
+    weights = gp.cell_costs(grid)
+    cells = free_cells(grid)
+    for _ in range(3):
+        s = cells[rng.integers(len(cells))]
+        g = cells[rng.integers(len(cells))]
+        ref = reference_dijkstra(weights, s, g)
+        plan = gp.make_plan(costmap, world(s), world(g))
+        if math.isinf(ref):
+            assert plan is None
+            continue
+        check_legal(plan, costmap)
+        assert plan.cost <= 1.01 * ref + 1e-9
+        cells_on = path_cells(plan, costmap)
+        recomputed = sum(math.hypot(*(b - a)) * weights[b[1], b[0]]
+                         for a, b in zip(cells_on[:-1], cells_on[1:]))
+        assert recomputed == pytest.approx(plan.cost)
+
+
+def test_frontier_goal_in_unknown_space_is_reachable():
+    grid = np.full((40, 60), NO_INFORMATION, np.uint8)
+    grid[5:35, 5:30] = FREE
+    costmap = Costmap(grid, (0.0, 0.0), RES)
+    goal = world((45, 20))
+    plan = planner(allow_unknown=True).make_plan(costmap, world((10, 20)), goal)
+    assert plan is not None and plan.reaches_goal
+    assert plan.poses[-1, 0] == pytest.approx(goal[0])
+    assert planner(allow_unknown=False).make_plan(costmap, world((10, 20)), goal) is None
+
+
+def test_blocked_goal_uses_tolerance_nearest_reachable_cell():
+    grid = np.zeros((40, 40), np.uint8)
+    grid[:, 20:23] = LETHAL          # a wall; the goal is inside it
+    costmap = Costmap(grid, (0.0, 0.0), RES)
+    goal = world((21, 10))
+    assert planner().make_plan(costmap, world((5, 10)), goal) is None
+    plan = planner(default_tolerance=0.2).make_plan(costmap, world((5, 10)), goal)
+    assert plan is not None and not plan.reaches_goal
+    end = costmap.world_to_map(*plan.poses[-1, :2])
+    assert end == (19, 10)           # the nearest reachable cell to the goal
+    check_legal(plan, costmap)
+
+
+def test_unreachable_goal_fails_and_start_cell_is_always_usable():
+    grid = np.zeros((30, 30), np.uint8)
+    grid[10:20, 10] = grid[10:20, 19] = LETHAL
+    grid[10, 10:20] = grid[19, 10:20] = LETHAL
+    costmap = Costmap(grid, (0.0, 0.0), RES)
+    assert planner().make_plan(costmap, world((3, 3)), world((15, 15))) is None
+    grid2 = np.zeros((30, 30), np.uint8)
+    grid2[5, 5] = INSCRIBED                      # robot standing on an inscribed cell
+    plan = planner().make_plan(Costmap(grid2, (0.0, 0.0), RES), world((5, 5)), world((20, 20)))
+    assert plan is not None
+
+
+def test_search_is_limited_to_the_known_region():
+    grid = np.full((2000, 2000), NO_INFORMATION, np.uint8)
+    grid[1000:1040, 1000:1060] = FREE
+    costmap = Costmap(grid, (-50.0, -50.0), RES)
+    gp = planner()
+    x0, y0, x1, y1 = gp._search_box(costmap, (1010, 1010), (1050, 1030), 0)
+    assert (x1 - x0) * (y1 - y0) < 200 * 200
+    plan = gp.make_plan(costmap, (0.52, 0.52, 0.0), (2.52, 1.52, 0.0))
+    assert plan is not None and plan.reaches_goal
+
+
+def test_navfn_cost_translation():
+    costs = np.array([[0, 100, 252, 253, 254, 255]] * 3, np.uint8)
+    out = navfn_cell_costs(costs, allow_unknown=True)[1]
+    assert np.isinf(out[0]) and np.isinf(out[-1])   # the border is an obstacle
+    assert out[1] == pytest.approx(130.0)
+    assert out[2] == pytest.approx(251.6)
+    assert np.isinf(out[3]) and np.isinf(out[4])

@@ -1,0 +1,150 @@
+"""The slam_gmapping node class driven through fake rospy / tf on a synthetic room."""
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("nav_msgs.msg", reason="ROS message packages (nav_msgs) not installed")
+
+from geometry_msgs.msg import TransformStamped  # noqa: E402
+from sensor_msgs.msg import LaserScan  # noqa: E402
+
+from slam_predict.geometry import compose, yaw_to_quaternion  # noqa: E402
+from slam_predict.ros.conversions.geometry import time_to_ros, transform_from_ros  # noqa: E402
+from slam_predict.ros.conversions.slam import grid_from_ros  # noqa: E402
+from slam_predict.ros.slam_gmapping_node import SlamGMappingNode, read_params  # noqa: E402
+from slam_predict.slam.gmapping.params import GMappingParams  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "slam"))
+from slam_synthetic import cast  # noqa: E402
+
+ANGLES = np.radians(np.arange(-90.0, 90.5, 1.0))  # 181 beams, symmetric
+
+
+class FakePub:
+    def __init__(self):
+        self.sent = []
+
+    def publish(self, msg):
+        self.sent.append(msg)
+
+
+class FakeRospy:
+    def __init__(self, params=None):
+        self.params = params or {}
+        self.pubs = {}
+        self.now = 0.0
+
+    def Publisher(self, name, _type, **_):
+        return self.pubs.setdefault(name, FakePub())
+
+    def Service(self, *_args):
+        pass
+
+    def Subscriber(self, *_args, **_):
+        pass
+
+    def has_param(self, name):
+        return name in self.params
+
+    def get_param(self, name, default=None):
+        return self.params.get(name, default)
+
+    def get_time(self):
+        return self.now
+
+    def is_shutdown(self):
+        return False
+
+
+class FakeTf:
+    """odom -> base_link per stamp; base_link -> laser fixed (optionally upside down)."""
+
+    def __init__(self, upside_down):
+        self.odom = {}
+        roll = math.pi if upside_down else 0.0
+        self.laser_q = (math.sin(roll / 2), 0.0, 0.0, math.cos(roll / 2))
+        self.sent = []
+
+    def lookup_transform(self, parent, child, stamp):
+        msg = TransformStamped()
+        if (parent, child) == ("base_link", "laser"):
+            msg.transform.translation.x = 0.1
+            q = msg.transform.rotation
+            q.x, q.y, q.z, q.w = self.laser_q
+            return msg
+        pose = self.odom[round(stamp.to_sec(), 6)]
+        msg.transform.translation.x, msg.transform.translation.y = pose[0], pose[1]
+        q = msg.transform.rotation
+        q.x, q.y, q.z, q.w = (float(v) for v in yaw_to_quaternion(pose[2]))
+        return msg
+
+    def sendTransform(self, msg):
+        self.sent.append(msg)
+
+
+def drive(upside_down, steps=60):
+    params = GMappingParams(particles=8, xmin=-10, ymin=-10, xmax=10, ymax=10,
+                            linearUpdate=0.3, angularUpdate=0.2, map_update_interval=1.0)
+    fake, tf = FakeRospy(), FakeTf(upside_down)
+    node = SlamGMappingNode(params, 3, fake, tf, tf)
+    node.start = None  # the wiring needs a ROS master; publishers are made below
+    node._pubs = {k: fake.Publisher(k, None) for k in ("map", "map_metadata", "entropy")}
+    known = []
+    for k in range(steps):
+        t = 10.0 + 0.5 * k
+        base = np.array([-3.0 + 0.1 * k, -2.0 + 0.02 * k, 0.2 * math.sin(0.1 * k)])
+        tf.odom[round(t, 6)] = base
+        laser = compose(base, np.array([0.1, 0.0, 0.0]))
+        ranges = cast(laser, ANGLES)
+        if upside_down:
+            ranges = ranges[::-1]  # beam i of an upside-down laser looks at bearing -angle_i
+        msg = LaserScan(angle_min=ANGLES[0], angle_max=ANGLES[-1],
+                        angle_increment=ANGLES[1] - ANGLES[0], range_min=0.1, range_max=30.0,
+                        ranges=ranges.tolist())
+        msg.header.stamp = time_to_ros(t)
+        msg.header.frame_id = "laser"
+        fake.now = t
+        node.on_scan(msg)
+        if fake.pubs["map"].sent:
+            known.append((grid_from_ros(fake.pubs["map"].sent[-1]).data >= 0).sum())
+    return node, fake, tf, known
+
+
+def test_node_publishes_growing_maps_and_map_to_odom():
+    node, fake, tf, known = drive(upside_down=False)
+    maps = fake.pubs["map"].sent
+    assert len(maps) >= 3 and len(fake.pubs["map_metadata"].sent) == len(maps)
+    assert known[-1] > known[0] > 0
+    assert maps[-1].header.frame_id == "map" and maps[-1].info.width == 384  # 400 cells floored to patches
+    node.publish_transform()
+    sent = transform_from_ros(tf.sent[-1])
+    assert (sent.parent, sent.child) == ("map", "odom")
+    assert sent.stamp == pytest.approx(fake.now + 0.05)
+    assert np.allclose(sent.pose, node.slam.map_to_odom(), atol=1e-9)
+    response = node.on_get_map(None)
+    assert np.array_equal(grid_from_ros(response.map).data, grid_from_ros(maps[-1]).data)
+
+
+def test_upside_down_laser_gives_the_same_map():
+    a = drive(upside_down=False, steps=25)[1].pubs["map"].sent[-1]
+    b = drive(upside_down=True, steps=25)[1].pubs["map"].sent[-1]
+    assert np.array_equal(grid_from_ros(a).data, grid_from_ros(b).data)
+
+
+def test_no_map_before_the_first_scan():
+    node = SlamGMappingNode(GMappingParams(), 0, FakeRospy(), None, None)
+    assert node.on_get_map(None) is None
+
+
+def test_params_come_from_the_private_namespace():
+    fake = FakeRospy({"~particles": 12, "~xmin": -20, "~seed": 7, "~type": "gmapping"})
+    params, seed = read_params(fake)
+    assert params.particles == 12 and params.xmin == -20.0 and seed == 7
+    from slam_predict.errors import InputError
+    with pytest.raises(InputError, match="particles"):
+        read_params(FakeRospy({"~particles": "x"}))

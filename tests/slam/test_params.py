@@ -1,0 +1,54 @@
+"""slam_gmapping parameters: defaults, strict YAML loading, the baseline files as they are."""
+import pytest
+
+from slam_predict.errors import InputError
+from slam_predict.slam.gmapping.params import (GMappingParams, load_params, params_from_dict,
+                                               resolve_ranges)
+
+
+def test_defaults_are_slam_gmappings():
+    p = GMappingParams()
+    assert (p.particles, p.linearUpdate, p.angularUpdate, p.temporalUpdate) == (30, 1.0, 0.5, -1.0)
+    assert (p.srr, p.srt, p.str, p.stt) == (0.1, 0.2, 0.1, 0.2)
+    assert (p.sigma, p.kernelSize, p.lstep, p.astep, p.iterations) == (0.05, 1, 0.05, 0.05, 5)
+    assert (p.lsigma, p.ogain, p.lskip, p.minimumScore) == (0.075, 3.0, 0, 0.0)
+    assert (p.xmin, p.ymin, p.xmax, p.ymax, p.delta, p.occ_thresh) == (-100, -100, 100, 100,
+                                                                       0.05, 0.25)
+    assert p.map_update_interval == 5.0 and p.effective_tf_delay == 0.05
+    assert p.reproduce_freecell_bug is True
+
+
+@pytest.mark.parametrize("log", ["intel", "aces", "csail", "freiburg-101", "freiburg-079"])
+def test_baseline_yamls_load_as_is(shared_dir, log):
+    p = load_params(shared_dir / "baselines" / f"gmapping_real_{log}.yaml")
+    assert p.particles == 30 and p.maxUrange is not None
+
+
+def test_thesis_config_values(root):
+    p = load_params(root / "config" / "gmapping.yaml")
+    assert p.particles == 40
+    assert (p.linearUpdate, p.angularUpdate, p.temporalUpdate) == (1.0, 0.25, 5.0)
+    assert (p.maxUrange, p.maxRange, p.delta) == (30.0, 60.0, 0.05)
+    assert (p.srr, p.srt, p.str, p.stt) == (0.01, 0.02, 0.01, 0.02)
+
+
+def test_unknown_key_is_rejected_with_a_hint():
+    with pytest.raises(InputError, match="did you mean 'linearUpdate'"):
+        params_from_dict({"linearupdate": 1.0}, "x.yaml")
+
+
+def test_wrong_type_and_bad_values_are_input_errors():
+    with pytest.raises(InputError, match="particles"):
+        params_from_dict({"particles": "many"}, "x.yaml")
+    with pytest.raises(InputError, match="particles must be"):
+        params_from_dict({"particles": 0}, "x.yaml")
+    with pytest.raises(InputError, match="not gmapping"):
+        params_from_dict({"type": "karto"}, "x.yaml")
+
+
+def test_ranges_follow_the_first_scan_when_unset():
+    assert resolve_ranges(GMappingParams(), 30.0) == (29.99, 29.99)
+    assert resolve_ranges(GMappingParams(maxUrange=10.0), 30.0) == (29.99, 10.0)
+    assert resolve_ranges(GMappingParams(maxRange=60.0, maxUrange=30.0), float("nan")) == (60, 30)
+    with pytest.raises(ValueError):
+        resolve_ranges(GMappingParams(), float("nan"))

@@ -1,0 +1,135 @@
+"""Scan matcher kernels: score/likelihood vs a slow reference, hill climbing recovers offsets."""
+import math
+
+import numpy as np
+import pytest
+
+from slam_predict.slam.gmapping import kernels
+from slam_predict.slam.gmapping.maps import Geometry, ParticleMap, PatchPool, c_round
+from slam_predict.slam.gmapping.params import FREE_CELL_RATIO
+
+from slam_synthetic import cast
+
+ANGLES = np.radians(np.arange(-90.0, 90.0, 1.0))
+CA, SA = np.cos(ANGLES), np.sin(ANGLES)
+TRUE_POSES = [(-3.5, -2.0, 0.2), (-1.0, -2.5, 1.0), (3.0, -2.0, 2.0), (3.5, 2.5, -2.5),
+              (-1.0, 0.5, 0.0)]
+
+
+def survey_poses(n=40, seed=0):
+    """Random laser poses in the room's free space (outside the pillar)."""
+    rng = np.random.default_rng(seed)
+    poses = [(rng.uniform(-4.5, 4.5), rng.uniform(-3.5, 3.5), rng.uniform(-3, 3)) for _ in range(n)]
+    return [p for p in poses if not (0.8 < p[0] < 2.2 and 0.8 < p[1] < 2.2)]
+
+
+def built_map(poses=TRUE_POSES, max_range=30.0):
+    pool = PatchPool(8)
+    pmap = ParticleMap(pool, Geometry.particle_map(-100, -100, 100, 100, 0.05))
+    for pose in poses:
+        pmap.register(pose, cast(pose, ANGLES), CA, SA, max_range, max_range)
+    return pmap
+
+
+def geo_args(pmap):
+    g = pmap.geometry
+    return (pmap.table, g.sx2, g.sy2, g.cx, g.cy, g.delta, pmap.pool.acc, pmap.pool.hits)
+
+
+def slow_best(pmap, hx, hy, r, lx, ly, dx, dy, back, bug, k=1):
+    """Reference of the window search, written from the upstream description."""
+    g = pmap.geometry
+    ix, iy = g.world_to_cell(hx, hy)
+    if bug:
+        fx, fy = g.world_to_cell((lx + (r - back) * dx) - hx, (ly + (r - back) * dy) - hy)
+    else:
+        fx, fy = np.subtract(g.world_to_cell(hx - back * dx, hy - back * dy), (ix, iy))
+    best = None
+    for xx in range(-k, k + 1):
+        for yy in range(-k, k + 1):
+            n, mx, my = pmap.cell(ix + xx, iy + yy)
+            nf, _, _ = pmap.cell(ix + xx + fx, iy + yy + fy)
+            if n > 0 and nf == 0:
+                d2 = (hx - mx) ** 2 + (hy - my) ** 2
+                best = d2 if best is None or d2 < best else best
+    return best
+
+
+def slow_score_and_likelihood(pmap, pose, ranges, usable, sigma=0.05, lsigma=0.075, bug=True):
+    x, y, th = pose
+    delta = pmap.geometry.delta
+    s = l_sum = 0.0
+    s_only = 0.0
+    for r, a in zip(ranges, ANGLES):
+        if r > usable:
+            continue
+        dx, dy = math.cos(th + a), math.sin(th + a)
+        hx, hy = x + r * dx, y + r * dy
+        best = slow_best(pmap, hx, hy, r, x, y, dx, dy, delta * FREE_CELL_RATIO, bug)
+        l_sum += -best / lsigma if best is not None else -0.5 / lsigma
+        if best is not None:
+            s += math.exp(-best / sigma)
+        if r != 0.0:
+            back = delta * delta * FREE_CELL_RATIO if bug else delta * FREE_CELL_RATIO
+            b2 = slow_best(pmap, hx, hy, r, x, y, dx, dy, back, bug)
+            if b2 is not None:
+                s_only += math.exp(-b2 / sigma)
+    return s_only, s, l_sum
+
+
+@pytest.mark.parametrize("bug", [True, False])
+def test_score_and_likelihood_match_a_slow_reference(bug):
+    pmap = built_map()
+    rng = np.random.default_rng(3)
+    for _ in range(6):
+        pose = np.array(TRUE_POSES[rng.integers(len(TRUE_POSES))]) + rng.normal(0, [0.05, 0.05, 0.03])
+        ranges = cast(TRUE_POSES[0], ANGLES)
+        ranges[::17] = 0.0
+        ranges[::23] = 31.0
+        ref_score, ref_s, ref_l = slow_score_and_likelihood(pmap, pose, ranges, 30.0, bug=bug)
+        got = kernels.score(*geo_args(pmap), *pose, ranges, CA, SA, 30.0, 0.05, 1, 0, bug)
+        s, lik, _ = kernels.likelihood_and_score(*geo_args(pmap), *pose, ranges, CA, SA, 30.0,
+                                                 0.05, 0.075, 1, 0, bug)
+        assert got == pytest.approx(ref_score, rel=1e-9)
+        assert s == pytest.approx(ref_s, rel=1e-9)
+        assert lik == pytest.approx(ref_l, rel=1e-9)
+
+
+def test_lskip_uses_every_lskip_plus_one_th_beam():
+    pmap = built_map()
+    ranges = cast(TRUE_POSES[1], ANGLES)
+    full = kernels.score(*geo_args(pmap), *TRUE_POSES[1], ranges, CA, SA, 30.0, 0.05, 1, 0, True)
+    only = ranges.copy()
+    only[0::2] = 31.0  # lskip=1 uses beams 1, 3, 5, ...
+    half = kernels.score(*geo_args(pmap), *TRUE_POSES[1], only, CA, SA, 30.0, 0.05, 1, 0, True)
+    skip = kernels.score(*geo_args(pmap), *TRUE_POSES[1], ranges, CA, SA, 30.0, 0.05, 1, 1, True)
+    assert skip == pytest.approx(half) and 0 < skip < full
+
+
+@pytest.mark.parametrize("bug", [True, False])
+@pytest.mark.parametrize("offset", [(0.08, -0.06, 0.04), (-0.1, 0.05, -0.05), (0.03, 0.1, 0.0)])
+def test_hill_climbing_recovers_a_known_offset(bug, offset):
+    pmap = built_map(survey_poses())  # many scans: cell means settle on the walls
+    truth = np.array([0.0, -1.0, 0.6])
+    ranges = cast(truth, ANGLES)
+    start = truth + np.array(offset)
+    x, y, th, best = kernels.optimize(*geo_args(pmap), *start, ranges, CA, SA, 30.0, 0.05, 1, 0,
+                                      bug, 0.05, 0.05, 5)
+    assert math.hypot(x - truth[0], y - truth[1]) <= 0.02
+    assert abs(th - truth[2]) <= math.radians(0.5)
+    assert best == pytest.approx(kernels.score(*geo_args(pmap), x, y, th, ranges, CA, SA, 30.0,
+                                               0.05, 1, 0, bug))
+
+
+def test_optimize_on_an_empty_map_stays_put():
+    pmap = ParticleMap(PatchPool(2), Geometry.particle_map(-100, -100, 100, 100, 0.05))
+    ranges = cast((0, 0, 0), ANGLES)
+    out = kernels.match_particle(*geo_args(pmap), 0.1, 0.2, 0.3, ranges, CA, SA, 30.0, 0.05,
+                                 0.075, 1, 0, True, 0.05, 0.05, 5, 0.0)
+    assert out[:4] == (0.1, 0.2, 0.3, 0.0)
+    assert out[4] == pytest.approx(len(ranges) * -0.5 / 0.075)
+
+
+def test_c_round_rounds_halves_away_from_zero():
+    for v, want in [(0.5, 1), (1.5, 2), (2.5, 3), (-0.5, -1), (-2.5, -3), (0.49, 0), (-0.51, -1)]:
+        assert kernels.c_round(v) == want == c_round(v)
