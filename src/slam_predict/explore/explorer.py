@@ -155,7 +155,7 @@ class Explorer:
             return
         self._next_tick = t + 1.0 / self.cfg.planner_frequency
         self.frontiers = find_frontiers(grid, robot_pose[:2], self.cfg.min_frontier_size)
-        candidates = [f for f in self.frontiers if not self._blacklisted(f)]
+        candidates = [f for f in self.frontiers if not self.is_blacklisted(f)]
         if not candidates:
             self._stop(t, "all_frontiers_blacklisted" if self.frontiers else "no_frontiers")
             return
@@ -218,7 +218,8 @@ class Explorer:
         if self.cfg.max_goal_attempts <= 1:
             self.blacklist.append(point)
 
-    def _blacklisted(self, frontier: Frontier) -> bool:
+    def is_blacklisted(self, frontier: Frontier) -> bool:
+        """True when the frontier's reference cell is near a blacklisted point."""
         return self._near(frontier.goal, self.blacklist)
 
     def _near(self, point: np.ndarray, points: List[np.ndarray]) -> bool:

@@ -295,18 +295,33 @@ def _visit(costs, within_robot, dist, qx, qy, nd, unreached, obstacle, queue, ta
 
 
 @numba.njit(cache=True)
-def target_distance(costs, within_robot, seeds_x, seeds_y, dist, queue):
+def target_distance(costs, within_robot, seeds_x, seeds_y, dist, queue, cx, cy, radius):
     """4-connected BFS distance (cells) from the seed cells over a costmap (uint8 [ny, nx]),
     written into ``dist`` (float64 [ny, nx]); ``queue`` (int32 [ny·nx, 2]) is work space.
 
     Lethal, inscribed and unknown cells (unless inside the robot's footprint) get the obstacle
     value ny·nx and are not expanded; unreached cells keep ny·nx + 1 (base_local_planner's
     obstacleCosts / unreachableCellCosts). Seeds get 0 whatever their cost.
+
+    Only the disk of ``radius`` cells around (cx, cy) is needed (the rollouts never read
+    farther): the search stops once every expandable cell of the disk has its distance — BFS
+    assigns final values in order, so the disk is exactly as with a full search. radius < 0
+    searches everything.
     """
     ny, nx = costs.shape
     obstacle = float(ny * nx)
     unreached = obstacle + 1.0
     dist[:, :] = unreached
+    r2 = radius * radius
+    need = 0
+    if radius >= 0:
+        for y in range(max(0, cy - radius), min(ny, cy + radius + 1)):
+            for x in range(max(0, cx - radius), min(nx, cx + radius + 1)):
+                if (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r2:
+                    c = costs[y, x]
+                    if within_robot[y, x] or not (c == LETHAL or c == INSCRIBED
+                                                  or c == NO_INFORMATION):
+                        need += 1
     head = 0
     tail = 0
     for k in range(seeds_x.shape[0]):
@@ -318,19 +333,31 @@ def target_distance(costs, within_robot, seeds_x, seeds_y, dist, queue):
         queue[tail, 0] = x
         queue[tail, 1] = y
         tail += 1
+    done = 0
     while head < tail:
-        cx = queue[head, 0]
-        cy = queue[head, 1]
+        qx0 = queue[head, 0]
+        qy0 = queue[head, 1]
         head += 1
-        nd = dist[cy, cx] + 1.0
-        if cx > 0:
-            tail = _visit(costs, within_robot, dist, cx - 1, cy, nd, unreached, obstacle, queue, tail)
-        if cx < nx - 1:
-            tail = _visit(costs, within_robot, dist, cx + 1, cy, nd, unreached, obstacle, queue, tail)
-        if cy > 0:
-            tail = _visit(costs, within_robot, dist, cx, cy - 1, nd, unreached, obstacle, queue, tail)
-        if cy < ny - 1:
-            tail = _visit(costs, within_robot, dist, cx, cy + 1, nd, unreached, obstacle, queue, tail)
+        if radius >= 0 and (qx0 - cx) * (qx0 - cx) + (qy0 - cy) * (qy0 - cy) <= r2:
+            c0 = costs[qy0, qx0]
+            if within_robot[qy0, qx0] or not (c0 == LETHAL or c0 == INSCRIBED
+                                              or c0 == NO_INFORMATION):
+                done += 1
+                if done >= need:
+                    break
+        nd = dist[qy0, qx0] + 1.0
+        if qx0 > 0:
+            tail = _visit(costs, within_robot, dist, qx0 - 1, qy0, nd, unreached, obstacle,
+                          queue, tail)
+        if qx0 < nx - 1:
+            tail = _visit(costs, within_robot, dist, qx0 + 1, qy0, nd, unreached, obstacle,
+                          queue, tail)
+        if qy0 > 0:
+            tail = _visit(costs, within_robot, dist, qx0, qy0 - 1, nd, unreached, obstacle,
+                          queue, tail)
+        if qy0 < ny - 1:
+            tail = _visit(costs, within_robot, dist, qx0, qy0 + 1, nd, unreached, obstacle,
+                          queue, tail)
 
 
 # --------------------------------------------------------------------------------------------
@@ -485,7 +512,7 @@ def warmup() -> None:
     cost = np.ones((6, 6))
     grid_search(cost, 0, 0, 5, 5, 5, 5, 5, 5, 1.0, np.empty(300), np.empty(300, np.int64))
     target_distance(grid, np.zeros((6, 6), np.bool_), np.array([0]), np.array([0]),
-                    np.empty((6, 6)), np.empty((36, 2), np.int32))
+                    np.empty((6, 6)), np.empty((36, 2), np.int32), 0, 0, -1)
     obstacle_update(grid, 0.0, 0.0, 0.1, 0.05, 0.05, np.array([[0.45, 0.35]]), 3.0, 2.5,
                     True, True)
     counts = np.zeros((6, 6), np.int32)

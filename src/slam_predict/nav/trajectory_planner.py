@@ -74,8 +74,20 @@ class TrajectoryPlanner:
         if len(cells):
             within[cells[:, 1], cells[:, 0]] = True
         path, goal = path_and_goal_cells(costmap, self.plan)
-        kernels.target_distance(costs, within, path[:, 0], path[:, 1], self.path_dist, self._queue)
-        kernels.target_distance(costs, within, goal[:, 0], goal[:, 1], self.goal_dist, self._queue)
+        cell = costmap.world_to_map(float(pose[0]), float(pose[1]))
+        cx, cy = cell if cell is not None else (0, 0)
+        radius = self.read_radius(costmap.resolution) if cell is not None else -1
+        kernels.target_distance(costs, within, path[:, 0], path[:, 1], self.path_dist,
+                                self._queue, cx, cy, radius)
+        kernels.target_distance(costs, within, goal[:, 0], goal[:, 1], self.goal_dist,
+                                self._queue, cx, cy, radius)
+
+    def read_radius(self, resolution: float) -> int:
+        """Cells around the robot whose path/goal distances the rollouts can read: the
+        farthest reach in sim_time plus heading_lookahead, plus a margin."""
+        c = self.cfg
+        reach = c.sim_time * max(abs(c.max_vel_x), abs(c.escape_vel), abs(c.min_vel_x))
+        return int(math.ceil((reach + c.heading_lookahead) / resolution)) + 3
 
     # ---------------------------------------------------------------------------- scoring
     def _score(self, costmap: Costmap, pose, vel, samples: np.ndarray):
