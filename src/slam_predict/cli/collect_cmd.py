@@ -61,9 +61,11 @@ def parse_runs(text: str):
 
 def run(args: argparse.Namespace) -> int:
     from slam_predict.collect.batch import Batch, BatchConfig
+    from slam_predict.collect.settings import load_settings
     from slam_predict.collect.summary import write_summary
 
     worlds = find_worlds(args.worlds)
+    load_settings(args.settings)   # bad settings: one error before any run starts
     options = {"settings": args.settings} if args.settings else {}
     config = BatchConfig(runs=parse_runs(args.runs), max_runs=args.max_runs, jobs=args.jobs,
                          scheduler=args.scheduler, base_seed=args.seed,

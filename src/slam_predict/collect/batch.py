@@ -120,7 +120,8 @@ class Batch:
         return min(self.config.max_runs, max(len(records), self.runs_needed(records, len(records))))
 
     def pending(self) -> List[RunSpec]:
-        """Runs still to do, in world then index order."""
+        """Runs still to do, index-major (every world's run 0, then every world's run 1, …), so
+        an interrupted campaign has its runs spread over all worlds."""
         specs = []
         for world, path in self.worlds.items():
             done = set(self.store.completed(world))
@@ -130,7 +131,7 @@ class Batch:
                                          run_seed(self.config.base_seed, world, index),
                                          str(self.store.run_dir(world, index)),
                                          dict(self.config.options)))
-        return specs
+        return sorted(specs, key=lambda spec: spec.index)
 
     def run(self) -> int:
         """Do every pending run (repeating rounds for 'auto'); returns the number of runs done."""

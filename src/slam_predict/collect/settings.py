@@ -1,15 +1,23 @@
-"""Settings of a collection run, loaded from ``config/collect.yaml`` and the files it names."""
+"""Settings of a collection run, loaded from ``config/collect.yaml`` and the files it names.
+
+A settings file may ``extends: other.yaml`` (its keys override the other file's; the file paths
+of each file are relative to the file that names them) and may carry ``sim_overrides``: a partial
+``sim`` section merged over the robot file's, e.g. ``{odom: {model: fixed}, laser: {range_max:
+60.0}}`` — how the fidelity campaign's variants (config/fidelity/) are written.
+"""
 from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, Optional
+from typing import Any, Dict, Optional, Set
 
 from slam_predict.collect.stopping import StopConfig
 from slam_predict.config import config_hash, from_dict, load_config, load_yaml, to_dict
+from slam_predict.errors import InputError
 
 DEFAULT_SETTINGS = Path(__file__).resolve().parents[3] / "config" / "collect.yaml"
+FILE_KEYS = ("robot", "gmapping", "navigation", "explore")
 
 
 @dataclass
@@ -33,6 +41,7 @@ class CollectFiles:
     stop: StopConfig = field(default_factory=StopConfig)
     metric: MetricSettings = field(default_factory=MetricSettings)
     bag: bool = False
+    sim_overrides: Dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass
@@ -62,14 +71,71 @@ def load_settings(path: Optional[os.PathLike | str] = None) -> CollectSettings:
     from slam_predict.slam.gmapping.params import load_params
 
     path = Path(path or DEFAULT_SETTINGS)
-    files = from_dict(CollectFiles, load_yaml(path), str(path))
-    base = path.parent
+    files = from_dict(CollectFiles, read_settings_tree(path), str(path))
+    robot_file = Path(files.robot)
+    if files.sim_overrides:
+        sim_tree = merge_trees(load_yaml(robot_file).get("sim", {}) or {}, files.sim_overrides)
+        sim = from_dict(SimConfig, sim_tree, f"{robot_file} + {path} sim_overrides")
+    else:
+        sim = load_config(SimConfig, robot_file, "sim")
     return CollectSettings(
-        sim=load_config(SimConfig, base / files.robot, "sim"),
-        gmapping=load_params(base / files.gmapping),
-        nav=load_nav_config(base / files.navigation),
-        explore=load_config(ExploreConfig, base / files.explore),
+        sim=sim, gmapping=load_params(Path(files.gmapping)),
+        nav=load_nav_config(Path(files.navigation)),
+        explore=load_config(ExploreConfig, Path(files.explore)),
         stop=files.stop, metric=files.metric, bag=files.bag, source=str(path))
+
+
+def read_settings_tree(path: Path, seen: Optional[Set[Path]] = None) -> Dict[str, Any]:
+    """The settings mapping of ``path`` with ``extends`` resolved and file keys made absolute."""
+    path = Path(path).resolve()
+    seen = set() if seen is None else seen
+    if path in seen:
+        raise InputError("settings 'extends' loop", path)
+    seen.add(path)
+    tree = dict(load_yaml(path))
+    parent = tree.pop("extends", None)
+    for key in FILE_KEYS:
+        if key in tree:
+            tree[key] = str(path.parent / str(tree[key]))
+    if parent is None:
+        base = {key: str(path.parent / default) for key, default in
+                zip(FILE_KEYS, ("robot.yaml", "gmapping.yaml", ".", "explore.yaml"))}
+        return merge_trees(base, tree)
+    parent_path = path.parent / str(parent)
+    if not parent_path.is_file():
+        raise InputError(f"'extends' names a missing file {parent_path}", path)
+    return merge_trees(read_settings_tree(parent_path, seen), tree)
+
+
+def merged_robot_file(settings_path: Path, tree: Dict[str, Any]) -> Path:
+    """A robot YAML with ``sim_overrides`` applied, for nodes that read one file (ROS path);
+    written atomically under ~/.cache/slam_predict/settings/, named by its content hash."""
+    import hashlib
+
+    import yaml
+
+    from slam_predict.atomic import write_text
+
+    robot = load_yaml(tree["robot"])
+    robot["sim"] = merge_trees(robot.get("sim", {}) or {}, tree["sim_overrides"])
+    text = f"# {tree['robot']} + sim_overrides of {settings_path}\n" + yaml.safe_dump(robot)
+    digest = hashlib.sha256(text.encode()).hexdigest()[:12]
+    out = Path.home() / ".cache" / "slam_predict" / "settings" / f"robot_{digest}.yaml"
+    if not out.is_file():
+        out.parent.mkdir(parents=True, exist_ok=True)
+        write_text(out, text)
+    return out
+
+
+def merge_trees(base: Dict[str, Any], override: Dict[str, Any]) -> Dict[str, Any]:
+    """``base`` with ``override``'s keys replacing its own; nested mappings merged key by key."""
+    merged = dict(base)
+    for key, value in override.items():
+        if isinstance(value, dict) and isinstance(merged.get(key), dict):
+            merged[key] = merge_trees(merged[key], value)
+        else:
+            merged[key] = value
+    return merged
 
 
 def settings_dict(settings: CollectSettings) -> Dict[str, Any]:

@@ -77,17 +77,20 @@ def find_worlds(path: str) -> Dict[str, str]:
 
 def component_configs(settings_path=None) -> Dict[str, str]:
     """The node config files a collect.yaml names (absolute), as single_run.launch args, so
-    the nodes run with the configs whose hashes the record states."""
-    from slam_predict.collect.settings import DEFAULT_SETTINGS, CollectFiles
-    from slam_predict.config import from_dict, load_yaml
+    the nodes run with the configs whose hashes the record states. ``sim_overrides`` are
+    merged into a robot file written beside the settings' cache (the node reads one file)."""
+    from slam_predict.collect.settings import DEFAULT_SETTINGS, read_settings_tree
+    from slam_predict.collect.settings import merged_robot_file
 
     path = Path(settings_path or DEFAULT_SETTINGS).resolve()
-    files = from_dict(CollectFiles, load_yaml(path), str(path))
-    base = path.parent
-    return {"settings": str(path), "robot_config": str(base / files.robot),
-            "gmapping_config": str(base / files.gmapping),
-            "nav_config_dir": str((base / files.navigation).resolve()),
-            "explore_config": str(base / files.explore)}
+    tree = read_settings_tree(path)
+    robot = tree["robot"]
+    if tree.get("sim_overrides"):
+        robot = str(merged_robot_file(path, tree))
+    return {"settings": str(path), "robot_config": robot,
+            "gmapping_config": tree["gmapping"],
+            "nav_config_dir": str(Path(tree["navigation"]).resolve()),
+            "explore_config": tree["explore"]}
 
 
 def launch_arguments(spec) -> List[str]:

@@ -1,0 +1,64 @@
+"""collect settings: defaults, ``extends`` and ``sim_overrides`` (the fidelity variants)."""
+from pathlib import Path
+
+import pytest
+
+from slam_predict.cli.main import main
+from slam_predict.collect.settings import load_settings, read_settings_tree
+from slam_predict.errors import InputError
+
+CONFIG = Path(__file__).resolve().parents[2] / "config"
+
+
+def test_default_settings_load_the_package_configs():
+    settings = load_settings()
+    assert settings.sim.odom.model == "uniform_per_run"
+    assert settings.sim.laser.range_max == 80.0
+    assert settings.gmapping.particles == 40
+
+
+@pytest.mark.parametrize("model", ["uniform_per_run", "fixed"])
+@pytest.mark.parametrize("laser_range", [60, 80])
+def test_fidelity_variants_override_only_odometry_and_range(model, laser_range):
+    base = load_settings()
+    variant = load_settings(CONFIG / "fidelity" / f"{model}_{laser_range}.yaml")
+    assert variant.sim.odom.model == model
+    assert variant.sim.laser.range_max == float(laser_range)
+    assert variant.sim.odom.error == base.sim.odom.error
+    assert variant.sim.laser.samples == base.sim.laser.samples
+    assert variant.hashes()["gmapping"] == base.hashes()["gmapping"]
+    assert variant.hashes()["nav"] == base.hashes()["nav"]
+    assert variant.stop == base.stop
+
+
+def test_extends_resolves_paths_relative_to_each_file(tmp_path):
+    (tmp_path / "child.yaml").write_text(
+        f"extends: {CONFIG / 'collect.yaml'}\nstop:\n  mse_threshold: 5.0\n")
+    tree = read_settings_tree(tmp_path / "child.yaml")
+    assert Path(tree["robot"]) == CONFIG / "robot.yaml"
+    settings = load_settings(tmp_path / "child.yaml")
+    assert settings.stop.mse_threshold == 5.0
+    assert settings.stop.interval_s == load_settings().stop.interval_s
+
+
+def test_unknown_override_key_is_a_one_line_error(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(f"extends: {CONFIG / 'collect.yaml'}\nsim_overrides:\n  laser:\n    rnage_max: 60\n")
+    with pytest.raises(InputError, match="rnage_max"):
+        load_settings(bad)
+    world = Path(__file__).resolve().parents[2] / "worlds" / "tiny.world"
+    code = main(["collect", str(world), "--runs", "1", "--out", str(tmp_path / "d"),
+                 "--settings", str(bad), "--no-progress"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "rnage_max" in err[0]
+    assert not (tmp_path / "d" / "tiny").exists()
+
+
+def test_extends_loop_and_missing_parent_are_errors(tmp_path):
+    (tmp_path / "a.yaml").write_text("extends: b.yaml\n")
+    (tmp_path / "b.yaml").write_text("extends: a.yaml\n")
+    with pytest.raises(InputError, match="loop"):
+        load_settings(tmp_path / "a.yaml")
+    (tmp_path / "c.yaml").write_text("extends: nowhere.yaml\n")
+    with pytest.raises(InputError, match="missing file"):
+        load_settings(tmp_path / "c.yaml")

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Run (or resume) one of the project's committed data-collection campaigns.
+#
+#   tools/run_campaign.sh NAME [--jobs K] [--runs N]
+#
+# NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60
+#   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
+#              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
+#              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
+#   fidelity_*: the same 8 seed-study buildings under config/fidelity/<variant>.yaml.
+# Records go to data/campaigns/NAME/ (run.json and summary.csv are committed, the rest is not);
+# finished runs are never redone, so the command can be repeated in every working period.
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/.." && pwd)"
+NAME="${1:?usage: tools/run_campaign.sh NAME [--jobs K] [--runs N]}"; shift
+JOBS=2; RUNS=5
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --jobs) JOBS="$2"; shift 2 ;;
+    --runs) RUNS="$2"; shift 2 ;;
+    *) echo "run_campaign: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+THESIS_BUILDINGS="Borchen4_updated Lamuniere1_updated scuola_secondaria_i_grado_mera__updated
+  Franch1_updated Sabadell3_updated Liselotte1_updated Sabadell1_updated Vipiteno2_updated"
+SHIPPED="office_150 school_300 office_500 office_800"
+case "$NAME" in
+  realistic) SETTINGS="$ROOT/config/collect.yaml"; WITH_SHIPPED=1 ;;
+  fidelity_fixed_80) SETTINGS="$ROOT/config/fidelity/fixed_80.yaml"; WITH_SHIPPED=0 ;;
+  fidelity_uniform_per_run_60) SETTINGS="$ROOT/config/fidelity/uniform_per_run_60.yaml"; WITH_SHIPPED=0 ;;
+  fidelity_fixed_60) SETTINGS="$ROOT/config/fidelity/fixed_60.yaml"; WITH_SHIPPED=0 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60)" >&2; exit 2 ;;
+esac
+DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
+if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
+  echo "run_campaign: $DATA_DIR/thesis/environments.csv not found (set SLAM_PREDICT_DATA)" >&2; exit 2
+fi
+[ -f "$ROOT/setup.bash" ] || bash "$ROOT/tools/setup.sh"
+set +u; source "$ROOT/setup.bash"; set -u
+WORLDS_DIR="$ROOT/out/thesis_worlds"
+# shellcheck disable=SC2086
+slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$WORLDS_DIR" \
+  --only $THESIS_BUILDINGS > /dev/null
+WORLDS=()
+for b in $THESIS_BUILDINGS; do WORLDS+=("$WORLDS_DIR/$b.world"); done
+if [ "$WITH_SHIPPED" = 1 ]; then
+  for w in $SHIPPED; do WORLDS+=("$ROOT/worlds/$w.world"); done
+fi
+exec slam-predict collect "${WORLDS[@]}" --runs "$RUNS" --jobs "$JOBS" \
+  --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
