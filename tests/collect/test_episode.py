@@ -79,3 +79,25 @@ def test_office_500_episode_converges_with_high_coverage(tmp_path):
     assert record["coverage"] >= 0.9
     reloaded, _ = load_record(Path(spec.out_dir))
     assert reloaded["stop_reason"] == "map_converged"
+
+
+def test_metric_evaluate_on_the_records_bag_gives_the_records_numbers(tmp_path, capsys):
+    """Issue #7: `metric evaluate` on the bag written from a run record (ground truth on a pose
+    topic) reproduces the record's own statistics, given the record's metric seed."""
+    from slam_predict.cli.main import main
+    from slam_predict.collect.record import GT_TOPIC, SLAM_TOPIC
+
+    settings = quick_settings(max_sim_time=30.0)
+    settings.bag = True
+    spec = RunSpec(str(TINY), "tiny", 0, 5, str(tmp_path / "tiny" / "run_000"))
+    record = run_episode(spec, settings)
+    bag = Path(spec.out_dir) / "run.bag"
+    seed = [str(v) for v in record["metric"]["info"]["seed"]]
+    assert main(["metric", "evaluate", "--slam", str(bag), "--slam-topic", SLAM_TOPIC,
+                 "--gt", str(bag), "--gt-topic", GT_TOPIC, "--seed", *seed, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    metric = record["metric"]
+    assert out["stats"]["trans_abs"]["n"] == metric["n"]
+    for ours, theirs in (("trans_mean", ("trans_abs", "mean")), ("trans_std", ("trans_abs", "std")),
+                         ("rot_mean", ("rot_abs", "mean")), ("rot_std", ("rot_abs", "std"))):
+        assert out["stats"][theirs[0]][theirs[1]] == pytest.approx(metric[ours], rel=1e-9, abs=1e-12)

@@ -77,7 +77,9 @@ def _add_pair_args(parser) -> None:
                              "±0.02 m / ±0.002 rad), all (every forward pair), consecutive "
                              "(i, i+delta), or a number N of random forward pairs")
     parser.add_argument("--delta", type=int, default=1, help="frame step for 'consecutive'")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the pair sampling")
+    parser.add_argument("--seed", type=int, nargs="+", default=[0],
+                        help="seed of the pair sampling: one integer, or several (a run "
+                             "record's metric.info.seed, to reproduce its numbers)")
 
 
 def run(args) -> int:
@@ -172,9 +174,10 @@ def _evaluate(args) -> int:
         ref = load_trajectory(args.gt, args.format, args.gt_topic, args.gt_field)
         tol = ev.DEFAULT_TOL if args.t_max_diff is None else args.t_max_diff
         result = ev.evaluate_trajectories(
-            est, ref, pairs=pairs, rng=np.random.default_rng(args.seed), delta=args.delta,
+            est, ref, pairs=pairs, rng=np.random.default_rng(sampling_seed(args.seed)),
+            delta=args.delta,
             tol=tol, dedupe=not args.no_dedupe, ddof=args.ddof, source=args.slam)
-        result.info["seed"] = args.seed
+        result.info["seed"] = sampling_seed(args.seed)
     result.info.update({"slam": args.slam, "reference": args.gt or args.relations})
     if args.out:
         from slam_predict.atomic import write_text
@@ -182,6 +185,11 @@ def _evaluate(args) -> int:
         write_text(args.out, result.to_json() + "\n")
     print(result.to_json() if args.json else result.table())
     return 0
+
+
+def sampling_seed(values):
+    """One int for a single --seed value, else the list (numpy seeds both ways alike)."""
+    return int(values[0]) if len(values) == 1 else [int(v) for v in values]
 
 
 def _relations(args) -> int:

@@ -138,7 +138,8 @@ def measure(traj: rec.Trajectories, settings: CollectSettings, seed: int) -> Dic
     result = evaluate_sampled(slam, gt, np.random.default_rng([seed, 1]), pilot=m.pilot,
                               margin_trans=m.margin_trans, margin_rot=m.margin_rot,
                               confidence=m.confidence)
-    return {**result.summary(), "info": result.info, "poses": int(len(gt))}
+    info = {**result.info, "seed": [int(seed), 1]}   # `metric evaluate --seed S 1` reproduces it
+    return {**result.summary(), "info": info, "poses": int(len(gt))}
 
 
 def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
