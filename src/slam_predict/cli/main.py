@@ -23,6 +23,7 @@ SUBCOMMANDS = (
     "explore",
     "features",
     "collect",
+    "fidelity",
     "metric",
     "learn",
     "predict",

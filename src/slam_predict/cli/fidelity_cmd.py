@@ -1,0 +1,36 @@
+"""``slam-predict fidelity``: compare collected campaigns with the seed study's measured errors."""
+from __future__ import annotations
+
+import argparse
+
+NAME = "fidelity"
+HELP = ("compare campaigns' per-building errors with the seed study's table (Spearman rank "
+        "correlation, median ratio ours/theirs)")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("campaigns", nargs="+", metavar="DATA",
+                        help="campaign folders written by 'slam-predict collect'")
+    parser.add_argument("--thesis", required=True, metavar="CSV",
+                        help="the seed study's stats table, e.g. thesis/stats_realistic.csv")
+    parser.add_argument("--min-runs", type=int, default=1,
+                        help="skip buildings with fewer finished runs")
+    parser.add_argument("--out", metavar="MD", help="also write the markdown tables to MD")
+
+
+def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from slam_predict.atomic import write_text
+    from slam_predict.collect.fidelity import compare_campaign, markdown_report, read_thesis_table
+    from slam_predict.errors import InputError
+
+    if args.min_runs < 1:
+        raise InputError(f"--min-runs must be at least 1, got {args.min_runs}")
+    thesis = read_thesis_table(Path(args.thesis))
+    comparisons = [compare_campaign(Path(c), thesis, args.min_runs) for c in args.campaigns]
+    text = markdown_report(comparisons, Path(args.thesis).name)
+    if args.out:
+        write_text(args.out, text)
+    print(text, end="")
+    return 0

@@ -1,0 +1,117 @@
+"""Fidelity to the seed study: our per-building errors against the thesis' measured ones.
+
+For each campaign (a ``slam-predict collect`` folder), the buildings it shares with the thesis
+table (``stats_realistic.csv``: ``dataset``, ``transError.mean.mean`` m, ``rotError.mean.mean``
+rad, ``totalLen`` m) are compared: Spearman rank correlation and median ratio ours/theirs of the
+mean translational error, the mean rotational error and the explored path length.
+"""
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict, List, Optional
+
+import numpy as np
+
+from slam_predict.collect.store import RunStore
+from slam_predict.collect.summary import building_row
+from slam_predict.errors import InputError
+
+THESIS_COLUMNS = {"trans_mean": "transError.mean.mean", "rot_mean": "rotError.mean.mean",
+                  "path_length_mean": "totalLen"}
+
+
+@dataclass
+class Comparison:
+    """One campaign against the thesis table."""
+
+    name: str
+    rows: List[Dict[str, float]] = field(default_factory=list)   # per shared building
+
+    def values(self, key: str, side: str) -> np.ndarray:
+        """Our (side 'ours') or the thesis' (side 'theirs') values of ``key``, by building."""
+        return np.array([row[f"{key}_{side}"] for row in self.rows], dtype=float)
+
+    def spearman(self, key: str) -> float:
+        """Spearman rank correlation of ours vs theirs (nan under 3 buildings)."""
+        from scipy.stats import spearmanr
+
+        if len(self.rows) < 3:
+            return float("nan")
+        return float(spearmanr(self.values(key, "ours"), self.values(key, "theirs"))[0])
+
+    def median_ratio(self, key: str) -> float:
+        """Median over buildings of ours / theirs."""
+        if not self.rows:
+            return float("nan")
+        return float(np.median(self.values(key, "ours") / self.values(key, "theirs")))
+
+    @property
+    def runs(self) -> int:
+        return int(sum(row["runs"] for row in self.rows))
+
+
+def read_thesis_table(path: Path) -> Dict[str, Dict[str, float]]:
+    """The thesis stats table by building name; InputError when unreadable or incomplete."""
+    path = Path(path)
+    try:
+        with open(path, newline="", encoding="utf-8") as handle:
+            rows = list(csv.DictReader(handle, skipinitialspace=True))
+    except OSError as exc:
+        raise InputError(f"cannot read the thesis table: {exc.strerror}", path) from None
+    needed = ("dataset", *THESIS_COLUMNS.values())
+    if not rows or any(column not in rows[0] for column in needed):
+        raise InputError(f"not a thesis stats table (needs columns {', '.join(needed)})", path)
+    return {row["dataset"].strip(): {key: float(row[col]) for key, col in THESIS_COLUMNS.items()}
+            for row in rows}
+
+
+def compare_campaign(folder: Path, thesis: Dict[str, Dict[str, float]],
+                     min_runs: int = 1, name: Optional[str] = None) -> Comparison:
+    """Compare the buildings of campaign ``folder`` that the thesis table also holds."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise InputError("campaign folder not found", folder)
+    store = RunStore(folder)
+    comparison = Comparison(name or folder.name)
+    for world in store.worlds():
+        if world not in thesis:
+            continue
+        records = store.records(world)
+        if len(records) < min_runs:
+            continue
+        ours = building_row(world, records)
+        row = {"world": world, "runs": len(records)}
+        for key in THESIS_COLUMNS:
+            row[f"{key}_ours"] = float(ours[key])
+            row[f"{key}_theirs"] = thesis[world][key]
+        comparison.rows.append(row)
+    return comparison
+
+
+def markdown_report(comparisons: List[Comparison], thesis_source: str) -> str:
+    """docs/fidelity.md text: one summary row per campaign, then each campaign's buildings."""
+    lines = ["| campaign | buildings | runs | Spearman ε_t | median ratio ε_t | Spearman ε_r "
+             "| median ratio ε_r | median ratio path length |",
+             "|---|---|---|---|---|---|---|---|"]
+    for c in comparisons:
+        lines.append(f"| {c.name} | {len(c.rows)} | {c.runs} | {c.spearman('trans_mean'):.2f} | "
+                     f"{c.median_ratio('trans_mean'):.2f} | {c.spearman('rot_mean'):.2f} | "
+                     f"{c.median_ratio('rot_mean'):.2f} | "
+                     f"{c.median_ratio('path_length_mean'):.2f} |")
+    lines += ["", f"Theirs: `transError.mean.mean` (m), `rotError.mean.mean` (rad) and `totalLen` "
+              f"(m) of {thesis_source}. Ours: the campaign's per-building mean over runs."]
+    for c in comparisons:
+        lines += ["", f"### {c.name}", "",
+                  "| building | runs | ε_t ours (m) | ε_t theirs (m) | ratio | ε_r ours (rad) "
+                  "| ε_r theirs (rad) | ratio | path ours (m) | path theirs (m) |",
+                  "|---|---|---|---|---|---|---|---|---|---|"]
+        for r in sorted(c.rows, key=lambda row: row["trans_mean_theirs"]):
+            lines.append(
+                f"| {r['world']} | {r['runs']} | {r['trans_mean_ours']:.3f} | "
+                f"{r['trans_mean_theirs']:.3f} | {r['trans_mean_ours'] / r['trans_mean_theirs']:.2f} "
+                f"| {r['rot_mean_ours']:.4f} | {r['rot_mean_theirs']:.4f} | "
+                f"{r['rot_mean_ours'] / r['rot_mean_theirs']:.2f} | {r['path_length_mean_ours']:.0f} "
+                f"| {r['path_length_mean_theirs']:.0f} |")
+    return "\n".join(lines) + "\n"

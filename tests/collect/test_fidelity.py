@@ -1,0 +1,70 @@
+"""Fidelity comparison: campaign summaries vs the thesis table."""
+import json
+
+import numpy as np
+import pytest
+from scipy.stats import spearmanr
+
+from slam_predict.cli.main import main
+from slam_predict.collect.fidelity import compare_campaign, read_thesis_table
+
+THESIS_HEADER = ("dataset, Voronoi distance, Voronoi rotation, totalLen, totalRot, "
+                 "transError.mean.mean, transError.mean.std, rotError.mean.mean, rotError.mean.std\n")
+
+
+def fake_campaign(root, per_world):
+    """run.json files with the fields the summary reads; per_world: name -> list of trans."""
+    for world, values in per_world.items():
+        for i, trans in enumerate(values):
+            folder = root / world / f"run_{i:03d}"
+            folder.mkdir(parents=True)
+            metric = {"trans_mean": trans, "rot_mean": trans / 10, "trans_sqr_mean": trans ** 2,
+                      "rot_sqr_mean": (trans / 10) ** 2}
+            (folder / "run.json").write_text(json.dumps(
+                {"metric": metric, "distance_m": 100.0 * trans, "rotation_rad": 5.0,
+                 "coverage": 1.0, "sim_duration_s": 1200.0}))
+    return root
+
+
+@pytest.fixture
+def tables(tmp_path):
+    thesis = tmp_path / "stats.csv"
+    theirs = {"a": 0.1, "b": 0.2, "c": 0.3, "d": 0.4}
+    thesis.write_text(THESIS_HEADER + "".join(
+        f"{w}, 1, 1, {50.0}, 1, {v}, 0.01, {v / 5}, 0.001\n" for w, v in theirs.items()))
+    ours = {"a": [0.1, 0.14], "b": [0.5, 0.3], "c": [0.3, 0.34], "d": [0.9, 0.7], "own": [0.2]}
+    return fake_campaign(tmp_path / "camp", ours), thesis, theirs, ours
+
+
+def test_comparison_against_a_hand_computation(tables):
+    camp, thesis, theirs, ours = tables
+    c = compare_campaign(camp, read_thesis_table(thesis))
+    assert [r["world"] for r in c.rows] == ["a", "b", "c", "d"] and c.runs == 8
+    mine = np.array([np.mean(ours[w]) for w in "abcd"])
+    other = np.array([theirs[w] for w in "abcd"])
+    assert c.median_ratio("trans_mean") == pytest.approx(np.median(mine / other))
+    assert c.spearman("trans_mean") == pytest.approx(spearmanr(mine, other)[0])
+    assert c.spearman("trans_mean") == pytest.approx(0.8)   # ranks 1,3,2,4 vs 1,2,3,4
+    assert c.median_ratio("rot_mean") == pytest.approx(np.median((mine / 10) / (other / 5)))
+    assert c.median_ratio("path_length_mean") == pytest.approx(np.median(100 * mine / 50))
+
+
+def test_min_runs_and_cli_markdown(tables, tmp_path, capsys):
+    camp, thesis, *_ = tables
+    assert len(compare_campaign(camp, read_thesis_table(thesis), min_runs=3).rows) == 0
+    out = tmp_path / "fidelity.md"
+    assert main(["fidelity", str(camp), "--thesis", str(thesis), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "| camp | 4 | 8 | 0.80 |" in text and out.read_text() == text
+
+
+def test_bad_inputs_are_one_line_errors(tables, tmp_path, capsys):
+    camp, thesis, *_ = tables
+    bad = tmp_path / "bad.csv"
+    bad.write_text("a,b\n1,2\n")
+    for argv in (["fidelity", str(camp), "--thesis", str(bad)],
+                 ["fidelity", str(tmp_path / "none"), "--thesis", str(thesis)],
+                 ["fidelity", str(camp), "--thesis", str(tmp_path / "missing.csv")]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1, err
