@@ -4,6 +4,7 @@
 #   data/     a small collection campaign (GMapping in the loop), its run records and summary.csv
 #   features/ the feature vector and overlay of a shipped world
 #   predict.json / predict.txt  the predicted GMapping error of that world
+#   report.html  one self-contained page: campaign overview, error tables, maps, predictions
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${1:-$ROOT/out/demo}"
@@ -27,7 +28,8 @@ slam-predict features "$WORLD" --json --overlay "$OUT/features/office_500_overla
 echo "[demo] 4/4 predict GMapping's error in office_500 (shipped model)"
 slam-predict predict "$WORLD" | tee "$OUT/predict.txt"
 slam-predict predict "$WORLD" --json > "$OUT/predict.json"
-if slam-predict report --help > /dev/null 2>&1; then
-  slam-predict report "$OUT/data" --out "$OUT/report.html"
-fi
+
+echo "[demo] report of the demo campaign, with the shipped models' predictions for its worlds"
+slam-predict report "$OUT/data" --models "$ROOT/models" --out "$OUT/report.html" \
+  --title "slam_predict demo campaign"
 echo "[demo] done: outputs in $OUT"

@@ -1,0 +1,47 @@
+"""``slam-predict report DATA``: one self-contained HTML page about a collection campaign.
+
+  slam-predict report DATA [--out report.html] [--models models/] [--title T]
+
+The page holds the campaign overview (worlds, runs, configuration hashes, code versions, stop
+reasons, simulated and wall time), the per-building summary (error components in m, rad and
+deg), per world the final SLAM map of a representative run with the ground-truth and SLAM paths
+and the per-run table; with ``--models`` also the model cards (scores) and the models'
+predictions for the campaign's worlds next to the measured values. Images are embedded as PNG,
+there is no script and no external file. Missing pieces (a run without map, a world file that
+cannot be found) are listed on the page.
+"""
+from __future__ import annotations
+
+import argparse
+
+NAME = "report"
+HELP = "write one self-contained HTML report of a collection campaign (and model predictions)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("data", metavar="DATA", help="campaign folder written by "
+                                                     "'slam-predict collect'")
+    parser.add_argument("--out", default="report.html", metavar="HTML",
+                        help="page to write (default report.html)")
+    parser.add_argument("--models", metavar="DIR",
+                        help="a model folder or a folder of them (e.g. models/): adds the model "
+                             "cards and their predictions for the campaign's worlds")
+    parser.add_argument("--title", help="page title (default: from DATA's name)")
+
+
+def run(args: argparse.Namespace) -> int:
+    import os
+
+    from slam_predict.atomic import write_text
+    from slam_predict.errors import InputError
+    from slam_predict.report.build import build_report
+
+    if os.path.isdir(args.out):
+        raise InputError("--out is a folder; give the HTML file to write", args.out)
+    text = build_report(args.data, args.models, args.title)
+    try:
+        write_text(args.out, text)
+    except OSError as exc:
+        raise InputError(f"cannot write the report ({exc.strerror or exc})", args.out) from None
+    print(f"report: {args.out} ({len(text) / 1e6:.1f} MB)")
+    return 0

@@ -1,0 +1,82 @@
+"""Assemble the campaign report: one self-contained HTML page, written atomically.
+
+Page: campaign overview, per-building summary, one section per world (map with trajectories,
+per-run table), and — when model folders are given — the learning section: each model card
+with its scores, and its predictions for the campaign's worlds next to the measured values.
+"""
+from __future__ import annotations
+
+import datetime
+import logging
+import os
+from pathlib import Path
+from typing import Optional
+
+from slam_predict import __version__
+from slam_predict.atomic import write_text
+from slam_predict.report import html as H
+from slam_predict.report.campaign import Campaign, load_campaign
+from slam_predict.report.sections import overview, summary, world_section
+
+LOG = logging.getLogger(__name__)
+
+
+def contents(campaign: Campaign, with_models: bool) -> str:
+    """A list of links to the sections."""
+    links = [("overview", "Campaign overview"), ("summary", "Per-building summary")]
+    links += [(f"world-{name}", f"World {name}") for name in campaign.worlds]
+    if with_models:
+        links.append(("learning", "Learning"))
+    items = "".join(f'<li><a href="#{H.esc(a)}">{H.esc(t)}</a></li>' for a, t in links)
+    return f"<nav><ul>{items}</ul></nav>"
+
+
+def learning(campaign: Campaign, models_path, feature_fn=None) -> str:
+    """Model cards and their predictions for the campaign's worlds."""
+    from slam_predict.report.models import card_section, load_models
+    from slam_predict.report.predictions import FeatureCache, predictions_section
+
+    entries = load_models(models_path)
+    cache = FeatureCache(campaign, feature_fn)
+    parts = ["<p>Model cards of the given model folders and their predictions for the "
+             "worlds of this campaign (features computed from each world's floor plan with "
+             "the model's feature configuration).</p>"]
+    for entry in entries:
+        parts.append(card_section(entry))
+        parts.append(predictions_section(entry, campaign, cache))
+    return H.section("Learning", "\n".join(parts), anchor="learning")
+
+
+def build_report(data_dir, models_dir=None, title: Optional[str] = None,
+                 feature_fn=None) -> str:
+    """The report page of campaign ``data_dir`` (HTML text).
+
+    Args:
+        data_dir: campaign folder written by ``slam-predict collect``.
+        models_dir: a model folder or a folder of them (learning section), or None.
+        title: page title (default: from the folder name).
+        feature_fn: ``(world name, card) -> features`` override (tests); default: the
+            features of the world plan with the card's feature configuration.
+    Raises:
+        InputError: missing campaign folder, not a campaign, missing/empty models folder.
+    """
+    campaign = load_campaign(data_dir)
+    resolved = Path(data_dir).resolve()
+    title = title or f"SLAM campaign report: {resolved.parent.name}/{resolved.name}"
+    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    parts = [f"<p>Generated {H.esc(stamp)} by slam_predict {H.esc(__version__)} from "
+             f"<code>{H.esc(os.fspath(data_dir))}</code>.</p>",
+             contents(campaign, models_dir is not None), overview(campaign), summary(campaign)]
+    learn_html = learning(campaign, models_dir, feature_fn) if models_dir is not None else ""
+    for world in campaign.worlds.values():
+        LOG.info("report: world %s", world.name)
+        parts.append(world_section(world))
+    parts.append(learn_html)
+    return H.page(title, "\n".join(parts))
+
+
+def write_report(data_dir, out, models_dir=None, title: Optional[str] = None) -> Path:
+    """Build the report and write it atomically to ``out``; returns the path."""
+    text = build_report(data_dir, models_dir, title)
+    write_text(out, text)
+    return Path(out)

@@ -1,0 +1,215 @@
+"""Predictions of the given models for the campaign's worlds, next to the measured values.
+
+The world of a campaign is found from its run records' ``world_file`` (as written, relative to
+the current folder, to the campaign folder or its parents), else as ``<world>.world`` in the
+package's ``worlds/`` folder. Features are computed once per world and feature configuration
+(:func:`slam_predict.learn.predict.compute_plan_features`), then each model's best estimator per
+component predicts (:func:`slam_predict.learn.predict.predict_features`). A world that cannot
+be found or featurised is a note on the page.
+"""
+from __future__ import annotations
+
+import json
+import logging
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Dict, List, Optional, Tuple
+
+from slam_predict.errors import InputError
+from slam_predict.report import html as H
+from slam_predict.report.campaign import Campaign
+from slam_predict.report.models import COMPONENTS, LABELS, UNITS, ModelEntry
+
+LOG = logging.getLogger(__name__)
+SHIPPED_WORLDS = Path(__file__).resolve().parents[3] / "worlds"
+
+
+@dataclass
+class Prediction:
+    """One world × component: measured (campaign mean over runs) and predicted values."""
+
+    world: str
+    component: str
+    runs: int
+    measured: float
+    value: float
+    low: float
+    high: float
+
+    @property
+    def inside(self) -> bool:
+        return self.low <= self.measured <= self.high
+
+    @property
+    def relative_error(self) -> float:
+        """(predicted − measured) / measured, NaN when measured is 0."""
+        return (self.value - self.measured) / self.measured if self.measured else math.nan
+
+
+@dataclass
+class ModelPredictions:
+    """All predictions of one model store and the warnings/notes they produced."""
+
+    items: List[Prediction] = field(default_factory=list)
+    notes: List[str] = field(default_factory=list)
+
+
+def find_world_file(campaign: Campaign, name: str) -> Optional[Path]:
+    """The world file a campaign world was collected on, or None."""
+    world = campaign.worlds.get(name)
+    recorded = [run.record.get("world_file") for run in (world.runs if world else [])]
+    bases = [Path.cwd(), campaign.root, *campaign.root.resolve().parents]
+    for text in dict.fromkeys(r for r in recorded if isinstance(r, str) and r):
+        path = Path(text)
+        candidates = [path] if path.is_absolute() else [base / path for base in bases]
+        for candidate in candidates:
+            if candidate.is_file():
+                return candidate
+    shipped = SHIPPED_WORLDS / f"{name}.world"
+    return shipped if shipped.is_file() else None
+
+
+class FeatureCache:
+    """Feature vectors per (world, feature configuration), computed on first use.
+
+    ``compute(world_name, card) -> features`` replaces the real computation (tests).
+    """
+
+    def __init__(self, campaign: Campaign, compute: Optional[Callable] = None):
+        self.campaign = campaign
+        self._compute = compute or self._plan_features
+        self._values: Dict[Tuple[str, str], Dict[str, float]] = {}
+        self._errors: Dict[Tuple[str, str], str] = {}
+        self._worlds: Dict[str, object] = {}
+
+    def features(self, name: str, card: Dict) -> Dict[str, float]:
+        """Features of world ``name`` with the card's configuration; InputError if impossible."""
+        key = (name, json.dumps(card.get("feature_config") or {}, sort_keys=True))
+        if key in self._errors:
+            raise InputError(self._errors[key])
+        if key not in self._values:
+            try:
+                self._values[key] = self._compute(name, card)
+            except InputError as exc:
+                self._errors[key] = exc.one_line()
+                raise
+        return self._values[key]
+
+    def _plan_features(self, name: str, card: Dict) -> Dict[str, float]:
+        from slam_predict.learn.predict import compute_plan_features
+        from slam_predict.world.load import load_plan
+
+        if name not in self._worlds:
+            path = find_world_file(self.campaign, name)
+            if path is None:
+                raise InputError(f"world file not found (neither the runs' world_file nor "
+                                 f"{SHIPPED_WORLDS / (name + '.world')})")
+            self._worlds[name] = load_plan(path)
+        LOG.info("features of %s", name)
+        return compute_plan_features(self._worlds[name], card)
+
+
+def run_count(row: Dict) -> int:
+    """Runs of a summary row (0 when unknown)."""
+    runs = float(row.get("runs", math.nan))
+    return int(runs) if math.isfinite(runs) else 0
+
+
+def predict_campaign(entry: ModelEntry, campaign: Campaign,
+                     cache: FeatureCache) -> ModelPredictions:
+    """Predictions of ``entry`` for every campaign world that has a summary row."""
+    from slam_predict.learn.predict import predict_features
+
+    out = ModelPredictions()
+    for row in campaign.summary_rows():
+        name = row["world"]
+        try:
+            result = predict_features(cache.features(name, entry.card), entry.store)
+        except InputError as exc:
+            out.notes.append(f"{name}: no prediction ({exc.one_line()})")
+            continue
+        out.notes += [f"{name}: {w}" for w in result["warnings"] if w not in entry.store.notes]
+        for component in COMPONENTS:
+            p = result[component]
+            out.items.append(Prediction(name, component, run_count(row),
+                                        float(row[component]), p["value"], p["low"], p["high"]))
+    return out
+
+
+def _with_degrees(value: float, component: str) -> str:
+    if UNITS[component] == "m":
+        return H.number(value, 4)
+    text = H.number(value, 5)
+    return text if text == H.MISSING else f"{text} ({math.degrees(value):.3f}°)"
+
+
+def predictions_table(items: List[Prediction]) -> str:
+    """World × component rows: measured, predicted, interval, inside?, relative error."""
+    rows = []
+    for p in items:
+        rows.append([p.world, H.num_cell(p.runs, 0), p.component, UNITS[p.component],
+                     H.Cell(_with_degrees(p.measured, p.component), numeric=True),
+                     H.Cell(_with_degrees(p.value, p.component), numeric=True),
+                     H.Cell(f"{_with_degrees(p.low, p.component)} – "
+                            f"{_with_degrees(p.high, p.component)}", numeric=True),
+                     ("yes" if p.inside else "no") if math.isfinite(p.measured) else H.MISSING,
+                     H.num_cell(100.0 * p.relative_error, 1)])
+    header = ["world", "runs", "component", "unit", "measured (mean over runs)", "predicted",
+              "interval", "measured inside", "error %"]
+    return H.table(header, rows)
+
+
+def coverage_line(items: List[Prediction], confidence) -> str:
+    """How many measured values fall inside their intervals."""
+    if not items:
+        return ""
+    inside = sum(p.inside for p in items)
+    conf = f"{100 * float(confidence):g} %" if isinstance(confidence, (int, float)) else "?"
+    return (f"<p>{inside} of {len(items)} measured values lie inside the model's {conf} "
+            "interval.</p>")
+
+
+def plot(items: List[Prediction], title: str) -> Optional[bytes]:
+    """Predicted-vs-measured figure of the items (None when there is nothing to plot)."""
+    if not items:
+        return None
+    from slam_predict.report.figures import predicted_vs_measured
+
+    points = {c: [vars(p) for p in items if p.component == c and math.isfinite(p.measured)]
+              for c in COMPONENTS}
+    if not any(points.values()):
+        return None
+    return predicted_vs_measured(points, UNITS, LABELS, title)
+
+
+def setup_notes(entry: ModelEntry, campaign: Campaign) -> List[str]:
+    """Warn when the campaign's GMapping configuration is not the one the model learnt from."""
+    card_hash = str(entry.card.get("slam_config_hash", ""))
+    hashes = {str(run.value("config_hashes", "gmapping")) for run in campaign.runs
+              if run.value("config_hashes", "gmapping")}
+    if hashes and card_hash not in hashes:
+        return [f"the model learnt GMapping errors of SLAM configuration '{card_hash}' "
+                f"(setting {entry.card.get('setting')}); this campaign ran configuration(s) "
+                f"{', '.join(sorted(hashes))}: differences include the set-up, not only the "
+                "model's error"]
+    return []
+
+
+def predictions_section(entry: ModelEntry, campaign: Campaign, cache: FeatureCache) -> str:
+    """Table, coverage count, figure and notes of one model on the campaign's worlds."""
+    if entry.store is None:
+        return ""
+    result = predict_campaign(entry, campaign, cache)
+    single = [r["world"] for r in campaign.summary_rows() if run_count(r) == 1]
+    extra = ([f"{', '.join(single)}: one run only, so the measured std components are 0 by "
+              "definition"] if single and result.items else [])
+    body = (predictions_table(result.items) if result.items else "")
+    body += coverage_line(result.items, entry.card.get("confidence"))
+    png = plot(result.items, f"{entry.name}: predicted vs measured on this campaign")
+    if png:
+        body += H.image(png, f"predicted vs measured, model {entry.name}",
+                        "Each point is one world: measured = mean over its runs; bar = the "
+                        "model's interval; dashed line = perfect prediction.")
+    body += H.notes(setup_notes(entry, campaign) + extra + result.notes)
+    return H.section(f"Predictions of {entry.name} for this campaign's worlds", body, level=3)

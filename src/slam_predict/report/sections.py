@@ -1,0 +1,207 @@
+"""The campaign parts of the report: overview, per-building summary, one section per world."""
+from __future__ import annotations
+
+import collections
+import math
+from typing import Dict, List, Sequence, Tuple
+
+from slam_predict.errors import InputError
+from slam_predict.report import html as H
+from slam_predict.report.campaign import Campaign, Run, WorldRuns
+
+HASH_KEYS = ("sim", "gmapping", "nav", "explore", "stop", "metric")
+
+
+def _deg(value) -> float:
+    try:
+        return math.degrees(float(value))
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def _counts(values: Sequence) -> List[Tuple[str, int]]:
+    """(value, count) pairs, most frequent first; None shown as 'unknown'."""
+    counter = collections.Counter("unknown" if v is None else str(v) for v in values)
+    return counter.most_common()
+
+
+def _sum(values) -> float:
+    numbers = [float(v) for v in values if isinstance(v, (int, float)) and not isinstance(v, bool)]
+    return sum(numbers) if numbers else math.nan
+
+
+def _hours(seconds: float) -> str:
+    if not math.isfinite(seconds):
+        return H.MISSING
+    return f"{seconds:.0f} s ({seconds / 3600:.2f} h)"
+
+
+def overview(campaign: Campaign) -> str:
+    """Worlds, runs, settings and code versions, stop reasons, simulated and wall time."""
+    runs = campaign.runs
+    per_world = [len(w.runs) for w in campaign.worlds.values() if w.runs]
+    sim = _sum(r.value("sim_duration_s") for r in runs)
+    wall = _sum(r.value("wall_time_s") for r in runs)
+    def counted(key: str, unit: str = "") -> str:
+        return "; ".join(f"{v} ({n}{unit})" for v, n in _counts([r.value(key) for r in runs]))
+
+    pairs = [("campaign folder", str(campaign.root.resolve())),
+             ("worlds", len(campaign.summary_rows())),
+             ("complete runs", len(runs)),
+             ("runs per world", f"{min(per_world)}–{max(per_world)}" if per_world else H.MISSING),
+             ("settings files", counted("settings_file", " runs")),
+             ("odometry error models", counted("odometry_model", " runs")),
+             ("code versions", counted("code_version", " runs")),
+             ("simulated time", _hours(sim)),
+             ("wall-clock time", _hours(wall)),
+             ("speed", f"{sim / wall:.1f}× real time" if wall and math.isfinite(sim / wall)
+              else H.MISSING)]
+    body = H.key_values(pairs) if runs else H.key_values(pairs[:3])
+    body += "<h3>Configuration hashes</h3>" + hash_table(runs)
+    body += "<h3>Why runs stopped</h3>" + stop_table(campaign)
+    return H.section("Campaign overview", body + H.notes(campaign.notes), anchor="overview")
+
+
+def hash_table(runs: Sequence[Run]) -> str:
+    """Distinct sets of configuration hashes (run.json config_hashes) and their run counts."""
+    combos: Dict[Tuple, List[str]] = collections.OrderedDict()
+    for run in runs:
+        hashes = run.value("config_hashes") or {}
+        key = tuple(str(hashes.get(k, H.MISSING)) for k in HASH_KEYS)
+        combos.setdefault(key, []).append(run.world)
+    rows = [[*key, H.num_cell(len(worlds), 0), ", ".join(sorted(set(worlds)))]
+            for key, worlds in combos.items()]
+    if not rows:
+        return "<p>No run records.</p>"
+    note = ("" if len(rows) == 1 else "<p>More than one configuration: compare worlds only "
+            "within the same configuration.</p>")
+    return H.table([*HASH_KEYS, "runs", "worlds"], rows) + note
+
+
+def stop_table(campaign: Campaign) -> str:
+    """Stop reasons per world (columns) with counts."""
+    reasons = sorted({str(r.value("stop_reason")) for r in campaign.runs})
+    if not reasons:
+        return "<p>No run records.</p>"
+    rows = []
+    for name, world in campaign.worlds.items():
+        counts = collections.Counter(str(r.value("stop_reason")) for r in world.runs)
+        if world.runs:
+            rows.append([name, *[H.num_cell(counts.get(k, 0), 0) for k in reasons]])
+    return H.table(["world", *reasons], rows)
+
+
+SUMMARY_HEADER = ["world", "runs", "trans_mean [m]", "trans_std [m]", "rot_mean [rad]",
+                  "rot_mean [deg]", "rot_std [rad]", "rot_std [deg]", "path length [m]",
+                  "rotation [rad]", "coverage", "sim time [s]"]
+
+
+def summary_cells(row: Dict) -> List:
+    """One per-building row (means over runs; std over runs with ddof 0)."""
+    return [row["world"], H.num_cell(row["runs"], 0),
+            H.num_cell(row["trans_mean"], 4), H.num_cell(row["trans_std"], 4),
+            H.num_cell(row["rot_mean"], 5), H.num_cell(_deg(row["rot_mean"]), 3),
+            H.num_cell(row["rot_std"], 5), H.num_cell(_deg(row["rot_std"]), 3),
+            H.num_cell(row["path_length_mean"], 1), H.num_cell(row["rotation_mean"], 1),
+            H.num_cell(row["coverage_mean"], 3), H.num_cell(row["sim_time_mean_s"], 0)]
+
+
+def summary(campaign: Campaign) -> str:
+    """The per-building table (as summary.csv): error components over runs."""
+    text = ("<p>Per building, over its runs: mean and standard deviation (ddof 0) of each run's "
+            "mean absolute relation error (Kümmerle metric), translation in m, rotation in rad "
+            "and deg; path length and rotation of the ground-truth path; explored share of the "
+            "reachable free area; simulated duration.</p>")
+    rows = [summary_cells(row) for row in campaign.summary_rows()]
+    return H.section("Per-building summary", text + H.table(SUMMARY_HEADER, rows,
+                                                              table_id="summary"),
+                     anchor="summary")
+
+
+RUN_HEADER = ["run", "seed", "stop reason", "sim [s]", "wall [s]", "distance [m]",
+              "rotation [rad]", "coverage", "trans_mean [m]", "trans_std [m]", "rot_mean [rad]",
+              "rot_mean [deg]", "rot_std [rad]", "relations", "map", "trajectories"]
+
+
+def run_cells(run: Run) -> List:
+    """One row of a world's per-run table."""
+    return [run.run_id, str(run.value("seed") if run.value("seed") is not None else H.MISSING),
+            str(run.value("stop_reason") or H.MISSING),
+            H.num_cell(run.value("sim_duration_s"), 1), H.num_cell(run.value("wall_time_s"), 1),
+            H.num_cell(run.value("distance_m"), 1), H.num_cell(run.value("rotation_rad"), 1),
+            H.num_cell(run.value("coverage"), 3),
+            H.num_cell(run.value("metric", "trans_mean"), 4),
+            H.num_cell(run.value("metric", "trans_std"), 4),
+            H.num_cell(run.value("metric", "rot_mean"), 5),
+            H.num_cell(_deg(run.value("metric", "rot_mean")), 3),
+            H.num_cell(run.value("metric", "rot_std"), 5),
+            H.num_cell(run.value("metric", "n"), 0),
+            "yes" if run.has_map else "no", "yes" if run.has_trajectories else "no"]
+
+
+def _trans_error(run: Run) -> float:
+    value = run.value("metric", "trans_mean")
+    return float(value) if isinstance(value, (int, float)) else math.inf
+
+
+def map_candidates(world: WorldRuns) -> List[Run]:
+    """Runs with map and trajectories: the median-error run first, then by closeness to it."""
+    usable = sorted((r for r in world.runs if r.has_map and r.has_trajectories),
+                    key=lambda r: (_trans_error(r), r.run_id))
+    middle = (len(usable) - 1) // 2
+    order = sorted(range(len(usable)), key=lambda i: (abs(i - middle), i))
+    return [usable[i] for i in order]
+
+
+def _draw(world: WorldRuns, run: Run) -> Tuple[bytes, float]:
+    """(PNG of the run's map overlay, map resolution m/px); raises on unreadable files."""
+    from slam_predict.collect.record import load_record
+    from slam_predict.formats.mapserver import read_map
+    from slam_predict.report.figures import map_overlay
+
+    grid = read_map(run.folder / "map.yaml")
+    _, traj = load_record(run.folder)
+    if len(traj.t) == 0:
+        raise InputError("empty trajectories", run.folder)
+    title = (f"{world.name} / {run.run_id}: final SLAM map, trans_mean "
+             f"{H.number(run.value('metric', 'trans_mean'), 3)} m")
+    return map_overlay(grid, traj.ground_truth, traj.slam, title), grid.resolution
+
+
+def map_figure(world: WorldRuns) -> Tuple[str, List[str]]:
+    """The map overlay of a representative run (HTML) and notes on what was missing."""
+    notes: List[str] = []
+    candidates = map_candidates(world)
+    if not candidates:
+        lacking = "no run keeps map.yaml and trajectories" if world.runs else "no run record"
+        return "", [f"no map figure: {lacking} (e.g. a campaign committed with run.json only; "
+                    "re-running a run with its seed reproduces them)"]
+    for rank, run in enumerate(candidates):
+        try:
+            png, resolution = _draw(world, run)
+        except (InputError, OSError, ValueError, KeyError) as exc:
+            text = (exc.one_line() if isinstance(exc, InputError)
+                    else f"{exc.__class__.__name__}: {exc}")
+            notes.append(f"{run.run_id}: map or trajectories unreadable ({text})")
+            continue
+        why = ("the only run with map and trajectories" if len(candidates) == 1 else
+               "the run with the median translational error" if rank == 0 else
+               "the readable run closest to the median translational error")
+        caption = (f"{run.run_id} ({why}): final GMapping map ({resolution:g} m/px) with the "
+                   "ground-truth path (green, moved into the map frame by the start poses) "
+                   "and the SLAM estimate (red).")
+        return H.image(png, f"SLAM map of {world.name} {run.run_id}", caption), notes
+    return "", notes + ["no map figure: no readable map"]
+
+
+def world_section(world: WorldRuns) -> str:
+    """One world: map figure, per-run table, notes."""
+    figure, notes = map_figure(world)
+    body = figure
+    if world.runs:
+        body += H.table(RUN_HEADER, [run_cells(r) for r in world.runs])
+    without_map = [r.run_id for r in world.runs if not (r.has_map and r.has_trajectories)]
+    if without_map and len(without_map) < len(world.runs):
+        notes.append("without map or trajectories: " + ", ".join(without_map))
+    return H.section(f"World {world.name}", body + H.notes(world.notes + notes),
+                     anchor=f"world-{world.name}")
