@@ -70,3 +70,13 @@ def test_frontier_markers_round_trip():
         np.testing.assert_allclose(cells, f.cells)
         np.testing.assert_allclose(goal, f.goal)
     assert msg.markers[3].color.r == 1.0 and msg.markers[1].color.b == 1.0
+
+
+def test_polygon_round_trip_places_the_footprint_at_the_pose():
+    square = np.array([[-0.2, -0.2], [0.2, -0.2], [0.2, 0.2], [-0.2, 0.2]])
+    msg = conv.polygon_to_ros(square, (1.0, 2.0, math.pi / 2), "odom", 3.5)
+    assert msg.header.frame_id == "odom" and msg.header.stamp.to_sec() == pytest.approx(3.5)
+    back = conv.polygon_from_ros(msg)
+    # reference: rotate each vertex by 90 deg by hand ((x, y) -> (-y, x)), then translate
+    expected = np.array([[1.0 - y, 2.0 + x] for x, y in square])
+    np.testing.assert_allclose(back, expected, atol=1e-6)   # Point32: float32

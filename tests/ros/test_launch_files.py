@@ -42,6 +42,11 @@ def config(launch: str, *args: str):
     return roslaunch.config.load_config_default([(path, list(args))], None)
 
 
+def _ack_list(value):
+    from slam_predict.ros.stage_sim_node import _ack_list as parse
+    return parse(value)
+
+
 def nodes_of(cfg) -> dict:
     return {n.name: n for n in cfg.nodes}
 
@@ -103,6 +108,23 @@ def test_our_branch_configuration():
     assert p["/slam_gmapping/particles"] == 40           # config/gmapping.yaml
     assert nodes["orchestrator"].required
     assert ["scan", "base_scan"] in nodes["slam_gmapping"].remap_args
+    # the whole graph in lockstep: stage_sim waits for each of our nodes' ~sim_ack (and for
+    # move_base's ~scan_ack: its costmaps hold every scan)
+    assert _ack_list(p["/stage_sim/lockstep_acks"]) == (
+        ("/slam_gmapping/sim_ack", None), ("/move_base/sim_ack", 0.0),
+        ("/move_base/scan_ack", None), ("/explore/sim_ack", 0.0))
+
+
+def test_lockstep_acks_follow_the_component_choices():
+    for choices, expected in (
+            (["nav:=none", "explore:=none"], (("/slam_gmapping/sim_ack", None),)),
+            (["nav:=move_base", "explore:=explore_lite"], (("/slam_gmapping/sim_ack", None),)),
+            (["slam:=gmapping"], (("/move_base/sim_ack", 0.0), ("/move_base/scan_ack", None),
+                                  ("/explore/sim_ack", 0.0))),
+            (["slam:=none", "nav:=none", "explore:=none"], ())):
+        cfg = config("single_run.launch", f"world:={WORLD}", "out:=/tmp/x", *choices)
+        p = {k: v.value for k, v in cfg.params.items()}
+        assert _ack_list(p["/stage_sim/lockstep_acks"]) == expected, choices
 
 
 def test_real_package_branch_configuration():

@@ -87,13 +87,14 @@ class FakeTf:
         self.sent.append(msg)
 
 
-def drive(upside_down, steps=60):
+def drive(upside_down, steps=60, ack=False):
     params = GMappingParams(particles=8, xmin=-10, ymin=-10, xmax=10, ymax=10,
                             linearUpdate=0.3, angularUpdate=0.2, map_update_interval=1.0)
     fake, tf = FakeRospy(), FakeTf(upside_down)
     node = SlamGMappingNode(params, 3, fake, tf, tf)
     node.start = None  # the wiring needs a ROS master; publishers are made below
-    node._pubs = {k: fake.Publisher(k, None) for k in ("map", "map_metadata", "entropy")}
+    names = ("map", "map_metadata", "entropy") + (("ack",) if ack else ())
+    node._pubs = {k: fake.Publisher(k, None) for k in names}
     known = []
     for k in range(steps):
         t = 10.0 + 0.5 * k
@@ -128,6 +129,16 @@ def test_node_publishes_growing_maps_and_map_to_odom():
     assert np.allclose(sent.pose, node.slam.map_to_odom(), atol=1e-9)
     response = node.on_get_map(None)
     assert np.array_equal(grid_from_ros(response.map).data, grid_from_ros(maps[-1]).data)
+
+
+def test_every_scan_is_acked_with_its_stamp_after_it_is_handled():
+    """stage_sim's lockstep waits for ~sim_ack = the stamp of each scan, processed or not
+    (most scans are skipped: the robot has not moved linearUpdate/angularUpdate)."""
+    _node, fake, _tf, _known = drive(upside_down=False, steps=12, ack=True)
+    acks = [m.data.to_sec() for m in fake.pubs["ack"].sent]
+    assert acks == pytest.approx([10.0 + 0.5 * k for k in range(12)])
+    # the first map (first processed scan) was published before that scan's ack
+    assert fake.pubs["map"].sent
 
 
 def test_upside_down_laser_gives_the_same_map():

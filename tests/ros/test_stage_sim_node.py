@@ -143,3 +143,92 @@ def test_lockstep_waits_for_cmd_vel_or_timeout():
     thread.join()
     assert time.monotonic() - start < 4.0  # never waited for the 5 s timeout
     assert node.sim.velocity[0] == pytest.approx(0.2)
+
+
+class FakeScanPublisher(FakePublisher):
+    def get_num_connections(self):
+        return 1
+
+
+def ack(t):
+    from std_msgs.msg import Time
+    import rospy
+    return Time(rospy.Time.from_sec(t))
+
+
+def test_lockstep_acks_wait_for_every_node_before_each_step():
+    """A scan consumer must ack the newest scan, a periodic node its tick, before the next step;
+    the sim never runs ahead of the slowest node."""
+    acks = (("/slam/sim_ack", None), ("/nav/sim_ack", 0.0))
+    node = make_node(speedup=0.0, lockstep=True, lockstep_acks=acks, lockstep_ack_timeout=5.0)
+    node._pubs["scan"] = FakeScanPublisher()
+    stop = threading.Event()
+    log, ahead = [], []
+
+    def nodes():  # slam acks each scan; nav ticks at 0.2 s multiples, acking next tick - 1 ms
+        node.on_ack(ack(0.0), "/slam/sim_ack")
+        node.on_ack(ack(0.2 - 1e-3), "/nav/sim_ack")
+        scans = 0
+        next_tick = 0.2
+        while not stop.is_set():
+            t = node.sim.t
+            log.append(t)
+            if len(node._pubs["scan"].messages) > scans:
+                scans = len(node._pubs["scan"].messages)
+                stamp = node._pubs["scan"].messages[-1].header.stamp.to_sec()
+                time.sleep(0.002)  # "processing": the simulator must not move meanwhile
+                ahead.append(node.sim.t - stamp)
+                node.on_ack(ack(stamp), "/slam/sim_ack")
+            if t >= next_tick - 1e-6:
+                time.sleep(0.002)
+                ahead.append(node.sim.t - t)
+                next_tick = (round(t / 0.2) + 1) * 0.2
+                node.on_ack(ack(next_tick - 1e-3), "/nav/sim_ack")
+            time.sleep(0.0005)
+
+    thread = threading.Thread(target=nodes)
+    thread.start()
+    start = time.monotonic()
+    node.run(max_steps=30)
+    stop.set()
+    thread.join()
+    assert time.monotonic() - start < 4.0       # never hit the 5 s timeout
+    assert node.sim.t == pytest.approx(3.0)
+    assert not node._late
+    assert len(ahead) >= 40 and max(ahead) < 1e-9   # it waited for every scan and tick
+    assert node._acks["/nav/sim_ack"] >= 3.0 - 1e-6 - 0.2
+
+
+def test_lockstep_ack_timeout_steps_on_and_names_the_laggard(caplog):
+    """A silent node costs one timeout, not one per step (a dead node must not slow the run to
+    a crawl); once it acks again the simulator waits for it again."""
+    acks = (("/slow/sim_ack", 0.0),)
+    node = make_node(speedup=0.0, lockstep=True, lockstep_acks=acks, lockstep_ack_timeout=0.3)
+    node._pubs["scan"] = FakeScanPublisher()
+    node.on_ack(ack(0.0), "/slow/sim_ack")   # its first ack, then silence
+    start = time.monotonic()
+    node.run(max_steps=10)   # step 1 (t = 0) is acked; step 2 waits 0.3 s, then no more waits
+    wall = time.monotonic() - start
+    assert 0.3 <= wall < 0.6
+    assert node.sim.t == pytest.approx(1.0)
+    assert node._late == {"/slow/sim_ack"}
+    assert "/slow/sim_ack" in caplog.text
+    node.on_ack(ack(1.0), "/slow/sim_ack")   # back: acked the current step
+    assert not node._late
+    start = time.monotonic()
+    node.run(max_steps=2)   # the first step is acked, the second waits out the timeout again
+    assert time.monotonic() - start >= 0.3
+    assert node._late == {"/slow/sim_ack"}
+
+
+def test_lockstep_acks_parameter_parsing():
+    from slam_predict.errors import InputError
+    from slam_predict.ros.stage_sim_node import _ack_list
+
+    assert _ack_list("[[/a/sim_ack, scan], [/b/sim_ack, 0.1], ]") == (("/a/sim_ack", None),
+                                                                       ("/b/sim_ack", 0.1))
+    assert _ack_list([]) == () and _ack_list("") == ()
+    assert _ack_list(["/c"]) == (("/c", 0.0),)
+    for bad in ("[[/a, -1]]", "[[/a, soon]]", "[[1, 2]]", "[[/a, 1, 2]]"):
+        with pytest.raises(InputError, match="lockstep_acks"):
+            _ack_list(bad)

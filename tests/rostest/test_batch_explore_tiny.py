@@ -79,7 +79,10 @@ class BatchExploreTiny(unittest.TestCase):
         # odometry starts at 0 (one step); SLAM's map frame starts at the first odometry pose
         np.testing.assert_allclose(traj.odom[0], 0.0, atol=0.16)
         self.assertLess(float(np.abs(traj.slam[0] - traj.odom[0]).max()), 0.05)
-        self.assertGreater(record["distance_m"], 0.5, "the robot hardly moved")
+        # real exploration (full graph), or 0.3 m/s for 30 s (driver mode): several metres
+        print(f"record: {record['distance_m']:.1f} m travelled, coverage {record['coverage']}, "
+              f"stop {record['stop_reason']}", flush=True)
+        self.assertGreater(record["distance_m"], 3.0, "the robot hardly moved")
         self.assertTrue(0.0 < record["coverage"] <= 1.0)
         self.assertTrue(np.isfinite(record["metric"]["trans_mean"]))
         self.assertEqual(record["odometry_error"]["model"], record["odometry_model"])

@@ -79,11 +79,13 @@ def component_configs(settings_path=None) -> Dict[str, str]:
     """The node config files a collect.yaml names (absolute), as single_run.launch args, so
     the nodes run with the configs whose hashes the record states. ``sim_overrides`` are
     merged into a robot file written beside the settings' cache (the node reads one file)."""
-    from slam_predict.collect.settings import DEFAULT_SETTINGS, read_settings_tree
-    from slam_predict.collect.settings import merged_robot_file
+    from slam_predict.collect.settings import (DEFAULT_SETTINGS, CollectFiles, merged_robot_file,
+                                               read_settings_tree)
+    from slam_predict.config import from_dict
 
     path = Path(settings_path or DEFAULT_SETTINGS).resolve()
     tree = read_settings_tree(path)
+    from_dict(CollectFiles, tree, str(path))   # unknown keys: InputError with a did-you-mean
     robot = tree["robot"]
     if tree.get("sim_overrides"):
         robot = str(merged_robot_file(path, tree))

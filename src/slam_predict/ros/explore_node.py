@@ -7,7 +7,9 @@
   (for the goal time limit) comes from ``move_base/make_plan`` (straight-line distance when the
   service is missing);
 * publishes ``~frontiers`` (visualization_msgs/MarkerArray, when ``~visualize``) and, latched,
-  ``~status`` (std_msgs/String: ``exploring`` then the stop reason, e.g. ``no_frontiers``).
+  ``~status`` (std_msgs/String: ``exploring`` then the stop reason, e.g. ``no_frontiers``);
+* ``~sim_ack`` (std_msgs/Time, latched) after every tick, for a lockstep stage_sim
+  (:mod:`slam_predict.ros.lockstep`; "idle forever" once exploration has stopped).
 
 Parameters: the private namespace as an :class:`ExploreConfig` (config/explore.yaml), plus
 ``~seed`` (int). The explorer is stepped at 5 Hz of ROS (sim) time.
@@ -22,6 +24,7 @@ from typing import Optional
 import numpy as np
 
 from slam_predict.explore.explorer import ExploreConfig, Explorer
+from slam_predict.ros.lockstep import AckPublisher, SimTicker
 
 LOG = logging.getLogger(__name__)
 TICK_HZ = 5.0
@@ -88,7 +91,7 @@ class ExploreNode:
         self.lock = threading.Lock()
         self._shown = None
         self._pubs = {}
-        self._timer = None
+        self._ticker = None
 
     def start(self) -> None:
         from nav_msgs.msg import OccupancyGrid
@@ -100,7 +103,8 @@ class ExploreNode:
                       "status": rp.Publisher("~status", String, queue_size=1, latch=True)}
         self._pubs["status"].publish(String("exploring"))
         rp.Subscriber(self.cfg.costmap_topic, OccupancyGrid, self.on_map, queue_size=1)
-        self._timer = rp.Timer(rp.Duration(1.0 / TICK_HZ), self.tick)
+        self._ticker = SimTicker(rp, 1.0 / TICK_HZ, self.tick, AckPublisher(rp))
+        self._ticker.start()
 
     def on_map(self, msg) -> None:
         from slam_predict.ros.conversions.slam import grid_from_ros
@@ -121,8 +125,11 @@ class ExploreNode:
             return None
         return np.asarray(transform_from_ros(tf).pose, dtype=float)
 
-    def tick(self, _event=None) -> None:
-        """Step the explorer; publish frontiers; report the end."""
+    def tick(self, now: Optional[float] = None) -> None:
+        """Step the explorer; publish frontiers; report the end.
+
+        ``now``: the tick's sim time (s) from the ticker's /clock (rospy's own clock may
+        lag it by a message); None = ``rospy.get_time()``."""
         from std_msgs.msg import String
 
         from slam_predict.ros.conversions.nav import frontiers_to_ros
@@ -132,7 +139,7 @@ class ExploreNode:
             grid = self.grid
         if pose is None or grid is None or self.explorer.done:
             return
-        now = self.rospy.get_time()
+        now = self.rospy.get_time() if now is None else float(now)
         self.explorer.step(now, grid, pose)
         frontiers = self.explorer.frontiers
         if self.cfg.visualize and frontiers is not self._shown:
@@ -144,8 +151,8 @@ class ExploreNode:
             self.rospy.loginfo(f"explore: Exploration stopped ({reason}); goals "
                                f"{self.explorer.log.counts()}")
             self._pubs["status"].publish(String(reason))
-            if self._timer is not None:
-                self._timer.shutdown()
+            if self._ticker is not None:
+                self._ticker.stop()
 
 
 def read_config(rospy_module) -> ExploreConfig:

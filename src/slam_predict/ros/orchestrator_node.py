@@ -3,8 +3,8 @@
 Subscribes ``/clock`` (sim time; on a real robot a 10 Hz timer drives it instead), the SLAM
 ``map`` (nav_msgs/OccupancyGrid), the ground-truth source (:mod:`slam_predict.ros.ground_truth`:
 ``base_pose_ground_truth`` by default, or a mocap PoseStamped / Odometry topic / tf frame) and
-``/rosout_agg`` (explore_lite says "Exploration stopped" when no frontier is left); looks up tf
-map→base_link and odom→base_link at every sample time. The logic is
+``/rosout_agg`` and ``/rosout`` (explore_lite says "Exploration stopped" when no frontier is
+left); looks up tf map→base_link and odom→base_link at every sample time. The logic is
 :class:`~slam_predict.ros.orchestrator.RunMonitor`; at the end the run record is written
 atomically to ``~out`` (:mod:`slam_predict.ros.run_record`, the in-process format) and the node
 exits — launched ``required``, that ends the run's launch.
@@ -62,7 +62,7 @@ class OrchestratorNode:
 
     # -- ROS plumbing ----------------------------------------------------------------------
     def start(self, use_sim_time: bool) -> None:
-        """Subscribe clock (or start the timer), map and /rosout_agg."""
+        """Subscribe clock (or start the timer), map, /rosout_agg and /rosout."""
         from rosgraph_msgs.msg import Clock, Log
 
         from slam_predict.ros.conversions.slam import NumpyOccupancyGrid
@@ -75,7 +75,10 @@ class OrchestratorNode:
             rp.Timer(rp.Duration(period), lambda _event: self.tick(rp.get_time()))
         rp.Subscriber(self.config.map_topic, NumpyOccupancyGrid, self.on_map, queue_size=1,
                       buff_size=2 ** 26)
-        rp.Subscriber("/rosout_agg", Log, self.on_log, queue_size=100)
+        # /rosout_agg needs the rosout node, which rostest does not start: read /rosout as well
+        # (the explorer's end is kept once: the duplicate is ignored)
+        for topic in ("/rosout_agg", "/rosout"):
+            rp.Subscriber(topic, Log, self.on_log, queue_size=100)
 
     def on_clock(self, msg) -> None:
         from slam_predict.ros.conversions.geometry import clock_from_ros

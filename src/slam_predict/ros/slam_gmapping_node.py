@@ -8,6 +8,8 @@ Topics, frames, parameters and timing as slam_gmapping (ros_interfaces.md §2.1�
 * publishes ``map`` (nav_msgs/OccupancyGrid, latched) and ``map_metadata`` (latched) after the
   first processed scan and then whenever a processed scan is more than ``map_update_interval``
   s newer than the last map; ``~entropy`` (std_msgs/Float64, latched, only when > 0);
+  ``~sim_ack`` (std_msgs/Time, latched): each scan's stamp once it is handled (0 at start;
+  stage_sim's lockstep, :mod:`slam_predict.ros.lockstep`);
 * broadcasts tf ``map_frame → odom_frame`` every ``transform_publish_period`` s (0 disables),
   stamped now + ``tf_delay``; it changes only when a scan is processed (a broadcast whose stamp
   would repeat the previous one is skipped: with sim time, slam_gmapping floods tf2 with
@@ -73,7 +75,7 @@ class SlamGMappingNode:
         from nav_msgs.msg import MapMetaData
         from nav_msgs.srv import GetMap
         from sensor_msgs.msg import LaserScan
-        from std_msgs.msg import Float64
+        from std_msgs.msg import Float64, Time
 
         from slam_predict.ros.conversions.slam import NumpyOccupancyGrid
 
@@ -84,6 +86,8 @@ class SlamGMappingNode:
                                                   latch=True)
         rp.Service("dynamic_map", GetMap, self.on_get_map)
         rp.Subscriber("scan", LaserScan, self.on_scan, queue_size=SCAN_QUEUE)
+        self._pubs["ack"] = rp.Publisher("~sim_ack", Time, queue_size=10, latch=True)
+        self._pubs["ack"].publish(Time())   # ready: no scan pending
         if self.params.transform_publish_period > 0:
             threading.Thread(target=self._publish_loop, daemon=True).start()
 
@@ -99,6 +103,15 @@ class SlamGMappingNode:
 
     # ------------------------------------------------------------------ callbacks
     def on_scan(self, msg) -> None:
+        """laserCallback, then ``~sim_ack`` = the scan's stamp (stage_sim's lockstep waits for it)."""
+        try:
+            self._process_scan(msg)
+        finally:
+            if "ack" in self._pubs:
+                from std_msgs.msg import Time
+                self._pubs["ack"].publish(Time(msg.header.stamp))
+
+    def _process_scan(self, msg) -> None:
         """laserCallback: throttle, initialise on the first scan, add it, update the map."""
         from slam_predict.ros.conversions.geometry import time_from_ros
 
@@ -234,6 +247,8 @@ def main(argv=None) -> int:
     rospy.loginfo(f"slam_gmapping: seed {seed}")
     tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
     tf2_ros.TransformListener(tf_buffer)
+    from slam_predict.ros.lockstep import warm
+    warm("slam_predict.slam.gmapping.kernels")   # before the first ~sim_ack
     node = SlamGMappingNode(params, int(seed), rospy, tf_buffer, tf2_ros.TransformBroadcaster())
     node.start()
     rospy.spin()

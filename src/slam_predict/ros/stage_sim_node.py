@@ -31,6 +31,16 @@ Pacing, ``~speedup``:
   newest scan/tf), or until ``~lockstep_timeout`` wall seconds pass (default 0.05 s, so the
   simulation still advances when nothing is commanding the robot, e.g. before a goal is sent).
   Sim time therefore advances only as fast as the slowest link of the control loop allows.
+  ``~lockstep_acks`` (list of ``[topic, lag]``, default empty) extends the lockstep to the
+  whole graph: each topic carries std_msgs/Time "done with every input up to this sim time" (our
+  slam_gmapping, move_base and explore publish ``~sim_ack``, see :mod:`slam_predict.ros.lockstep`);
+  before the first step the simulator waits for every topic's first ack; before each step until
+  every ack is ≥ the sim time − lag (s),
+  or ≥ the newest scan's stamp when lag is ``scan`` (a scan consumer), for at most
+  ``~lockstep_ack_timeout`` wall s (default 30; then it warns and steps on without waiting for
+  that topic until it acks again: a dead node does not slow every step down). With acks the
+  ``cmd_vel`` wait is not used when a periodic node acks (move_base); with scan consumers only
+  (e.g. a plain cmd_vel publisher drives the robot) both waits apply.
 
 Other params (read in :func:`main` only): ``~config`` YAML file with a ``sim:`` section
 (:class:`~slam_predict.sim.SimConfig`, e.g. $(find slam_predict)/config/robot.yaml; default: the
@@ -47,7 +57,7 @@ import sys
 import threading
 import time
 from dataclasses import dataclass
-from typing import Optional
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -69,6 +79,8 @@ class NodeSettings:
     lockstep_timeout: float = 0.05
     laser_z: float = 0.0
     ground_truth_frame_id: str = "odom"
+    lockstep_acks: Tuple[Tuple[str, Optional[float]], ...] = ()  # (topic, lag s | None = scan)
+    lockstep_ack_timeout: float = 30.0
 
 
 class StageSim:
@@ -88,6 +100,12 @@ class StageSim:
         self._command = (0.0, 0.0)
         self._last_command_t = -np.inf
         self._command_event = threading.Event()
+        self._acks = {topic: -np.inf for topic, _ in settings.lockstep_acks}
+        self._ack_cond = threading.Condition()
+        self._late = set()
+        self._last_scan_t = -np.inf
+        # a controller that acks (a periodic node) replaces the cmd_vel wait
+        self._wait_for_cmd_vel = not any(lag is not None for _, lag in settings.lockstep_acks)
         self._prev_true = sim.true_pose.copy()
         self._pubs = None
 
@@ -110,6 +128,10 @@ class StageSim:
         }
         self._tf = tf2_ros.TransformBroadcaster()
         rp.Subscriber("cmd_vel", Twist, self.on_cmd_vel, queue_size=10)
+        if self._acks:
+            from std_msgs.msg import Time
+            for topic in self._acks:
+                rp.Subscriber(topic, Time, self.on_ack, callback_args=topic, queue_size=10)
         rp.Service("reset_positions", Empty, self.on_reset)
 
     def on_cmd_vel(self, msg) -> None:
@@ -119,6 +141,56 @@ class StageSim:
             self._command = (vx, w)
             self._last_command_t = self.sim.t
         self._command_event.set()
+
+    def on_ack(self, msg, topic: str) -> None:
+        """A lockstep ack: ``topic``'s node has processed its inputs up to ``msg.data``."""
+        with self._ack_cond:
+            self._acks[topic] = max(self._acks[topic], msg.data.to_sec())
+            rejoined = topic in self._late
+            self._late.discard(topic)
+            self._ack_cond.notify_all()
+        if rejoined:
+            LOG.info("lockstep: %s acks again (%.1f s): waiting for it again", topic,
+                     msg.data.to_sec())
+
+    def wait_for_acks(self) -> bool:
+        """Block until every ack topic is within its lag of the sim time (or the timeout);
+        False when it timed out. A topic that timed out is logged and not waited for until it
+        acks again (:meth:`on_ack`)."""
+        due = {topic: self._last_scan_t if lag is None else self.sim.t - lag
+               for topic, lag in self.settings.lockstep_acks}
+        t = self.sim.t
+
+        def behind():
+            return [k for k, d in due.items() if k not in self._late and self._acks[k] < d - 1e-6]
+
+        with self._ack_cond:
+            done = self._ack_cond.wait_for(lambda: not behind() or self.rospy.is_shutdown(),
+                                           self.settings.lockstep_ack_timeout)
+            late = set(behind())
+            self._late |= late
+        for topic in sorted(late):
+            LOG.warning("lockstep: no ack on %s within %g s at sim time %.1f s: stepping on "
+                        "without it until it acks again", topic,
+                        self.settings.lockstep_ack_timeout, t)
+        return bool(done)
+
+    def wait_until_connected(self) -> None:
+        """Before the first step: wait until every ack topic has delivered its (latched) first
+        ack and, with scan consumers among them, ``base_scan`` has as many subscribers (no
+        limit: the nodes may take long to start; the laggards are logged every timeout)."""
+        scan_users = sum(lag is None for _, lag in self.settings.lockstep_acks)
+        next_warning = time.monotonic() + self.settings.lockstep_ack_timeout
+        while not self.rospy.is_shutdown():
+            with self._ack_cond:
+                missing = sorted(k for k, v in self._acks.items() if v == -np.inf)
+            if not missing and self._pubs["scan"].get_num_connections() >= scan_users:
+                return
+            if time.monotonic() > next_warning:
+                next_warning += self.settings.lockstep_ack_timeout
+                LOG.warning("lockstep: still waiting for the first ack on %s (and %d scan "
+                            "subscribers) before stepping", missing, scan_users)
+            time.sleep(0.01)
 
     def on_reset(self, _request):
         """reset_positions service: robot back at the start pose, zero command."""
@@ -166,6 +238,7 @@ class StageSim:
             state.true_pose, world_velocity, t, self.settings.ground_truth_frame_id,
             "base_footprint"))
         if state.scan is not None:
+            self._last_scan_t = t
             scan = scan_data(state.scan, sim.laser, t, "base_laser_link")
             self._pubs["scan"].publish(scan_to_ros(scan))
 
@@ -178,6 +251,8 @@ class StageSim:
     def run(self, max_steps: Optional[int] = None) -> None:
         """Step until shutdown (or ``max_steps``), paced by ``speedup`` (module docstring)."""
         self._pubs["clock"].publish(conv.clock_to_ros(self.sim.t))
+        if self.settings.speedup == 0 and self.settings.lockstep and self._acks:
+            self.wait_until_connected()
         wall_start = time.monotonic()
         period = self.sim.dt / self.settings.speedup if self.settings.speedup > 0 else 0.0
         steps = 0
@@ -186,9 +261,11 @@ class StageSim:
                 delay = wall_start + steps * period - time.monotonic()
                 if delay > 0:
                     time.sleep(delay)
+            if period == 0 and self.settings.lockstep and self._acks:
+                self.wait_for_acks()
             self.step()
             steps += 1
-            if period == 0 and self.settings.lockstep:
+            if period == 0 and self.settings.lockstep and self._wait_for_cmd_vel:
                 self._command_event.wait(self.settings.lockstep_timeout)
 
 
@@ -230,7 +307,37 @@ def _settings(rospy_module) -> NodeSettings:
         lockstep=bool(get("~lockstep", True)),
         lockstep_timeout=float(get("~lockstep_timeout", 0.05)),
         laser_z=float(get("~laser_z", 0.0)),
-        ground_truth_frame_id=str(get("~ground_truth_frame_id", "odom")))
+        ground_truth_frame_id=str(get("~ground_truth_frame_id", "odom")),
+        lockstep_acks=_ack_list(get("~lockstep_acks", [])),
+        lockstep_ack_timeout=float(get("~lockstep_ack_timeout", 30.0)))
+
+
+def _ack_list(value) -> Tuple[Tuple[str, Optional[float]], ...]:
+    """``~lockstep_acks`` as ((topic, lag s or None for ``scan``), ...) from a list of
+    [topic, lag] pairs or of topics (lag 0); a string is parsed as YAML first."""
+    import yaml
+
+    from slam_predict.errors import InputError
+
+    if isinstance(value, str):
+        value = yaml.safe_load(value) if value.strip() else []
+    pairs = []
+    for item in value or []:
+        if isinstance(item, str):
+            item = [item, 0.0]
+        ok = isinstance(item, (list, tuple)) and len(item) == 2 and isinstance(item[0], str)
+        if ok and item[1] == "scan":
+            pairs.append((item[0], None))
+            continue
+        try:
+            pairs.append((item[0], float(item[1])))
+            ok = ok and pairs[-1][1] >= 0
+        except (TypeError, ValueError, IndexError, KeyError):
+            ok = False
+        if not ok:
+            raise InputError(f"~lockstep_acks: expected [topic, lag_s >= 0 or 'scan'] pairs, "
+                             f"got {item!r}")
+    return tuple(pairs)
 
 
 def main(argv=None) -> int:
@@ -253,13 +360,14 @@ def main(argv=None) -> int:
         world = load_plan(path)
         config = _sim_config(rospy)
         sim = Simulator(world, config, np.random.default_rng(int(seed)))
+        settings = _settings(rospy)
     except InputError as exc:
         rospy.logfatal("stage_sim: %s", exc.one_line())
         return 2
     except ValueError as exc:
         rospy.logfatal("stage_sim: %s: %s", path, exc)
         return 2
-    node = StageSim(sim, _settings(rospy), rospy)
+    node = StageSim(sim, settings, rospy)
     node.start()
     rospy.loginfo("stage_sim: %s (%d x %d cells at %g m), seed %d, odometry %s, speedup %g",
                   world.name, world.shape[1], world.shape[0], world.resolution, int(seed),

@@ -14,7 +14,7 @@ import math
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
-from geometry_msgs.msg import Point, PoseStamped
+from geometry_msgs.msg import Point, Point32, PolygonStamped, PoseStamped
 from move_base_msgs.msg import MoveBaseGoal
 from nav_msgs.msg import Path
 from visualization_msgs.msg import Marker, MarkerArray
@@ -62,6 +62,25 @@ def plan_to_ros(poses: np.ndarray, frame_id: str, stamp: float = 0.0) -> Path:
         stamped.pose = pose_to_ros(pose)
         msg.poses.append(stamped)
     return msg
+
+
+def polygon_to_ros(polygon: np.ndarray, pose: Sequence[float], frame_id: str,
+                   stamp: float = 0.0) -> PolygonStamped:
+    """``geometry_msgs/PolygonStamped`` of a robot-frame polygon (k, 2) m placed at ``pose``
+    (x, y, yaw) of ``frame_id`` (costmap_2d's published footprint)."""
+    from slam_predict.geometry import transform_points
+
+    msg = PolygonStamped()
+    msg.header.frame_id = frame_id
+    msg.header.stamp = time_to_ros(stamp)
+    points = transform_points(np.asarray(pose, dtype=float), np.asarray(polygon, dtype=float))
+    msg.polygon.points = [Point32(float(x), float(y), 0.0) for x, y in points.reshape(-1, 2)]
+    return msg
+
+
+def polygon_from_ros(msg: PolygonStamped) -> np.ndarray:
+    """The polygon's vertices (k, 2) m in the message's frame."""
+    return np.array([[p.x, p.y] for p in msg.polygon.points], dtype=float).reshape(-1, 2)
 
 
 def plan_from_ros(msg: Path) -> np.ndarray:
