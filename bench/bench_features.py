@@ -46,40 +46,46 @@ def bench_speed(repeats: int = 3) -> None:
 
 
 def bench_rooms(data: Path) -> None:
-    from slam_predict.features.validation import ipa_room_scores
+    from slam_predict.features.validation import downsampled, ipa_room_scores
+    from slam_predict.features.vector import Context
+    from slam_predict.world.bitmap import load_occupancy
+    from slam_predict.world.model import World
 
-    print("\n| ipa map | GT rooms | our rooms | count error | mean best-match IoU |")
-    print("|---|---|---|---|---|")
+    print("\n| ipa map | GT rooms | our rooms | count error | mean best-match IoU "
+          "| our rooms at 0.10 m/px |")
+    print("|---|---|---|---|---|---|")
     scores = []
     for path in sorted((data / "floorplans" / "ipa").glob("*.png")):
         if path.name.endswith("_gt_segmentation.png"):
             continue
         s = ipa_room_scores(str(path))
         scores.append(s)
+        coarse = downsampled(World(path.name, load_occupancy(str(path)), 0.05), 0.1)
         print(f"| {s.name} | {s.truth_rooms} | {s.our_rooms} | {s.count_error:+d} | "
-              f"{s.mean_iou:.3f} |")
+              f"{s.mean_iou:.3f} | {Context(coarse, FeaturesConfig()).rooms.count} |")
     print(f"| **mean** | | | {np.mean([abs(s.count_error) for s in scores]):.1f} (abs) | "
-          f"**{np.mean([s.mean_iou for s in scores]):.3f}** |")
+          f"**{np.mean([s.mean_iou for s in scores]):.3f}** | |")
 
 
 def bench_thesis(data: Path) -> None:
     from slam_predict.features.validation import single_feature_r2, thesis_rows
 
     traversal = ("voronoi_traversal",)
-    doc = thesis_rows(str(data), FeaturesConfig(families=traversal))
+    doc = thesis_rows(str(data), FeaturesConfig())
     compat = thesis_rows(str(data), FeaturesConfig(families=traversal,
                                                    mode="thesis_compatible"))
-    coarse = thesis_rows(str(data), FeaturesConfig(families=traversal), resolution=0.1)
+    coarse = thesis_rows(str(data), FeaturesConfig(), resolution=0.1)
     print("\n| building | faithful | theirs m | ours m | ratio | thesis_compatible m | ratio "
-          "| ours at 0.10 m/px | 0.10 / 0.05 |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "| ours at 0.10 m/px | 0.10 / 0.05 | rooms 0.05 / 0.10 |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     key = "voronoi_traversal_distance"
     for a, b, c in zip(doc, compat, coarse):
         theirs = a["theirs"]["Voronoi distance"]
         print(f"| {a['env']} | {'yes' if a['faithful'] else 'no'} | {theirs:.1f} | "
               f"{a['ours'][key]:.1f} | {a['ours'][key] / theirs:.2f} | {b['ours'][key]:.1f} | "
               f"{b['ours'][key] / theirs:.2f} | {c['ours'][key]:.1f} | "
-              f"{c['ours'][key] / a['ours'][key]:.3f} |")
+              f"{c['ours'][key] / a['ours'][key]:.3f} | "
+              f"{a['ours']['num_spaces']:.0f} / {c['ours']['num_spaces']:.0f} |")
     theirs = np.array([r["theirs"]["Voronoi distance"] for r in doc])
     faithful = np.array([r["faithful"] for r in doc])
     y = np.array([r["theirs"]["transError.mean.mean"] for r in doc])
@@ -108,6 +114,10 @@ def bench_thesis(data: Path) -> None:
     print(f"\nResolution 0.10 vs 0.05 m/px over {len(ratio)} buildings: "
           f"{np.mean(np.abs(ratio - 1) <= 0.05):.0%} within 5 %, median |Δ| "
           f"{np.median(np.abs(ratio - 1)):.1%}, worst {np.max(np.abs(ratio - 1)):.1%}.")
+    delta = np.array([abs(a["ours"]["num_spaces"] - c["ours"]["num_spaces"])
+                      for a, c in zip(doc, coarse)])
+    print(f"Room count 0.10 vs 0.05 m/px: equal in {int(np.sum(delta == 0))} of {len(delta)}, "
+          f"within ±1 in {int(np.sum(delta <= 1))}, worst {int(delta.max())}.")
 
 
 def bench_resolution_generated() -> None:

@@ -94,3 +94,72 @@ def test_merge_small_regions():
 def test_config_validation():
     with pytest.raises(ValueError, match="source"):
         RoomsConfig(source="magic")
+
+
+def test_room_behind_a_door_narrower_than_the_segmentation_grid_is_kept():
+    """A 0.3 m door closes on the 0.2 m segmentation grid; the room behind it stays a room."""
+    world = corridor_with_rooms(3, door=0.3).world()
+    rooms = segment(world.occupied, world.resolution)
+    assert rooms.count == 4
+    for room, mask in zip(world.rooms, _truth_masks(world)):
+        assert _best_iou(rooms.labels, mask) > 0.9, room.id
+    tiny = corridor_with_rooms(1, door=0.3, room=0.8).world()  # 0.64 m² closet: merged
+    assert segment(tiny.occupied, tiny.resolution).count == 1
+
+
+def test_segmentation_grid_gives_the_map_grid_answer_on_a_plain_plan():
+    """Segmenting on the 0.2 m grid and on the map's own 0.05 m grid: same rooms."""
+    world = corridor_with_rooms(4).world()
+    coarse = segment(world.occupied, world.resolution)
+    fine = segment(world.occupied, world.resolution, RoomsConfig(segmentation_resolution_m=0))
+    assert coarse.count == fine.count == 5
+    assert coarse.labels.shape == world.occupied.shape
+    assert ((coarse.labels > 0) == (fine.labels > 0)).all()  # every interior pixel labelled
+    for k in range(1, fine.count + 1):
+        assert _best_iou(coarse.labels, fine.labels == k) > 0.95
+
+
+def _upsample_reference(coarse, interior):
+    """Slow reference of upsample_labels (no lost regions): the coarse cell under every pixel,
+    then breadth-first 4-connected growth through unlabelled interior pixels."""
+    from collections import deque
+
+    rows, cols = interior.shape
+    out = np.zeros(interior.shape, np.int32)
+    for r in range(rows):
+        for c in range(cols):
+            if interior[r, c]:
+                out[r, c] = coarse[r * coarse.shape[0] // rows, c * coarse.shape[1] // cols]
+    frontier = deque((r, c) for r in range(rows) for c in range(cols) if out[r, c])
+    while frontier:  # grow level by level; a pixel reached by several takes the largest label
+        level = {}
+        for _ in range(len(frontier)):
+            r, c = frontier.popleft()
+            for dr, dc in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                q = (r + dr, c + dc)
+                if 0 <= q[0] < rows and 0 <= q[1] < cols and interior[q] and not out[q]:
+                    level[q] = max(level.get(q, 0), out[r, c])
+        for q, k in level.items():
+            out[q] = k
+            frontier.append(q)
+    return out
+
+
+def test_upsample_labels_matches_reference():
+    from slam_predict.features.rooms import upsample_labels
+
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        coarse = rng.integers(0, 4, (6, 7)).astype(np.int32)
+        interior = rng.random((12, 14)) < 0.8
+        interior[np.kron(coarse, np.ones((2, 2), np.int32)) > 0] = True
+        got = upsample_labels(coarse, interior, min_px=1e9)
+        want = _upsample_reference(coarse, interior)
+        reached = want > 0
+        np.testing.assert_array_equal(got[reached], want[reached])
+        assert (got[interior] > 0).all() and (got[~interior] == 0).all()
+
+
+def test_segmentation_resolution_validation():
+    with pytest.raises(ValueError, match="segmentation_resolution_m"):
+        RoomsConfig(segmentation_resolution_m=-1)

@@ -4,12 +4,14 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
 import pytest
 
 from slam_predict.config import from_dict, load_config, to_dict
 from slam_predict.errors import InputError
 from slam_predict.features.vector import (REGISTRY, FeaturesConfig, compute_features,
-                                          compute_with_context, feature_version, working_world)
+                                          compute_with_context, feature_version, phase_worlds,
+                                          working_world)
 
 from .plans import corridor_with_rooms, four_rooms_cycle
 
@@ -71,6 +73,44 @@ def test_config_errors():
 
 def test_version_follows_config():
     base = feature_version()
-    assert base.startswith("1+") and base == feature_version(FeaturesConfig())
+    assert base.startswith("2+") and base == feature_version(FeaturesConfig())
     changed = dataclasses.replace(FeaturesConfig(), mode="thesis_compatible")
     assert feature_version(changed) != base
+
+
+def _shifted_reference(occupied, rows, cols):
+    """Slow reference: half-cell pixels, padded by one on both sides of the shifted axes
+    (border repeated), each new cell an obstacle when any of its 2x2 half-cell pixels is."""
+    fine = occupied.repeat(2, 0).repeat(2, 1)
+    fine = np.pad(fine, ((rows, rows), (cols, cols)), mode="edge")
+    out = np.zeros((fine.shape[0] // 2, fine.shape[1] // 2), bool)
+    for r in range(out.shape[0]):
+        for c in range(out.shape[1]):
+            out[r, c] = fine[2 * r:2 * r + 2, 2 * c:2 * c + 2].any()
+    return out
+
+
+def test_phase_worlds_match_reference():
+    world = working_world(corridor_with_rooms(2).world(), 0.1)
+    grids = phase_worlds(world, 4)
+    assert grids[0] is world and len(grids) == 4 and len(phase_worlds(world, 2)) == 2
+    for grid, (rows, cols) in zip(grids[1:], ((1, 1), (1, 0), (0, 1))):
+        np.testing.assert_array_equal(grid.occupied, _shifted_reference(world.occupied, rows, cols))
+        assert grid.origin == world.origin and grid.resolution == world.resolution
+    # the building stays in place: the start pose's cell is free on every grid
+    for grid in grids:
+        assert not grid.occupied[tuple(grid.world_to_cell(np.array(world.start_pose[:2])))]
+
+
+def test_traversal_is_the_mean_over_grid_phases():
+    world = corridor_with_rooms(3).world()
+    config = FeaturesConfig(families=("voronoi_traversal",))
+    values, ctx = compute_with_context(world, config)
+    distances = [r.distance for r in ctx.phase_traversals]
+    assert len(distances) == 4 and ctx.phase_traversals[0] is ctx.traversal
+    assert values["voronoi_traversal_distance"] == pytest.approx(np.mean(distances))
+    single = compute_features(world, dataclasses.replace(config, grid_phases=1))
+    assert single["voronoi_traversal_distance"] == pytest.approx(distances[0])
+    assert all(abs(d / distances[0] - 1) < 0.1 for d in distances)
+    with pytest.raises(ValueError, match="grid_phases"):
+        FeaturesConfig(grid_phases=3)

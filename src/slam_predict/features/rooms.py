@@ -1,7 +1,11 @@
 """Room (space) segmentation of a floor-plan bitmap, or the World's ground-truth rooms.
 
 ``segment`` — a Voronoi / distance-transform segmentation in the spirit of ipa_room_segmentation's
-Voronoi method (Bormann et al. 2016), written from its description:
+Voronoi method (Bormann et al. 2016), written from its description. It runs on a fixed grid of
+``segmentation_resolution_m`` (0.2 m/px; finer maps are resampled, a cell being an obstacle
+when any pixel in it is), so that the doorway tests see the same walls whatever resolution the
+plan was drawn at (walls rasterised 1 or 2 px thick at 0.1 m/px both become one 0.2 m cell); the
+labels are then brought back to the map's own grid (step 6).
 
 1. The building interior (free space inside the outline) and its clearance D (distance to the
    nearest obstacle, m) — :mod:`slam_predict.features.voronoi`.
@@ -17,6 +21,10 @@ Voronoi method (Bormann et al. 2016), written from its description:
 5. Regions = 4-connected free space without the cuts; cut pixels join a neighbouring region;
    regions under ``min_room_area_m2`` merge into the neighbour they share most border with
    (isolated ones are dropped).
+6. On a finer map, each pixel takes the label of the coarse cell under it; free pixels under
+   coarse obstacle cells take the label reached first by a 4-connected growth inside the
+   free space; free space the coarse grid closed off whole (behind a doorway narrower than
+   two cells) becomes a room of its own if ≥ ``min_room_area_m2``, else joins the nearest.
 
 ``ground_truth`` — the World's rooms (layout XML spaces, generator rooms): each polygon is
 rasterised onto the free space; free pixels left out join the nearest room.
@@ -36,6 +44,7 @@ from scipy import ndimage
 
 from slam_predict.features import graph_kernels, voronoi
 from slam_predict.features.skeleton_graph import pixel_edges, to_csr
+from slam_predict.world.bitmap import resample_square
 from slam_predict.world.model import World
 
 LOG = logging.getLogger(__name__)
@@ -50,14 +59,17 @@ class RoomsConfig:
     source: str = "segment"
     max_door_width_m: float = 2.6
     critical_radius_m: float = 0.6
-    side_search_m: float = 2.0
+    side_search_m: float = 3.0
     min_widening_m: float = 0.25
     widening_ratio: float = 0.25
     min_room_area_m2: float = 1.0
+    segmentation_resolution_m: float = 0.2
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:
             raise ValueError(f"source must be one of {', '.join(SOURCES)}, got {self.source!r}")
+        if self.segmentation_resolution_m < 0:
+            raise ValueError("segmentation_resolution_m must be ≥ 0 (0 = the map's own grid)")
 
 
 @dataclass
@@ -113,9 +125,55 @@ def segment(occupied: np.ndarray, resolution: float, config: Optional[RoomsConfi
             base: Optional[voronoi.Skeleton] = None) -> Rooms:
     """Segment the free space of a bitmap (True = obstacle) into rooms (module docstring).
 
-    ``base`` reuses the interior and Voronoi skeleton of :func:`voronoi.skeleton_of`.
+    ``base`` reuses the interior and Voronoi skeleton of :func:`voronoi.skeleton_of` when the
+    segmentation runs on the map's own grid.
     """
     config = config or RoomsConfig()
+    coarse = config.segmentation_resolution_m
+    if coarse <= 0 or resolution >= coarse * (1 - 1e-6):
+        return segment_grid(occupied, resolution, config, base)
+    size_m = (occupied.shape[1] * resolution, occupied.shape[0] * resolution)
+    small = resample_square(occupied, size_m, coarse)
+    rooms = segment_grid(small, coarse, config)
+    interior = base.interior if base is not None else voronoi.building_interior(~occupied)
+    labels = upsample_labels(rooms.labels, interior, config.min_room_area_m2 / resolution ** 2)
+    labels, count = _relabel(labels)
+    scale = np.array([occupied.shape[0] / small.shape[0], occupied.shape[1] / small.shape[1]])
+    cuts = [np.round((cut + 0.5) * scale - 0.5).astype(np.int64) for cut in rooms.cuts]
+    return Rooms(labels=labels, count=count, cuts=cuts, resolution=resolution)
+
+
+def upsample_labels(coarse: np.ndarray, interior: np.ndarray, min_px: float) -> np.ndarray:
+    """Labels of a coarse grid on the finer grid of ``interior`` (step 6 of the docstring).
+
+    Free space the coarse grid lost whole (a room behind a doorway narrower than two coarse
+    cells) becomes rooms of its own when it has at least ``min_px`` pixels."""
+    rows = np.minimum(((np.arange(interior.shape[0]) + 0.5) * coarse.shape[0]
+                       / interior.shape[0]).astype(int), coarse.shape[0] - 1)
+    cols = np.minimum(((np.arange(interior.shape[1]) + 0.5) * coarse.shape[1]
+                       / interior.shape[1]).astype(int), coarse.shape[1] - 1)
+    labels = coarse[np.ix_(rows, cols)].astype(np.int32)
+    labels[~interior] = 0
+    for _ in range(8):  # grow into pixels under coarse obstacles (a few px wide at most)
+        missing = interior & (labels == 0)
+        if not missing.any():
+            break
+        grown = ndimage.grey_dilation(labels, footprint=FOUR)
+        labels[missing] = grown[missing]
+    lost, count = ndimage.label(interior & (labels == 0), structure=FOUR)
+    if count:
+        sizes = np.bincount(lost.ravel())
+        big = np.nonzero(sizes >= min_px)[0]
+        big = big[big > 0]
+        table = np.zeros(count + 1, np.int32)
+        table[big] = int(labels.max()) + 1 + np.arange(big.size)
+        labels = np.where(lost > 0, table[lost], labels)
+    return _fill_unlabelled(labels, interior)
+
+
+def segment_grid(occupied: np.ndarray, resolution: float, config: RoomsConfig,
+                 base: Optional[voronoi.Skeleton] = None) -> Rooms:
+    """Steps 1–5 of the module docstring on the map's own grid."""
     base = base or voronoi.skeleton_of(occupied, resolution)
     interior, site_r, site_c = base.interior, base.site_r, base.site_c
     if not interior.any():

@@ -8,10 +8,23 @@ Scale (the thesis' Stage ``floorplan size [W H]`` stretches the bitmap to W x H 
 - ``ipa`` images: the occupancy by the threshold rule of :mod:`slam_predict.world.bitmap`,
   stretched to W x H and resampled to square cells of ``resolution`` m with the *conservative*
   rule (a cell is an obstacle when any source pixel it overlaps is one), so 1-px walls survive
-  down-sampling. office_b, office_c and office_d are stretched unevenly by the thesis (their
-  building is distorted); they are reproduced as the thesis simulated them and marked not
-  faithful. freiburg79 used a crop of unknown offsets: the image's free-space bounding box is
-  scaled isotropically to fit the W x H world (1 m margin) and centred — not faithful.
+  down-sampling. office_b and office_d are stretched unevenly by the thesis' world files (Stage
+  stretches the bitmap to W x H); they are reproduced as Stage simulated them and marked not
+  faithful. (The seed's feature code measured its Voronoi distance on the *bitmap* and divided
+  by the x scale only, ``scale = width / worldWidth``, i.e. on the isotropic image at the x
+  scale: for these two its ``Voronoi distance`` is not that of the stretched world.)
+  office_c: the table's 102.85 x 32.5 m world file is not the one the thesis ran: its explored
+  path (``totalLen`` 3283 m) is 3.2 m per m² of that world's free space (1027 m²) where the other
+  43 buildings lie between 0.20 and 0.77, and its ``Voronoi distance`` (1378 m) is 0.6 times what
+  the traversal gives there; at 0.1 m/px, the scale of the other large ipa buildings (office_a,
+  lab_a, lab_intel, NLB), the world is 168.3 x 96.5 m with 5100 m² free (0.64 m/m²) and the
+  traversal's ratio to the table is that of the other buildings. The seed repository itself
+  holds that world: ``nav2dfiles/office_c.world`` (AIRLab-POLIMI/predictivebenchmarking,
+  commit a4e26239) has ``size [168.3 96.5 1.0]`` for the same ``office_c.png``, while the
+  102.85 x 32.5 m file of the table is a later ``runs/datasets`` copy. It is imported at
+  0.1 m/px (:data:`SCALE_OVERRIDES`) with the table's start pose in metres. freiburg79 used a crop of
+  unknown offsets: the image's free-space bounding box is scaled isotropically to fit the W x H
+  world (1 m margin) and centred — not faithful.
 - ``layouts``: rasterised (:mod:`slam_predict.world.layout`) through the frame that maps the XML
   point extent exactly onto W x H (as the thesis bitmap spanned exactly that extent), with the
   drawing's y axis (down in the drawing) as world y (up): the thesis' bitmaps are vertical
@@ -41,7 +54,10 @@ from slam_predict.world.model import World
 
 LOG = logging.getLogger(__name__)
 COLUMNS = ("env", "source", "file", "world_size_x_m", "world_size_y_m", "robot_pose")
-ANISOTROPIC = {"office_b", "office_c", "office_d"}
+ANISOTROPIC = {"office_b", "office_d"}
+# m/px of the image that the thesis really simulated when its world file says otherwise
+# (module docstring): the world is image size x this, isotropic.
+SCALE_OVERRIDES = {"office_c": 0.1}
 CROPPED = {"freiburg79"}
 FIT_MARGIN = 1.0  # m around a fitted crop
 
@@ -152,15 +168,23 @@ def _fit_crop(occupied: np.ndarray, size_m: Tuple[float, float]) -> Tuple[np.nda
 def _ipa_world(env: ThesisEnv, resolution: float) -> Tuple[World, str]:
     occupied = bitmap.load_occupancy(require_file(env.plan, "plan image"))
     note = ""
+    size_m = env.size_m
     if env.env in CROPPED:
         occupied, scale = _fit_crop(occupied, env.size_m)
         note = (f"crop offsets unknown: free-space bounding box fitted into the world at "
                 f"{scale:.4f} m/px (thesis: about 0.1 m/px)")
+    elif env.env in SCALE_OVERRIDES:
+        rows, cols = occupied.shape
+        scale = SCALE_OVERRIDES[env.env]
+        size_m = (cols * scale, rows * scale)
+        note = (f"world {size_m[0]:.2f} x {size_m[1]:.2f} m ({scale:g} m/px) instead of the "
+                f"table's {env.size_m[0]:g} x {env.size_m[1]:g} m: the thesis' path length and "
+                f"Voronoi distance match this scale")
     elif env.env in ANISOTROPIC:
         rows, cols = occupied.shape
         note = (f"anisotropic stretch {env.size_m[0] / cols:.4f} x {env.size_m[1] / rows:.4f} "
                 f"m/px (building distorted as in the thesis)")
-    grid = resample_conservative(occupied, env.size_m, resolution)
+    grid = resample_conservative(occupied, size_m, resolution)
     free = bitmap.remove_outside(~grid, env.plan)
     world = World(name=env.env, occupied=~free, resolution=resolution,
                   provenance={"source": os.path.abspath(env.plan), "format": "thesis-ipa"})
@@ -190,17 +214,19 @@ def thesis_world(env: ThesisEnv, resolution: float = 0.05, wall_thickness: float
         world, note = _ipa_world(env, resolution)
     else:
         world = _layout_world(env, resolution, wall_thickness, door_width)
-    world.provenance.update(start_given=True, thesis_size_m=list(env.size_m),
+    world.provenance.update(start_given=True, thesis_size_m=list(env.size_m), import_note=note,
                             thesis_robot_pose=list(env.start))
     # snap into the building proper (the largest free component), not a scan fragment
     probe = world.replace(occupied=~_largest_component(~world.occupied))
     world = world.replace(start_pose=resolve_start(probe, env.start, snap=True).start_pose)
     moved = float(np.hypot(world.start_pose[0] - env.start[0], world.start_pose[1] - env.start[1]))
     faithful = env.env not in ANISOTROPIC | CROPPED
+    size = world.size_m if env.env in SCALE_OVERRIDES else env.size_m
     row = {"env": env.env, "source": env.source, "world_file": f"{env.env}.world",
            "faithful": "yes" if faithful else "no", "reason": note,
            "free_area_m2": round(world.free_area_m2, 2),
-           "world_size_x_m": env.size_m[0], "world_size_y_m": env.size_m[1],
+           "world_size_x_m": round(float(size[0]), 3),
+           "world_size_y_m": round(float(size[1]), 3),
            "start_x": round(float(world.start_pose[0]), 3),
            "start_y": round(float(world.start_pose[1]), 3),
            "start_yaw_deg": env.start[2], "start_snapped": "yes" if moved > 1e-9 else "no",
