@@ -101,3 +101,16 @@ def test_metric_evaluate_on_the_records_bag_gives_the_records_numbers(tmp_path, 
     for ours, theirs in (("trans_mean", ("trans_abs", "mean")), ("trans_std", ("trans_abs", "std")),
                          ("rot_mean", ("rot_abs", "mean")), ("rot_std", ("rot_abs", "std"))):
         assert out["stats"][theirs[0]][theirs[1]] == pytest.approx(metric[ours], rel=1e-9, abs=1e-12)
+
+
+def test_incremental_published_map_leaves_the_episode_unchanged(tmp_path, monkeypatch):
+    """Issue #7 speed-ups keep results: the same seed with the published map rebuilt from
+    scratch at every update gives the same record, trajectories, snapshots and map."""
+    from slam_predict.slam.gmapping.filter import GMapping
+
+    fast, folder = run(tmp_path, "incremental", seed=4, max_sim_time=45.0)
+    monkeypatch.setattr(GMapping, "incremental_map", False)
+    full, full_folder = run(tmp_path, "rebuilt", seed=4, max_sim_time=45.0)
+    assert without_timing(fast) == without_timing(full)
+    for name in ("slam.tum", "ground_truth.tum", "map.pgm", "snapshots/snapshot_01.png"):
+        assert (folder / name).read_bytes() == (full_folder / name).read_bytes(), name

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from slam_predict.slam.gmapping.params import load_params
-from slam_predict.slam.gmapping.runner import evaluate, map_check, read_input, run
+from slam_predict.slam.gmapping.runner import (evaluate, map_agreement_with_reference, map_check,
+                                               read_input, run)
 
 
 def run_log(shared_dir, log, seed=1, max_scans=None):
@@ -59,18 +60,53 @@ def test_processed_scans_follow_the_update_rule(shared_dir):
     assert np.array_equal(result.times, data.times[result.indices])
 
 
+FULL_LOGS = ["intel", "aces", "csail", "freiburg-101"]
+_FULL_RUNS = {}
+
+
+def full_run(shared_dir, log):
+    """(input, result, params) of seed 1 on a whole log, run once per session (the slam object,
+    which holds the particle maps, is dropped)."""
+    if log not in _FULL_RUNS:
+        data, result = run_log(shared_dir, log)
+        params = result.slam.params
+        result.slam = None
+        _FULL_RUNS[log] = (data, result, params)
+    return _FULL_RUNS[log]
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("log", ["intel", "aces", "csail", "freiburg-101"])
+@pytest.mark.parametrize("log", FULL_LOGS)
 def test_full_log_against_the_real_gmapping(shared_dir, log):
     baseline = json.loads((shared_dir / "baselines" / "gmapping_real.json").read_text())[log]
-    data, result = run_log(shared_dir, log)
+    data, result, _ = full_run(shared_dir, log)
     assert result.stats["scans_processed"] == baseline["scans_processed"]
     errors = evaluate(result)
     # one seed: allow the real GMapping's seed spread on top of the 1.25 target
     assert errors["slam"]["trans_mean_m"] <= 1.25 * max(baseline["trans_mean_m"])
     assert errors["slam"]["trans_mean_m"] <= 0.25 * errors["odometry"]["trans_mean_m"]
-    # aces' map carries a ~0.6 % anisotropic drift over 45 m (the real GMapping's errors there
-    # are larger still) that no rigid fit removes: there walls agree to 8 cells, not 2
-    tol = 8.0 if log == "aces" else 2.0
-    ours_near_ref, ref_near_ours = map_check(result, data, tol=tol)
+
+
+# aces: GMapping with the baseline's parameters (30 particles, srr 0.1) random-walks along the
+# 40 m featureless corridors, so every run's map differs from the reference map by a smooth,
+# seed-dependent deformation of 0.2-0.8 m (scale 0.99-1.01, a split at the rotunda on some
+# seeds). Our 10 seeds reach 11-73 % within 2 cells; the real GMapping's errors there are as
+# large (0.32-1.52 m), so it would not pass either (docs/gmapping.md, "Map check"). Neither the
+# reference (revisits agree to 3.4 cm median, as ICP between consecutive scans) nor the fit (a
+# rigid ICP of the maps themselves: at most 76 % on seeds 1-3, 10) is the cause; with the
+# thesis' motion noise (srr 0.01 ...) seed 1 errs 0.21 m and passes at 95 %
+# (bench/bench_gmapping_mapcheck.py).
+# Strict: a pass means something changed and this mark must go.
+ACES_MAP = pytest.mark.xfail(strict=True, reason="aces: GMapping's corridor drift exceeds 2 cells")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("log", [pytest.param(log, marks=ACES_MAP) if log == "aces" else log
+                                 for log in FULL_LOGS])
+def test_full_log_map_agrees_with_the_reference(shared_dir, log):
+    """Issue #4's map check: ≥ 80 % of the occupied cells of each map within 2 cells of the
+    other after a rigid fit of our trajectory onto the reference."""
+    data, result, params = full_run(shared_dir, log)
+    ours_near_ref, ref_near_ours = map_agreement_with_reference(
+        data, result.indices, result.poses, params, tol=2.0)
     assert ours_near_ref >= 0.8 and ref_near_ours >= 0.8

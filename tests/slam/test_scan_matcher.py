@@ -133,3 +133,38 @@ def test_optimize_on_an_empty_map_stays_put():
 def test_c_round_rounds_halves_away_from_zero():
     for v, want in [(0.5, 1), (1.5, 2), (2.5, 3), (-0.5, -1), (-2.5, -3), (0.49, 0), (-0.51, -1)]:
         assert kernels.c_round(v) == want == c_round(v)
+
+
+def slow_optimize(args, start, ranges, bug, lstep=0.05, astep=0.05, iterations=5):
+    """ScanMatcher::optimize written plainly: every move scored with kernels.score."""
+    def score(pose):
+        return kernels.score(*args, *pose, ranges, CA, SA, 30.0, 0.05, 1, 0, bug)
+    pose, current, best = tuple(start), score(start), -1.0
+    ldelta, adelta, refinement = lstep, astep, 0
+    while True:
+        if best >= current:
+            refinement, ldelta, adelta = refinement + 1, ldelta / 2, adelta / 2
+        best, chosen = current, pose
+        x, y, th = pose
+        for move in [(x + ldelta, y, th), (x - ldelta, y, th), (x, y - ldelta, th),
+                     (x, y + ldelta, th), (x, y, th + adelta), (x, y, th - adelta)]:
+            local = score(move)
+            if local > current:
+                current, chosen = local, move
+        pose = chosen
+        if not (current > best or refinement < iterations):
+            return (*pose, best)
+
+
+@pytest.mark.parametrize("bug", [True, False])
+def test_optimize_equals_the_plain_hill_climbing(bug):
+    """The kernel (which skips re-scoring the pose it just left) gives exactly the plain result."""
+    pmap = built_map(survey_poses())
+    rng = np.random.default_rng(3)
+    for _ in range(12):
+        truth = np.array([rng.uniform(-3.0, 3.0), rng.uniform(-2.5, 0.5), rng.uniform(-3, 3)])
+        start = truth + rng.normal(0.0, [0.08, 0.08, 0.05])
+        ranges = cast(truth, ANGLES)
+        got = kernels.optimize(*geo_args(pmap), *start, ranges, CA, SA, 30.0, 0.05, 1, 0, bug,
+                               0.05, 0.05, 5)
+        assert got == slow_optimize(geo_args(pmap), start, ranges, bug)

@@ -221,16 +221,18 @@ class GMapping(SlamBackend):
     """
 
     name = "gmapping"
+    incremental_map = True  # False: rebuild the published map from scratch at every map()
 
     def __init__(self, params: GMappingParams, laser: LaserGeometry,
                  rng: Optional[np.random.Generator] = None):
-        from slam_predict.slam.gmapping.gridmap import MapBuilder
+        from slam_predict.slam.gmapping.gridmap import IncrementalMap, MapBuilder
 
         self.laser_in_base, angles = centred_laser(laser)
         self.params = with_ranges(params, laser.range_max)
         self.filter = GridSlamProcessor(self.params, angles,
                                         rng if rng is not None else np.random.default_rng())
         self.builder = MapBuilder(self.params, self.filter.angles)
+        self.published = IncrementalMap(self.builder)
         self._map_to_odom = np.zeros(3)
         self._odom = np.zeros(3)
         self.last_processed = False
@@ -262,6 +264,18 @@ class GMapping(SlamBackend):
         return self._map_to_odom.copy()
 
     def map(self) -> OccupancyGrid:
+        """The published map of the best particle's trajectory (updated incrementally from the
+        previous call's; identical to :meth:`rebuilt_map`)."""
+        if self.filter.pool is None:
+            return self.builder.empty()
+        if not self.incremental_map:
+            return self.rebuilt_map()
+        f = self.filter
+        scans, poses = f.tree.trajectory(int(f.nodes[f.best_index]))
+        return self.published.build(scans, poses, f.tree.readings.__getitem__)
+
+    def rebuilt_map(self) -> OccupancyGrid:
+        """The published map rebuilt from scratch, as slam_gmapping's updateMap does."""
         if self.filter.pool is None:
             return self.builder.empty()
         poses, readings = self.filter.best_scans()

@@ -179,7 +179,9 @@ def optimize(table, sx2, sy2, cx, cy, delta, acc, hits, x0, y0, th0, ranges, ca,
 
     Each round tries x±l, y±l (map axes) and θ±a from the current pose and moves to the best
     strictly better one. A round without improvement halves l and a (refinement + 1); the search
-    stops after a non-improving round once refinements ≥ iterations.
+    stops after a non-improving round once refinements ≥ iterations. The score of the pose
+    left by the last move is remembered: the move straight back, when it lands on exactly that
+    pose, is not scored again (same result, one score fewer).
     """
     best_score = -1.0
     px, py, pth = x0, y0, th0
@@ -188,6 +190,8 @@ def optimize(table, sx2, sy2, cx, cy, delta, acc, hits, x0, y0, th0, ranges, ca,
     adelta = astep
     ldelta = lstep
     refinement = 0
+    qx = qy = qth = math.nan  # the pose left by the last move (NaN: none yet) and its score
+    qscore = 0.0
     while True:
         if best_score >= current:
             refinement += 1
@@ -195,6 +199,7 @@ def optimize(table, sx2, sy2, cx, cy, delta, acc, hits, x0, y0, th0, ranges, ca,
             ldelta *= 0.5
         best_score = current
         bx, by, bth = px, py, pth
+        moved = False
         for move in range(6):
             lx, ly, lth = px, py, pth
             if move == 0:
@@ -209,11 +214,17 @@ def optimize(table, sx2, sy2, cx, cy, delta, acc, hits, x0, y0, th0, ranges, ca,
                 lth += adelta
             else:
                 lth -= adelta
-            local = score(table, sx2, sy2, cx, cy, delta, acc, hits, lx, ly, lth, ranges, ca,
-                          sa, usable, sigma, ksize, lskip, bug)
+            if lx == qx and ly == qy and lth == qth:
+                local = qscore
+            else:
+                local = score(table, sx2, sy2, cx, cy, delta, acc, hits, lx, ly, lth, ranges,
+                              ca, sa, usable, sigma, ksize, lskip, bug)
             if local > current:
                 current = local
                 bx, by, bth = lx, ly, lth
+                moved = True
+        if moved:
+            qx, qy, qth, qscore = px, py, pth, best_score
         px, py, pth = bx, by, bth
         if not (current > best_score or refinement < iterations):
             break
@@ -261,6 +272,46 @@ def scan_bounds(x, y, th, ranges, ca, sa, max_range, usable):
         y0 = min(y0, hy)
         y1 = max(y1, hy)
     return x0, y0, x1, y1
+
+
+@nb.njit(cache=True)
+def scans_bounds(poses, readings, ca, sa, max_range, usable):
+    """:func:`scan_bounds` of every scan: (K, 4) rows (xmin, ymin, xmax, ymax) m."""
+    out = np.empty((poses.shape[0], 4))
+    for k in range(poses.shape[0]):
+        x0, y0, x1, y1 = scan_bounds(poses[k, 0], poses[k, 1], poses[k, 2], readings[k], ca, sa,
+                                     max_range, usable)
+        out[k, 0] = x0
+        out[k, 1] = y0
+        out[k, 2] = x1
+        out[k, 3] = y1
+    return out
+
+
+@nb.njit(cache=True, inline="always")
+def _inside(x, y, cx, cy, delta, sx2, sy2, nx, ny):
+    ix = c_round((x - cx) / delta) + sx2
+    iy = c_round((y - cy) / delta) + sy2
+    return ix >= 0 and iy >= 0 and (ix >> PATCH_BITS) < nx and (iy >> PATCH_BITS) < ny
+
+
+@nb.njit(cache=True)
+def first_outside(bounds, start, cx, cy, delta, sx2, sy2, nx, ny):
+    """Index of the first row of ``bounds`` (K, 4) from ``start`` on that makes
+    ``Geometry.grow_to`` resize the map of geometry (cx, cy, delta, sx2, sy2, nx, ny), or −1."""
+    lxmin = (0 - sx2) * delta + cx
+    lymin = (0 - sy2) * delta + cy
+    lxmax = ((nx << PATCH_BITS) - 1 - sx2) * delta + cx
+    lymax = ((ny << PATCH_BITS) - 1 - sy2) * delta + cy
+    for k in range(start, bounds.shape[0]):
+        xmin = min(bounds[k, 0], lxmin)
+        ymin = min(bounds[k, 1], lymin)
+        xmax = max(bounds[k, 2], lxmax)
+        ymax = max(bounds[k, 3], lymax)
+        if not (_inside(xmin, ymin, cx, cy, delta, sx2, sy2, nx, ny)
+                and _inside(xmax, ymax, cx, cy, delta, sx2, sy2, nx, ny)):
+            return k
+    return -1
 
 
 @nb.njit(cache=True)
@@ -386,6 +437,8 @@ def warmup() -> None:
         match_particle(table, *args, acc, hits, 0.0, 0.0, 0.0, ranges, ca, sa, 10.0, 0.05, 0.075,
                        1, 0, bug, 0.05, 0.05, 1, 0.0)
     scan_bounds(0.0, 0.0, 0.0, ranges, ca, sa, 10.0, 10.0)
+    bounds = scans_bounds(np.zeros((1, 3)), ranges.reshape(1, -1), ca, sa, 10.0, 10.0)
+    first_outside(bounds, 0, 0.0, 0.0, 0.05, 32, 32, 2, 2)
     retain_table(table, ref)
     release_table(table, ref, free_stack, free_top)
     raytrace.warmup()

@@ -64,27 +64,59 @@ def line_cells(x0, y0, x1, y1):
     return out
 
 
+@nb.njit(cache=True, inline="always")
+def _visit(visits, u, v, sign):
+    if 0 <= u < visits.shape[0] and 0 <= v < visits.shape[1]:
+        visits[u, v] += sign
+
+
 @nb.njit(cache=True)
-def _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit):
-    """Free visits along the line a → b (b excluded), then the hit at b when ``hit``."""
-    w = hits.shape[0]
-    h = hits.shape[1]
-    cells = line_cells(ax, ay, bx, by)
-    for k in range(cells.shape[0]):
-        cx = cells[k, 0]
-        cy = cells[k, 1]
-        if cx == bx and cy == by:
-            continue
-        u = cx - x0
-        v = cy - y0
-        if 0 <= u < w and 0 <= v < h:
-            visits[u, v] += 1
+def _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit, sign):
+    """Free visits along the line a → b (b excluded), then the hit at b when ``hit``; each
+    count changes by ``sign`` (1 to add the beam, −1 to remove it). The cells are those of
+    :func:`line_cells` (walked the same way, without building the list)."""
+    dx = abs(bx - ax)
+    dy = abs(by - ay)
+    if dy <= dx:
+        if ax > bx:
+            x, y, xend, ystep = bx, by, ax, (1 if ay > by else -1)
+        else:
+            x, y, xend, ystep = ax, ay, bx, (1 if by > ay else -1)
+        d = 2 * dy - dx
+        if x != bx or y != by:
+            _visit(visits, x - x0, y - y0, sign)
+        while x < xend:
+            x += 1
+            if d < 0:
+                d += 2 * dy
+            else:
+                y += ystep
+                d += 2 * (dy - dx)
+            if x != bx or y != by:
+                _visit(visits, x - x0, y - y0, sign)
+    else:
+        if ay > by:
+            x, y, yend, xstep = bx, by, ay, (1 if ax > bx else -1)
+        else:
+            x, y, yend, xstep = ax, ay, by, (1 if bx > ax else -1)
+        d = 2 * dx - dy
+        if x != bx or y != by:
+            _visit(visits, x - x0, y - y0, sign)
+        while y < yend:
+            y += 1
+            if d < 0:
+                d += 2 * dx
+            else:
+                x += xstep
+                d += 2 * (dx - dy)
+            if x != bx or y != by:
+                _visit(visits, x - x0, y - y0, sign)
     if hit:
         u = bx - x0
         v = by - y0
-        if 0 <= u < w and 0 <= v < h:
-            hits[u, v] += 1
-            visits[u, v] += 1
+        if 0 <= u < hits.shape[0] and 0 <= v < hits.shape[1]:
+            hits[u, v] += sign
+            visits[u, v] += sign
 
 
 @nb.njit(cache=True)
@@ -127,6 +159,16 @@ def count_scans(poses, readings, ca, sa, max_range, usable, sx2, sy2, cx, cy, de
     """Hit and visit counts (w, h) int32 of the scans (K, B) taken from laser poses (K, 3)."""
     hits = np.zeros((w, h), dtype=np.int32)
     visits = np.zeros((w, h), dtype=np.int32)
+    add_scans(hits, visits, poses, readings, ca, sa, max_range, usable, sx2, sy2, cx, cy, delta,
+              x0, y0, 1)
+    return hits, visits
+
+
+@nb.njit(cache=True)
+def add_scans(hits, visits, poses, readings, ca, sa, max_range, usable, sx2, sy2, cx, cy, delta,
+              x0, y0, sign):
+    """Add (``sign`` 1) or remove (−1) the scans' counts into ``hits``/``visits`` (w, h), whose
+    cell (0, 0) is map cell (x0, y0)."""
     for k in range(poses.shape[0]):
         for i in range(readings.shape[1]):
             r = readings[k, i]
@@ -134,8 +176,7 @@ def count_scans(poses, readings, ca, sa, max_range, usable, sx2, sy2, cx, cy, de
                 continue
             ax, ay, bx, by, hit = _beam_cells(poses[k, 0], poses[k, 1], poses[k, 2], r, ca[i],
                                               sa[i], usable, sx2, sy2, cx, cy, delta)
-            _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit)
-    return hits, visits
+            _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit, sign)
 
 
 @nb.njit(cache=True)
