@@ -131,6 +131,11 @@ def test_near_frontier_gives_an_in_place_goal_and_waits_for_a_new_map():
     fresh = grid_with_frontiers((5.3, 4.6, 5.6, 5.4))  # a new map object, frontier still there
     ex.step(1.0, fresh, robot)
     assert len(client.sent) == 2
+    # reached once and still there (a laser shadow): now driven onto, not turned to again
+    target = client.sent[1][1]
+    frontier = ex.frontiers[0]
+    assert target[:2] == pytest.approx(tuple(frontier.goal))
+    assert np.hypot(target[0] - 5.0, target[1] - 5.0) > 0.1
 
 
 def test_explore_lite_cost_prefers_large_frontiers():

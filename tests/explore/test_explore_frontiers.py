@@ -109,6 +109,28 @@ def test_clear_goal_keeps_away_from_walls():
     np.testing.assert_allclose(clear_goal(frontier, grid, 0.0), frontier.goal)
 
 
+def test_clear_goal_is_never_across_a_wall_from_its_frontier():
+    """A narrow pocket (frontier at its top) behind a thin wall with open space below it: the
+    open cells beyond the wall are nearer in a straight line but not joined to the frontier."""
+    res = 0.05
+    data = np.zeros((60, 60), np.int8)             # known free everywhere
+    data[:, :2] = data[:, 58:] = data[:2, :] = 100
+    data[30, :] = 100                               # a thin wall along row 30
+    data[31:, 20:27] = 100                          # above it: a 0.35 m pocket between blocks
+    data[31:, 34:] = 100
+    data[31:, :20] = 100
+    data[40:, 27:34] = -1                           # unknown beyond the pocket (row 40 up)
+    grid = SimpleNamespace(data=data, resolution=res, origin=(0.0, 0.0))
+    frontier = find_frontiers(grid, (1.5, 0.5), 0.2)[0]
+    goal = clear_goal(frontier, grid, 0.5)
+    row = int(goal[1] / res)
+    assert row > 30                                 # on the frontier's side of the wall
+    wall_y = 30.5 * res
+    below = (np.argwhere((data == 0)[:30])[:, ::-1] + 0.5) * res
+    assert np.min(np.hypot(*(below - frontier.goal).T)) <= 1.0   # the old choice existed
+    assert frontier.goal[1] > wall_y
+
+
 def test_clear_goal_falls_back_to_the_most_open_frontier_cell():
     res = 0.05
     data = np.full((30, 30), 100, np.int8)

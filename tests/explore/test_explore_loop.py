@@ -76,6 +76,7 @@ def sweep_plans(root, shared):
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(4 * 3600)   # the sweep takes about an hour on 2 loaded cores
 def test_every_shipped_world_and_ipa_plan_is_explored(root, settings, shared_data):
     failures = []
     for plan, resolution in sweep_plans(root, shared_data):

@@ -223,3 +223,37 @@ def test_goal_tolerance_stop_then_rotate_then_reached():
     assert lp.compute_velocity_commands(cm, done, (0.0, 0.0), identity) == (0.0, 0.0)
     assert lp.is_goal_reached(done, (0.0, 0.0))
     assert not lp.is_goal_reached(done, (0.2, 0.0))                # must have stopped
+
+
+def narrow_corridor_facing_away():
+    """A 0.6 m corridor along x (the 0.42 m footprint cannot turn in it), the robot at x = 1.5
+    facing +x, its plan leading back to x = 0.3."""
+    costs = np.zeros((60, 60), np.uint8)
+    costs[24, :] = LETHAL                       # walls at y = 1.2 and y = 1.8
+    costs[36, :] = LETHAL
+    InflationLayer(0.3, 10.0, 0.21, RES).apply(costs)
+    return Costmap(costs, (0.0, 0.0), RES), (1.5, 1.5, 0.0), straight_plan(x0=1.5, x1=0.3)
+
+
+def test_facing_away_in_a_narrow_corridor_backs_up_with_reverse_when_blocked():
+    cm, pose, plan = narrow_corridor_facing_away()
+    cfg, plain = open_planner(escape_vel=-0.15)
+    plain.update_plan(plan)
+    best = plain.find_best_path(cm, pose, (0.0, 0.0))
+    assert best.xv > 0                          # base_local_planner drives on, away from the goal
+    for k in range(3):                          # no in-place rotation is legal here
+        assert footprint_cost(cm.costs, 0.0, 0.0, RES, 1.5, 1.5, 0.3 * (k + 1), SQUARE) < 0
+    cfg, tc = open_planner(escape_vel=-0.15, reverse_when_blocked=True)
+    tc.update_plan(plan)
+    best = tc.find_best_path(cm, pose, (0.0, 0.0))
+    assert best.xv == -0.15 and tc.reversing and not tc.escaping
+    pts = tc.trajectory_points(cm, pose, (0.0, 0.0), best.xv, best.thetav)
+    assert pts[-1, 0] < pose[0] and all(
+        footprint_cost(cm.costs, 0.0, 0.0, RES, x, y, th, SQUARE) >= 0 for x, y, th in pts)
+    # reversing is kept up while it pays; facing the goal again, it drives forward
+    best = tc.find_best_path(cm, (1.4, 1.5, 0.0), (-0.15, 0.0))
+    assert best.xv == -0.15
+    tc.update_plan(straight_plan(x0=1.5, x1=2.9))
+    best = tc.find_best_path(cm, pose, (0.0, 0.0))
+    assert best.xv > 0 and not tc.reversing
+

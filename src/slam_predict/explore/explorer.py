@@ -14,6 +14,8 @@ Strategies (``strategy``):
 
 A frontier whose goal point is closer than ``near_frontier_distance`` to the robot (typically
 the laser's blind sector behind it) gives an in-place goal: the robot's position, facing it.
+A frontier reached (or timed out) before and still there — it was in a laser shadow from the
+goal point — is next sent as its own reference cell, never in place (nearest strategy).
 
 A frontier whose goal was just visited is skipped until the next map arrives (the SLAM map
 lags the robot by up to map_update_interval).
@@ -244,7 +246,16 @@ class Explorer:
             dist = np.array([f.min_distance for f in candidates])
             ties = np.nonzero(dist <= dist.min() + self.cfg.tie_tolerance)[0]
             choice = candidates[int(ties[self.rng.integers(len(ties))])]
-        self._send(t, choice, clear_goal(choice, self._grid, self.cfg.goal_clearance), robot_pose)
+        if self._attempts_at(choice.goal) == 0:
+            self._send(t, choice, clear_goal(choice, self._grid, self.cfg.goal_clearance),
+                       robot_pose)
+        else:  # reached before, still there (seen from nowhere it went): drive onto it
+            self._send(t, choice, choice.goal, robot_pose, in_place=False)
+
+    def _attempts_at(self, point: np.ndarray) -> int:
+        """Goals for the frontier at ``point`` reached or timed out so far."""
+        return max([n for p, n in self.attempts
+                    if np.hypot(*(p - point)) <= self.cfg.blacklist_radius], default=0)
 
     def _goal_alive(self, candidates: List[Frontier]) -> bool:
         target = self.goal.frontier_point
@@ -271,10 +282,10 @@ class Explorer:
             return
         self._send(t, choice, choice.centroid, robot_pose)
 
-    def _send(self, t: float, frontier: Frontier, point, robot_pose) -> None:
+    def _send(self, t: float, frontier: Frontier, point, robot_pose, in_place: bool = True) -> None:
         heading = math.atan2(point[1] - robot_pose[1], point[0] - robot_pose[0])
         yaw = heading if self.cfg.goal_yaw == "approach" else 0.0
-        if math.hypot(point[0] - robot_pose[0], point[1] - robot_pose[1]) < \
+        if in_place and math.hypot(point[0] - robot_pose[0], point[1] - robot_pose[1]) < \
                 self.cfg.near_frontier_distance:
             # a frontier next to the robot (e.g. its blind sector): turn to face it
             point, yaw = robot_pose[:2], heading

@@ -92,8 +92,10 @@ def clear_goal(frontier: Frontier, grid, clearance: float, search: float = 1.0) 
     """A goal point for ``frontier`` away from walls, so the robot is not sent into a spot it
     cannot turn in: the known free cell nearest the frontier's reference cell (``goal``) among
     the frontier cells and the free cells within ``search`` m of it that are at least
-    ``clearance`` m from every occupied cell of ``grid``; when there is none, the frontier cell
-    with the most clearance. ``clearance`` 0 returns ``frontier.goal``."""
+    ``clearance`` m from every occupied cell of ``grid`` and joined to a frontier cell by a
+    path of at most ``search`` m (8-connected steps) over known free cells, so the goal is
+    never across a wall from its frontier; when there is none, the frontier cell with the most
+    clearance. ``clearance`` 0 returns ``frontier.goal``."""
     if clearance <= 0:
         return frontier.goal
     data = np.asarray(grid.data)
@@ -108,7 +110,8 @@ def clear_goal(frontier: Frontier, grid, clearance: float, search: float = 1.0) 
     free_of_walls = window != 100
     dist = (np.full(window.shape, np.inf) if free_of_walls.all()
             else ndimage.distance_transform_edt(free_of_walls) * res)
-    ok = (window == 0) & (dist >= clearance)
+    ok = (window == 0) & (dist >= clearance) & _free_within(window == 0, rows - r0, cols - c0,
+                                                            int(np.ceil(search / res)))
     if not ok.any():
         return frontier.cells[int(np.argmax(dist[rows - r0, cols - c0]))]
     rr, cc = np.nonzero(ok)
@@ -119,3 +122,18 @@ def clear_goal(frontier: Frontier, grid, clearance: float, search: float = 1.0) 
     if gap[k] > search + res:
         return frontier.cells[int(np.argmax(dist[rows - r0, cols - c0]))]
     return np.array([xs[k], ys[k]])
+
+
+def _free_within(free: np.ndarray, rows: np.ndarray, cols: np.ndarray, steps: int) -> np.ndarray:
+    """Cells of ``free`` reached from the seed cells (rows, cols) in at most ``steps``
+    8-connected steps over ``free`` cells (the seeds count when they are free)."""
+    reached = np.zeros(free.shape, bool)
+    reached[rows, cols] = True
+    reached &= free
+    struct = np.ones((3, 3), bool)
+    for _ in range(steps):
+        grown = ndimage.binary_dilation(reached, struct) & free
+        if np.array_equal(grown, reached):
+            break
+        reached = grown
+    return reached

@@ -137,6 +137,7 @@ def command_stats(cmds: np.ndarray, nav: MoveBaseConfig) -> Dict[str, float]:
     tp = nav.TrajectoryPlannerROS
     return {
         "count": int(len(cmds)),
+        "violations": limit_violations(cmds, tp),
         "max_abs_v": float(np.max(np.abs(cmds[:, 1]))),
         "max_abs_w": float(np.max(np.abs(cmds[:, 2]))),
         "max_acc_v": float(np.nanmax(np.abs(np.diff(cmds[:, 1])) / dt)),
@@ -144,6 +145,20 @@ def command_stats(cmds: np.ndarray, nav: MoveBaseConfig) -> Dict[str, float]:
         "limit_v": tp.max_vel_x, "limit_w": tp.max_vel_theta,
         "limit_acc_v": tp.acc_lim_x, "limit_acc_w": tp.acc_lim_theta,
     }
+
+
+def limit_violations(cmds: np.ndarray, tp, tol: float = 1e-9) -> int:
+    """Commands (rows t s, v m/s, ω rad/s) outside [min(escape_vel, 0), max_vel_x],
+    |ω| ≤ max_vel_theta, or changing faster than acc_lim_x / acc_lim_theta since the previous
+    one (a non-increasing time stamp counts as a violation too)."""
+    v, w = cmds[:, 1], cmds[:, 2]
+    bad = (v > tp.max_vel_x + tol) | (v < min(tp.escape_vel, 0.0) - tol)
+    bad |= np.abs(w) > tp.max_vel_theta + tol
+    dt = np.diff(cmds[:, 0])
+    jump = ((dt <= 0) | (np.abs(np.diff(v)) > tp.acc_lim_x * dt + tol)
+            | (np.abs(np.diff(w)) > tp.acc_lim_theta * dt + tol))
+    bad[1:] |= jump
+    return int(bad.sum())
 
 
 def write_outputs(out_dir: os.PathLike | str, summary: Dict, loop: ClosedLoop) -> Path:

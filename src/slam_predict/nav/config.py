@@ -125,6 +125,13 @@ class TrajectoryPlannerConfig:
     ``meter_scoring`` multiplies path_distance_bias and goal_distance_bias by the costmap
     resolution (noetic); ``meter_scoring_occdist`` (an extension) also multiplies occdist_scale,
     as earlier base_local_planner releases did in their reconfigure callback.
+    ``reverse_when_blocked`` (an extension; default off = base_local_planner): when no in-place
+    rotation wins and every legal forward sample scores worse than standing still, legal
+    backward arcs at ``escape_vel`` m/s (vθ over the window) are taken while they score better
+    than standing still (a multi-point turn). Neither base_local_planner nor move_base's
+    recoveries do this: base_local_planner backs up (straight, escape_vel) only when *no* sample
+    is legal, until escape_reset_dist / escape_reset_theta; move_base's recoveries only clear
+    costmaps and rotate in place (a back-up recovery exists in navigation2, not in move_base).
     """
 
     acc_lim_x: float = 2.5
@@ -148,6 +155,7 @@ class TrajectoryPlannerConfig:
     oscillation_reset_dist: float = 0.05
     escape_reset_dist: float = 0.10
     escape_reset_theta: float = math.pi / 2.0
+    reverse_when_blocked: bool = False
     holonomic_robot: bool = False
     y_vels: Tuple[float, ...] = (-0.3, -0.1, 0.1, 0.3)
     dwa: bool = False

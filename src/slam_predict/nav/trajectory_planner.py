@@ -53,6 +53,7 @@ class TrajectoryPlanner:
         self.stuck_left = self.stuck_right = False
         self.rotating_left = self.rotating_right = False
         self.escaping = False
+        self.reversing = False
         self.prev_xy = (0.0, 0.0)
         self.escape_pose = (0.0, 0.0, 0.0)
 
@@ -149,11 +150,50 @@ class TrajectoryPlanner:
             for k in range(len(samples)):
                 if costs[k] >= 0 and (costs[k] < best.cost or best.cost < 0):
                     best = Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
+        forward = best
         best = self._in_place(costmap, pose, vel, best, min_vth, dvth)
+        if c.reverse_when_blocked and not self.escaping and best is forward:
+            reverse = self._reverse(costmap, pose, vel, best, min_vth, dvth)
+            self.reversing = reverse is not None
+            if reverse is not None:
+                return reverse
+        self.reversing = False
         if best.cost >= 0:
             self._update_flags(best, pose)
             return best
         return self._escape(costmap, pose, vel)
+
+    def _reverse(self, costmap, pose, vel, best: Trajectory, min_vth, dvth) -> Optional[Trajectory]:
+        """``reverse_when_blocked``: no in-place rotation won and the best forward sample
+        (if any) scores worse than staying put — the robot faces away from its goal where it
+        cannot turn — or it is already reversing (kept up while it pays, so that it does not
+        shuttle). Returns the best legal backward arc at ``escape_vel`` (vθ over the window) if
+        it scores better than staying, else None."""
+        c = self.cfg
+        x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
+        cell = costmap.world_to_map(x, y)
+        if cell is None or c.escape_vel >= 0:
+            return None
+        here = rollout.footprint_cost(costmap.costs, costmap.origin[0], costmap.origin[1],
+                                      costmap.resolution, x, y, th, self.footprint)
+        if here < 0:
+            return None
+        stay = (self.pdist * self.path_dist[cell[1], cell[0]]
+                + self.gdist * self.goal_dist[cell[1], cell[0]]
+                + self.occdist * max(here, float(costmap.costs[cell[1], cell[0]])))
+        if best.cost >= 0 and best.cost <= stay and not self.reversing:
+            return None
+        vths = [min_vth + k * dvth for k in range(c.vtheta_samples)] + [0.0]
+        samples = np.array([[c.escape_vel, v] for v in vths])
+        costs, _ = self._score(costmap, pose, vel, samples)
+        legal = np.nonzero(costs >= 0)[0]
+        if len(legal) == 0:
+            return None
+        k = int(legal[np.argmin(costs[legal])])
+        if costs[k] >= stay:
+            return None
+        self._reset_oscillation(x, y)
+        return Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
 
     def _in_place(self, costmap, pose, vel, best: Trajectory, min_vth, dvth) -> Trajectory:
         c = self.cfg
