@@ -120,7 +120,11 @@ def test_a_new_goal_during_a_controller_cycle_does_not_deadlock():
     assert not any(thread.is_alive() for thread in threads), "deadlock"
     assert not errors, errors
     assert ("canceled", "") not in first.events
-    assert first.events[-1][0] == "canceled"     # preempted by the first new goal
+    # The first goal ends exactly once: preempted by a new goal or, when the cycle thread ran
+    # first (no map here, so planning fails), aborted by move_base -- either order is legal.
+    ends = [name for name, _ in first.events if name in ("canceled", "aborted", "succeeded")]
+    assert len(ends) == 1 and ends[0] in ("canceled", "aborted"), first.events
+    assert first.events[-1][0] == ends[0]
 
 
 def test_cancel_of_the_current_goal_cancels_it_once():
