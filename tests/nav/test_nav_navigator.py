@@ -151,3 +151,21 @@ def test_make_plan_and_clear_costmaps_services(cfg):
     nav.clear_costmaps()
     nav.local_costmap.update((1.0, 1.0, 0.0))
     assert nav.local_costmap.costmap.costs.max() == 0
+
+
+def test_robot_pinned_against_a_wall_is_not_aborted(cfg):
+    """school_6000 (issue #5): stalled with its centre 0.12 m from a wall (inside the 0.21 m
+    inscribed band: its cell and every neighbour INSCRIBED) the robot got no plan to anywhere,
+    each goal ended ABORTED after the conservative reset. It now plans its way out."""
+    nav = Navigator(cfg)
+    nav.set_map(room_grid())
+    pose = np.array([4.0, 0.22, math.pi])
+    nav.step(0.0, pose, IDENTITY, (0.0, 0.0))
+    costs = nav.global_costmap.costmap.costs
+    assert np.all(costs[3:6, 79:82] >= 253)       # cell (80, 4) and its 8 neighbours
+    record = nav.send_goal((4.0, 3.0, math.pi / 2), 0.0)
+    pose, t, _ = drive(nav, pose, 0.0, 3.0, move=False)
+    assert record.status == GoalStatus.ACTIVE and nav.state == State.CONTROLLING
+    assert record.plan_length is not None and record.plan_length < 3.5
+    pose, t, _ = drive(nav, pose, t, 60.0)
+    assert record.status == GoalStatus.SUCCEEDED

@@ -199,3 +199,56 @@ def test_navfn_cost_translation():
     assert out[1] == pytest.approx(130.0)
     assert out[2] == pytest.approx(251.6)
     assert np.isinf(out[3]) and np.isinf(out[4])
+
+
+# --------------------------------------------------------------------- start escape (issue #5)
+def pinned_costmap():
+    """A 3 m x 2 m room at 0.05 m, its south wall 3 cells thick, inflated for the project's 0.42 m
+    footprint (inscribed radius 0.21 m): rows 3..7 are INSCRIBED."""
+    grid = np.zeros((40, 60), np.uint8)
+    grid[:3, :] = LETHAL
+    InflationLayer(2.25, 7.5, 0.21, RES).apply(grid)
+    return Costmap(grid, (0.0, 0.0), RES)
+
+
+def test_robot_pinned_in_the_inscribed_band_still_gets_a_plan_out():
+    """school_6000: a robot backed against a wall (centre 0.15 m from it, stalled) had no plan to
+    anywhere (navfn expands only through cells < INSCRIBED), every goal ABORTED."""
+    costmap = pinned_costmap()
+    start = (1.52, 0.27, 0.0)                       # cell (30, 5): INSCRIBED, as its neighbours
+    s = costmap.world_to_map(*start[:2])
+    assert np.all(costmap.costs[s[1] - 1:s[1] + 2, s[0] - 1:s[0] + 2] == INSCRIBED)
+    goal = (1.52, 1.5, math.pi / 2)
+    plan = planner().make_plan(costmap, start, goal)
+    assert plan is not None and plan.reaches_goal
+    cells = path_cells(plan, costmap)
+    values = costmap.costs[cells[:, 1], cells[:, 0]]
+    assert np.all(values < LETHAL)
+    band = values >= INSCRIBED                     # the inscribed cells are only the way out
+    assert band[0] and not band[-1]
+    assert np.all(np.diff(band.astype(int)) <= 0)
+    off = np.hypot(cells[band, 0] - s[0], cells[band, 1] - s[1]) * RES
+    assert off.max() <= 0.30                        # within the circumscribed radius 0.297 m
+    # a plan from outside the band never enters it; disabled escape = navfn's failure
+    assert planner().make_plan(costmap, (1.52, 0.6, 0.0), goal) is not None
+    gp = GlobalPlanner(MoveBaseConfig(), escape_radius=0.0)
+    assert gp.make_plan(costmap, start, goal) is None
+
+
+def test_start_escape_does_not_cross_walls_or_long_inscribed_corridors():
+    """Only INSCRIBED cells near the start open up: a goal behind a wall, or through a corridor
+    narrower than the robot further away, stays unreachable."""
+    grid = np.zeros((40, 80), np.uint8)
+    grid[:3, :] = LETHAL
+    grid[:, 40:43] = LETHAL                         # a full wall at x = 2.0 m
+    InflationLayer(2.25, 7.5, 0.21, RES).apply(grid)
+    costmap = Costmap(grid, (0.0, 0.0), RES)
+    start = (1.02, 0.27, 0.0)
+    assert planner().make_plan(costmap, start, (3.0, 1.0, 0.0)) is None
+    grid2 = np.full((40, 80), LETHAL, np.uint8)
+    grid2[3:37, 3:30] = FREE                        # a room ...
+    grid2[18:22, 30:77] = FREE                      # ... and a 0.2 m wide corridor off it
+    InflationLayer(2.25, 7.5, 0.21, RES).apply(grid2)
+    corridor = Costmap(grid2, (0.0, 0.0), RES)
+    plan = planner().make_plan(corridor, (0.27, 1.0, 0.0), (3.5, 1.0, 0.0))
+    assert plan is None

@@ -15,6 +15,15 @@ blocked or unreachable, the plan ends at the reachable cell nearest the goal wit
 ±``default_tolerance`` (navfn's rule). The search runs on the bounding box of the known cells,
 start and goal, grown by ``search_margin`` m, so a mostly unknown 200 m × 200 m SLAM map costs
 no more than the explored part.
+
+Extension (start escape, issue #5): navfn only clears the robot's own cell, so a robot whose
+centre stands in the INSCRIBED band of a wall (pinned against it after a stall) gets no plan to
+anywhere, every goal is ABORTED and the explorer blacklists every frontier. When — and only
+when — the ordinary search finds nothing and the start cell is INSCRIBED or LETHAL, the search is
+repeated with the INSCRIBED cells within ``escape_radius`` m of the start (default: the
+footprint's circumscribed radius, how far the robot must move to get its whole footprint off
+the band) usable at the planner's highest cost; LETHAL cells stay blocked. Plans that succeed
+today are unchanged.
 """
 from __future__ import annotations
 
@@ -26,7 +35,8 @@ import numpy as np
 
 from slam_predict.nav import kernels
 from slam_predict.nav.config import MoveBaseConfig
-from slam_predict.nav.costmap import INSCRIBED, NO_INFORMATION, Costmap
+from slam_predict.nav.costmap import (INSCRIBED, LETHAL, NO_INFORMATION, Costmap, footprint_radii,
+                                      make_footprint)
 
 
 @dataclass
@@ -76,11 +86,16 @@ def global_planner_cell_costs(costs: np.ndarray, allow_unknown: bool, lethal_cos
 class GlobalPlanner:
     """make_plan over a global costmap with the parameters of ``cfg.base_global_planner``."""
 
-    def __init__(self, cfg: MoveBaseConfig, search_margin: float = 2.0):
+    def __init__(self, cfg: MoveBaseConfig, search_margin: float = 2.0,
+                 escape_radius: Optional[float] = None):
         self.kind = cfg.base_global_planner
         self.navfn = cfg.NavfnROS
         self.gp = cfg.GlobalPlanner
         self.search_margin = float(search_margin)
+        if escape_radius is None:
+            escape_radius = footprint_radii(make_footprint(cfg.global_costmap))[1]
+        self.escape_radius = float(escape_radius)
+        self.escapes = 0  # plans found only thanks to the start escape
 
     @property
     def default_tolerance(self) -> float:
@@ -114,20 +129,32 @@ class GlobalPlanner:
         cell_cost = self.cell_costs(sub)
         sx, sy = s[0] - x0, s[1] - y0
         gx, gy = g[0] - x0, g[1] - y0
-        weight = float(np.min(cell_cost[np.isfinite(cell_cost)], initial=1.0))
-        cell_cost = np.ascontiguousarray(cell_cost)
-        cap = max(1024, 2 * cell_cost.size)
-        while True:
-            path, cost, status = kernels.grid_search(
-                cell_cost, sx, sy, gx, gy, gx - tol_cells, gy - tol_cells, gx + tol_cells,
-                gy + tol_cells, min(weight, 50.0), np.empty(cap), np.empty(cap, np.int64))
-            if status == 0:
-                break
-            cap *= 2
+        path, cost = _search(cell_cost, (sx, sy), (gx, gy), tol_cells)
+        if len(path) == 0 and INSCRIBED <= sub[sy, sx] <= LETHAL and self.escape_radius > 0:
+            escape = self._escape_costs(sub, cell_cost, sx, sy, costmap.resolution)
+            if escape is not None:
+                path, cost = _search(escape, (sx, sy), (gx, gy), tol_cells)
+                self.escapes += int(len(path) > 0)
         if len(path) == 0:
             return None
         path = path + np.array([x0, y0])
         return self._to_plan(costmap, path, float(cost), goal, g)
+
+    def _escape_costs(self, sub: np.ndarray, cell_cost: np.ndarray, sx: int, sy: int,
+                      resolution: float) -> Optional[np.ndarray]:
+        """``cell_cost`` with the INSCRIBED cells within ``escape_radius`` m of the start cell
+        (outer ring excluded) usable at the highest traversable cost; None if none is."""
+        r = int(math.ceil(self.escape_radius / resolution - 1e-9))
+        ny, nx = sub.shape
+        ys, xs = np.mgrid[max(1, sy - r):min(ny - 1, sy + r + 1),
+                          max(1, sx - r):min(nx - 1, sx + r + 1)]
+        near = ((xs - sx) ** 2 + (ys - sy) ** 2 <= r * r) & (sub[ys, xs] == INSCRIBED)
+        if not near.any():
+            return None
+        top = 253.0 if self.kind == "navfn/NavfnROS" else float(self.gp.lethal_cost - 1)
+        out = cell_cost.copy()
+        out[ys[near], xs[near]] = top
+        return out
 
     def _search_box(self, costmap: Costmap, s, g, tol_cells: int):
         """Cells [x0, x1) x [y0, y1) worth searching: known cells, start, goal window, margin."""
@@ -160,3 +187,19 @@ class GlobalPlanner:
         yaw[-1] = float(goal[2]) if len(goal) > 2 else 0.0
         length = float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) if len(xy) > 1 else 0.0
         return Plan(np.column_stack([xy, yaw]), cost, length, reaches)
+
+
+def _search(cell_cost: np.ndarray, start, goal, tol_cells: int):
+    """:func:`kernels.grid_search` from ``start`` to the goal window (cells), growing the heap
+    storage until it fits; returns (path cells (n, 2), cost)."""
+    weight = float(np.min(cell_cost[np.isfinite(cell_cost)], initial=1.0))
+    cell_cost = np.ascontiguousarray(cell_cost)
+    (sx, sy), (gx, gy) = start, goal
+    cap = max(1024, 2 * cell_cost.size)
+    while True:
+        path, cost, status = kernels.grid_search(
+            cell_cost, sx, sy, gx, gy, gx - tol_cells, gy - tol_cells, gx + tol_cells,
+            gy + tol_cells, min(weight, 50.0), np.empty(cap), np.empty(cap, np.int64))
+        if status == 0:
+            return path, cost
+        cap *= 2
