@@ -193,10 +193,11 @@ def main() -> int:
     parser.add_argument("--logs", nargs="+", default=["intel", "aces", "csail", "freiburg-101"])
     parser.add_argument("--seeds", nargs="*", type=int, default=[])
     parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
-                        help="GMapping parameter overrides (floats), e.g. srr=0.01")
+                        help="GMapping parameter overrides, e.g. srr=0.01 particles=40")
     parser.add_argument("--no-reference", action="store_true", help="skip the reference checks")
     args = parser.parse_args()
-    overrides = {k: float(v) for k, v in (item.split("=", 1) for item in args.set)}
+    overrides = {k: (int(v) if v.lstrip("-").isdigit() else float(v))
+                 for k, v in (item.split("=", 1) for item in args.set)}
     for log in args.logs:
         data = read_input(SHARED / "data" / "slam_inputs" / f"{log}.log.gz")
         params = load_params(SHARED / "baselines" / f"gmapping_real_{log}.yaml")

@@ -62,6 +62,8 @@ def test_short_episode_record_reloads_and_is_deterministic(tmp_path):
     assert first["distance_m"] > 1.0 and first["stalls"] == 0
     assert first["stop_reason"] in ("map_converged", "max_sim_time")
     assert first["snapshots"][0]["mse"] is None
+    assert first["settings_file"] == "config/collect.yaml"  # portable across clones
+    assert first["world_file"] == TINY.relative_to(ROOT).as_posix()
 
 
 def test_different_seeds_differ(tmp_path):

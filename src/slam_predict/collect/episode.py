@@ -24,6 +24,7 @@ from slam_predict.atomic import atomic_dir
 from slam_predict.collect import record as rec
 from slam_predict.collect.settings import CollectSettings, load_settings
 from slam_predict.collect.stopping import SnapshotMSE, grid_to_snapshot
+from slam_predict.paths import portable_path
 
 LOG = logging.getLogger(__name__)
 STUCK_DISTANCE_M = 0.1
@@ -159,9 +160,9 @@ def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
         grid = loop.source.map()
         reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
         record = {
-            "world": spec.world, "world_file": str(spec.world_path), "run_index": spec.index,
+            "world": spec.world, "world_file": portable_path(spec.world_path), "run_index": spec.index,
             "seed": spec.seed, "code_version": code_version(), "config_hashes": settings.hashes(),
-            "settings_file": settings.source,
+            "settings_file": portable_path(settings.source),
             "odometry_model": settings.sim.odom.model,
             "odometry_error": loop.sim.odom_error,
             "stop_reason": reason, "explorer_end": explorer_end,

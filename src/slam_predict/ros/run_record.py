@@ -26,6 +26,7 @@ from slam_predict.collect.episode import code_version, inscribed_radius, measure
 from slam_predict.collect.settings import CollectSettings
 from slam_predict.config import config_hash
 from slam_predict.geometry import compose, inverse
+from slam_predict.paths import portable_path
 from slam_predict.ros.orchestrator import RunMonitor
 
 
@@ -70,9 +71,9 @@ def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, 
     ros = {**info.ros, "samples": int(len(traj.t)), "samples_dropped": int(monitor.dropped),
            "first_sample_t": float(traj.t[0]) if len(traj.t) else None}
     return {
-        "world": info.world, "world_file": info.world_file, "run_index": info.run_index,
+        "world": info.world, "world_file": portable_path(info.world_file), "run_index": info.run_index,
         "seed": info.seed, "code_version": code_version(), "config_hashes": hashes,
-        "settings_file": settings.source,
+        "settings_file": portable_path(settings.source),
         "odometry_model": info.odometry_model or settings.sim.odom.model,
         "odometry_error": info.odometry_error,
         "stop_reason": monitor.reason, "explorer_end": monitor.explorer_end,
