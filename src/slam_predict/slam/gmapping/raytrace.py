@@ -17,48 +17,53 @@ import numpy as np
 from slam_predict.slam.gmapping.kernels import c_round
 
 
+@nb.njit(cache=True, inline="always")
+def _line_start(x0, y0, x1, y1):
+    """GridLineTraversal's walk from (x0, y0) to (x1, y1): it starts at the end with the smaller
+    coordinate along the major axis. Returns (x, y, steps, minor_step, d, dx, dy, steep): the
+    first cell, the number of steps to the last one, the minor-axis step (±1), the decision
+    variable and the absolute deltas; ``steep`` when y is the major axis."""
+    dx = abs(x1 - x0)
+    dy = abs(y1 - y0)
+    steep = dy > dx
+    if not steep:
+        if x0 > x1:
+            return x1, y1, dx, (1 if y0 > y1 else -1), 2 * dy - dx, dx, dy, steep
+        return x0, y0, dx, (1 if y1 > y0 else -1), 2 * dy - dx, dx, dy, steep
+    if y0 > y1:
+        return x1, y1, dy, (1 if x0 > x1 else -1), 2 * dx - dy, dx, dy, steep
+    return x0, y0, dy, (1 if x1 > x0 else -1), 2 * dx - dy, dx, dy, steep
+
+
+@nb.njit(cache=True, inline="always")
+def _line_step(x, y, d, minor_step, dx, dy, steep):
+    """One Bresenham step along the major axis → (x, y, d)."""
+    if not steep:
+        x += 1
+        if d < 0:
+            d += 2 * dy
+        else:
+            y += minor_step
+            d += 2 * (dy - dx)
+    else:
+        y += 1
+        if d < 0:
+            d += 2 * dx
+        else:
+            x += minor_step
+            d += 2 * (dx - dy)
+    return x, y, d
+
+
 @nb.njit(cache=True)
 def line_cells(x0, y0, x1, y1):
     """GridLineTraversal::gridLine: the cells (K, 2) from (x0, y0) to (x1, y1), both included."""
-    dx = abs(x1 - x0)
-    dy = abs(y1 - y0)
-    n = max(dx, dy) + 1
-    out = np.empty((n, 2), dtype=np.int64)
-    if dy <= dx:
-        # walk x upwards from the end with the smaller x
-        if x0 > x1:
-            x, y, xend, ystep = x1, y1, x0, (1 if y0 > y1 else -1)
-        else:
-            x, y, xend, ystep = x0, y0, x1, (1 if y1 > y0 else -1)
-        d = 2 * dy - dx
-        out[0, 0], out[0, 1] = x, y
-        k = 1
-        while x < xend:
-            x += 1
-            if d < 0:
-                d += 2 * dy
-            else:
-                y += ystep
-                d += 2 * (dy - dx)
-            out[k, 0], out[k, 1] = x, y
-            k += 1
-    else:
-        if y0 > y1:
-            x, y, yend, xstep = x1, y1, y0, (1 if x0 > x1 else -1)
-        else:
-            x, y, yend, xstep = x0, y0, y1, (1 if x1 > x0 else -1)
-        d = 2 * dx - dy
-        out[0, 0], out[0, 1] = x, y
-        k = 1
-        while y < yend:
-            y += 1
-            if d < 0:
-                d += 2 * dx
-            else:
-                x += xstep
-                d += 2 * (dx - dy)
-            out[k, 0], out[k, 1] = x, y
-            k += 1
+    x, y, steps, minor_step, d, dx, dy, steep = _line_start(x0, y0, x1, y1)
+    out = np.empty((steps + 1, 2), dtype=np.int64)
+    out[0, 0], out[0, 1] = x, y
+    for k in range(1, steps + 1):
+        x, y, d = _line_step(x, y, d, minor_step, dx, dy, steep)
+        out[k, 0], out[k, 1] = x, y
     if out[0, 0] != x0 or out[0, 1] != y0:
         out = out[::-1].copy()
     return out
@@ -75,42 +80,13 @@ def _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit, sign):
     """Free visits along the line a → b (b excluded), then the hit at b when ``hit``; each
     count changes by ``sign`` (1 to add the beam, −1 to remove it). The cells are those of
     :func:`line_cells` (walked the same way, without building the list)."""
-    dx = abs(bx - ax)
-    dy = abs(by - ay)
-    if dy <= dx:
-        if ax > bx:
-            x, y, xend, ystep = bx, by, ax, (1 if ay > by else -1)
-        else:
-            x, y, xend, ystep = ax, ay, bx, (1 if by > ay else -1)
-        d = 2 * dy - dx
+    x, y, steps, minor_step, d, dx, dy, steep = _line_start(ax, ay, bx, by)
+    if x != bx or y != by:
+        _visit(visits, x - x0, y - y0, sign)
+    for _ in range(steps):
+        x, y, d = _line_step(x, y, d, minor_step, dx, dy, steep)
         if x != bx or y != by:
             _visit(visits, x - x0, y - y0, sign)
-        while x < xend:
-            x += 1
-            if d < 0:
-                d += 2 * dy
-            else:
-                y += ystep
-                d += 2 * (dy - dx)
-            if x != bx or y != by:
-                _visit(visits, x - x0, y - y0, sign)
-    else:
-        if ay > by:
-            x, y, yend, xstep = bx, by, ay, (1 if ax > bx else -1)
-        else:
-            x, y, yend, xstep = ax, ay, by, (1 if bx > ax else -1)
-        d = 2 * dx - dy
-        if x != bx or y != by:
-            _visit(visits, x - x0, y - y0, sign)
-        while y < yend:
-            y += 1
-            if d < 0:
-                d += 2 * dx
-            else:
-                x += xstep
-                d += 2 * (dx - dy)
-            if x != bx or y != by:
-                _visit(visits, x - x0, y - y0, sign)
     if hit:
         u = bx - x0
         v = by - y0
