@@ -79,3 +79,45 @@ def test_grid_window_keeps_world_coordinates():
     full_uv = grid.to_px(point)
     sub_uv = sub.to_px(point)
     assert np.allclose(full_uv - sub_uv, [20, 5])
+
+
+def test_nested_cells_share_the_extent():
+    from slam_predict.world.layout_raster import nested_cells
+
+    for size in (12.35, 12.349, 7.0, 0.04, 33.333):
+        assert nested_cells(size, 0.05) == 2 * nested_cells(size, 0.1)
+        assert nested_cells(size, 0.05, ceil=True) == 2 * nested_cells(size, 0.1, ceil=True)
+    assert nested_cells(12.36, 0.1) == 124 and nested_cells(12.36, 0.05) == 248
+    assert nested_cells(12.31, 0.1, ceil=True) == 124
+    assert nested_cells(12.36, 0.03) == 412  # 0.03 does not divide 0.1: its own rounding
+
+
+def random_layout(rng: np.random.Generator):
+    """Two rooms side by side (random sizes, m) with no portal, and a random inner wall."""
+    from slam_predict.world.model import Room
+
+    x0, y0 = rng.uniform(-4, -2, 2)
+    xm, x1, y1 = rng.uniform(-0.5, 0.5), rng.uniform(2, 4), rng.uniform(2, 4)
+    rooms = [Room("A", np.array([[x0, y0], [xm, y0], [xm, y1], [x0, y1]])),
+             Room("B", np.array([[xm, y0], [x1, y0], [x1, y1], [xm, y1]]))]
+    wall = np.array([[[x0, rng.uniform(y0, y1)], [rng.uniform(x0, xm - 1.5), y0]]])
+    return rooms, [wall]
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_sampled_rasterisation_commutes_with_any_reduction(seed):
+    """Conservative rasterisation on 0.05 m samples: the 0.10 m/px raster is exactly the 2 x 2
+    "any" reduction of the 0.05 m/px one (same centre and extent); the pixel-centre rule is not."""
+    from slam_predict.world.layout_raster import rasterise, rasterise_sampled, reduce_any
+
+    rng = np.random.default_rng(seed)
+    rooms, walls = random_layout(rng)
+    origin = tuple(rng.uniform(-0.3, 0.3, 2))
+    fine, coarse = raster.Grid(200, 200, 0.05, origin), raster.Grid(100, 100, 0.1, origin)
+    a, _, _ = rasterise_sampled(rooms, walls, [], fine, 0.15, 0.9, 0.05)
+    b, inferred, report = rasterise_sampled(rooms, walls, [], coarse, 0.15, 0.9, 0.05)
+    assert len(inferred) == 1 and report["samples_per_cell"] == 2
+    assert np.array_equal(~reduce_any(~a, 2), b)
+    assert np.array_equal(a, rasterise(rooms, walls, [], fine, 0.15, 0.9)[0])
+    plain, _, _ = rasterise(rooms, walls, [], coarse, 0.15, 0.9)
+    assert (plain & ~b).any() and not (b & ~plain).any()  # walls only grow

@@ -18,6 +18,14 @@ Rasterisation (pixel-centre rule; details in :mod:`slam_predict.world.layout_ras
    door in the middle of their longest shared wall (``provenance['inferred_doors']``); free
    cells still unreachable are closed (``provenance['closed_islands_m2']``, ``rooms_closed``).
 
+Resolution: the grid extent is a whole number of 0.1 m cells, centred on the origin, and the
+plan is rasterised on samples ``sample_m`` (0.05 m) apart, a cell being an obstacle when any of
+its samples is (:func:`slam_predict.world.layout_raster.rasterise_sampled`). At 0.05 m/px this
+is the pixel-centre raster; at 0.10 m/px it is that raster's 2 x 2 "any" reduction, i.e. the
+features' 0.1 m working grid of the 0.05 m/px world, so the features do not depend on which of
+the two resolutions a plan is loaded at (issue #6). Finer resolutions use their own pixel
+centres (the area checks at 0.02 m/px).
+
 Ground truth kept on the World: one :class:`Room` per space (polygon in world metres, label) and
 one :class:`Door` per opened portal (segment along the wall, the two space ids).
 """
@@ -39,6 +47,8 @@ UNIT_TO_M = {"cm": 0.01, "m": 1.0, "mm": 0.001}
 DEFAULT_RESOLUTION = 0.05
 DEFAULT_WALL = 0.15
 DEFAULT_DOOR = 0.9
+DEFAULT_SAMPLE = 0.05  # m: sample spacing of the conservative rasterisation
+LATTICE_M = 0.1  # m: margin unit of the grid (layout_raster.LATTICE_M: extents in whole cells)
 
 
 @dataclass
@@ -191,20 +201,26 @@ def stretched_frame(layout: Layout, size_m: Tuple[float, float], mirror: bool = 
 
 
 def layout_world(layout: Layout, frame: Frame, grid, wall_thickness: float,
-                 door_width: float, name: str) -> World:
-    """Rasterise ``layout`` onto ``grid`` (a :class:`raster.Grid`) through ``frame``."""
+                 door_width: float, name: str, sample_m: Optional[float] = None) -> World:
+    """Rasterise ``layout`` onto ``grid`` (a :class:`raster.Grid`) through ``frame``; with
+    ``sample_m`` (m) conservatively: a cell is an obstacle when any of its samples ``sample_m``
+    apart is (:func:`layout_raster.rasterise_sampled`)."""
     from slam_predict.world.layout_doors import find_doors
-    from slam_predict.world.layout_raster import rasterise
+    from slam_predict.world.layout_raster import rasterise, rasterise_sampled
 
     rooms = [Room(id=s.id, polygon=frame.apply(s.polygon), label=s.label) for s in layout.spaces]
     doors = find_doors(layout, frame, rooms, door_width)
-    free, inferred, report = rasterise(rooms, [frame.apply(s.walls) for s in layout.spaces],
-                                       doors, grid, wall_thickness, door_width)
+    walls = [frame.apply(s.walls) for s in layout.spaces]
+    if sample_m is None:
+        free, inferred, report = rasterise(rooms, walls, doors, grid, wall_thickness, door_width)
+    else:
+        free, inferred, report = rasterise_sampled(rooms, walls, doors, grid, wall_thickness,
+                                                   door_width, sample_m)
     if not free.any():
         raise InputError("layout rasterises to no free space", layout.path)
     provenance = {"source": layout.path, "format": "layout-xml", "unit_m": layout.unit_m,
                   "building_type": layout.building_type, "wall_thickness": wall_thickness,
-                  "door_width": door_width, **report}
+                  "door_width": door_width, "sample_m": sample_m, **report}
     world_doors = [Door(segment=d.segment, rooms=d.rooms) for d in list(doors) + inferred]
     return World(name=name, occupied=~free, resolution=grid.resolution, origin=grid.origin,
                  rooms=rooms, doors=world_doors, provenance=provenance)
@@ -216,10 +232,12 @@ def _check_positive(value: float, what: str, path: str) -> None:
 
 
 def rasterise_layout(path: os.PathLike | str, resolution: Optional[float] = None,
-                     wall_thickness: float = DEFAULT_WALL,
-                     door_width: float = DEFAULT_DOOR) -> World:
+                     wall_thickness: float = DEFAULT_WALL, door_width: float = DEFAULT_DOOR,
+                     sample_m: Optional[float] = DEFAULT_SAMPLE) -> World:
     """A layout XML as a World at its own scale, centred on the origin, without a start pose
-    (``provenance['start_given']`` is False)."""
+    (``provenance['start_given']`` is False). The grid extent is whole 0.1 m cells and the
+    plan is sampled every ``sample_m`` m (module docstring, "Resolution")."""
+    from slam_predict.world.layout_raster import nested_cells
     from slam_predict.world.raster import Grid
 
     resolution = DEFAULT_RESOLUTION if resolution is None else resolution
@@ -230,24 +248,28 @@ def rasterise_layout(path: os.PathLike | str, resolution: Optional[float] = None
     frame = centred_frame(layout)
     x0, y0, x1, y1 = layout.extent
     half_w, half_h = (x1 - x0) * frame.sx / 2.0, (y1 - y0) * frame.sy / 2.0
-    margin = wall_thickness + 2 * resolution
-    grid = Grid.covering(-half_w, -half_h, half_w, half_h, resolution, margin)
+    margin = wall_thickness + 2 * max(resolution, LATTICE_M)
+    grid = Grid(nested_cells(2 * (half_h + margin), resolution, ceil=True),
+                nested_cells(2 * (half_w + margin), resolution, ceil=True), resolution)
     name = os.path.splitext(os.path.basename(layout.path))[0]
-    world = layout_world(layout, frame, grid, wall_thickness, door_width, name)
+    world = layout_world(layout, frame, grid, wall_thickness, door_width, name, sample_m)
     world.provenance["start_given"] = False
     return world
 
 
 def load_layout(path: os.PathLike | str, resolution: Optional[float] = None,
                 wall_thickness: float = DEFAULT_WALL, door_width: float = DEFAULT_DOOR,
-                start: Optional[Sequence[float]] = None, snap_start: bool = False) -> World:
+                start: Optional[Sequence[float]] = None, snap_start: bool = False,
+                sample_m: Optional[float] = DEFAULT_SAMPLE) -> World:
     """Load a layout XML as a World at ``resolution`` m/px (default 0.05).
 
     Walls are ``wall_thickness`` m thick, doors ``door_width`` m wide; ``start`` is
     (x, y[, yaw]) in m, m, deg (default: the start-pose rule of :mod:`slam_predict.world.start`);
-    ``snap_start`` moves a start pose in a wall to the nearest free cell.
+    ``snap_start`` moves a start pose in a wall to the nearest free cell; ``sample_m`` (m) is
+    the sample spacing of the conservative rasterisation (None: pixel centres at
+    ``resolution``).
     """
     from slam_predict.world.start import resolve_start
 
-    world = rasterise_layout(path, resolution, wall_thickness, door_width)
+    world = rasterise_layout(path, resolution, wall_thickness, door_width, sample_m)
     return resolve_start(world, start, snap_start)

@@ -13,6 +13,16 @@ Steps (all on the pixel-centre rule of :mod:`slam_predict.world.raster`):
    whose only portals lead outside; inferred doors are listed in the provenance;
 4. free cells still not connected to the largest component (slivers between double walls, or
    rooms sharing no wall with the rest) are closed and their area reported.
+
+:func:`rasterise_sampled` is the *conservative* variant: steps 1–4 run on a grid of samples
+``sample_m`` m apart (``k`` x ``k`` samples per cell, ``k = ceil(resolution / sample_m)``) and a
+cell is an obstacle when any of its samples is — an obstacle wherever the wall geometry (or the
+outside) touches the cell, up to ``sample_m``. Rasterising at 0.05 m/px and then reducing 2 x 2
+blocks by "any" gives exactly the raster made at 0.10 m/px directly, when both grids share their
+centre and extent and the sample lattice is the same (``sample_m`` divides both resolutions).
+Step 4 runs on the samples only, so free space joined to the building by a passage narrower
+than a cell (a leak at a wall corner) is left as a separate component after the reduction
+(``report['free_components']`` > 1), the same at every resolution.
 """
 from __future__ import annotations
 
@@ -29,6 +39,7 @@ from slam_predict.world.model import Room
 
 LOG = logging.getLogger(__name__)
 MAX_GAP = 0.6  # m: the widest gap between two outlines a door may bridge
+LATTICE_M = 0.1  # m: grid extents are whole multiples of this (nested_cells)
 SHARED_WALL_TOLERANCE = 0.35  # m: outlines closer than this share a wall (inferred doors)
 
 
@@ -193,4 +204,46 @@ def rasterise(rooms: Sequence[Room], walls: Sequence[np.ndarray], doors: Sequenc
     report = {"closed_islands_m2": round(closed, 3), "portals_not_joined": len(unjoined),
               "inferred_doors": [list(d.rooms) for d in inferred],
               "rooms_closed": [r.id for r, n in zip(rooms, reached[1:]) if n == 0]}
+    return free, inferred, report
+
+
+def nested_cells(size_m: float, resolution: float, ceil: bool = False) -> int:
+    """Cells of ``resolution`` m along an axis of ``size_m`` m (rounded, or rounded up with
+    ``ceil``). When ``resolution`` divides LATTICE_M the size is first rounded to whole
+    LATTICE_M cells, so that grids at 0.05 and 0.10 m/px centred on the same origin span the
+    same extent and every 0.10 m cell is exactly 2 x 2 cells of 0.05 m."""
+    step = resolution
+    ratio = LATTICE_M / resolution
+    if resolution <= LATTICE_M and abs(ratio - round(ratio)) < 1e-6:
+        step = LATTICE_M
+    cells = size_m / step
+    cells = int(np.ceil(cells - 1e-9)) if ceil else int(round(cells))
+    return max(1, cells) * max(1, int(round(step / resolution)))
+
+
+def reduce_any(mask: np.ndarray, k: int) -> np.ndarray:
+    """``mask`` (rows·k x cols·k) reduced by k x k blocks: True where any sample in a block is."""
+    rows, cols = mask.shape[0] // k, mask.shape[1] // k
+    return mask[:rows * k, :cols * k].reshape(rows, k, cols, k).any(axis=(1, 3))
+
+
+def samples_per_cell(resolution: float, sample_m: float) -> int:
+    """k = ceil(resolution / sample_m) (≥ 1), tolerant of floating-point ratios like 0.1/0.05."""
+    return max(1, int(np.ceil(resolution / sample_m - 1e-6)))
+
+
+def rasterise_sampled(rooms: Sequence[Room], walls: Sequence[np.ndarray],
+                      doors: Sequence[DoorCut], grid: raster.Grid, wall_thickness: float,
+                      door_width: float, sample_m: float):
+    """Conservative free-space bitmap (module docstring): :func:`rasterise` on ``sample_m``
+    samples, then a cell is free only when all its samples are. Same return values."""
+    k = samples_per_cell(grid.resolution, sample_m)
+    if k == 1:
+        return rasterise(rooms, walls, doors, grid, wall_thickness, door_width)
+    fine = raster.Grid(grid.rows * k, grid.cols * k, grid.resolution / k, grid.origin)
+    free, inferred, report = rasterise(rooms, walls, doors, fine, wall_thickness, door_width)
+    free = ~reduce_any(~free, k)
+    # no second keep_largest: the result must depend on the samples only (not on k), so free
+    # space joined only through a passage narrower than a cell stays as its own component
+    report.update(samples_per_cell=k, free_components=raster.label_free(free)[1])
     return free, inferred, report

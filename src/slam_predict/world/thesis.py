@@ -32,6 +32,12 @@ Scale (the thesis' Stage ``floorplan size [W H]`` stretches the bitmap to W x H 
   and Vipiteno2 (0, 4) lie 19 m and 7 m outside the building in the unmirrored frame and inside
   a room in the mirrored one; no other start pose tells the two frames apart. A mirror image
   has the same geometry for SLAM; ``load_layout`` (real buildings) does not mirror.
+  Resolution: the grid spans W x H rounded to whole 0.1 m cells
+  (:func:`layout_raster.nested_cells`) and the layout is rasterised on samples
+  :data:`LAYOUT_SAMPLE_M` (0.05 m) apart, a cell being an obstacle when any of its samples is
+  (:func:`layout_raster.rasterise_sampled`): the 0.05 m/px world is the pixel-centre raster,
+  the 0.10 m/px world its 2 x 2 "any" reduction — exactly the features' 0.1 m working grid of
+  the 0.05 m/px world, so both give the same feature vector (issue #6).
 
 Start pose: ``robot_pose`` x y (m) and yaw (deg), Stage frame; a pose in (or too close to) a
 wall, or outside the largest free component (the building proper), is snapped to the nearest
@@ -60,6 +66,7 @@ ANISOTROPIC = {"office_b", "office_d"}
 SCALE_OVERRIDES = {"office_c": 0.1}
 CROPPED = {"freiburg79"}
 FIT_MARGIN = 1.0  # m around a fitted crop
+LAYOUT_SAMPLE_M = 0.05  # m: layouts are rasterised conservatively on samples this far apart
 
 
 @dataclass
@@ -191,29 +198,33 @@ def _ipa_world(env: ThesisEnv, resolution: float) -> Tuple[World, str]:
     return world, note
 
 
-def _layout_world(env: ThesisEnv, resolution: float, wall: float, door: float) -> World:
+def _layout_world(env: ThesisEnv, resolution: float, wall: float, door: float,
+                  sample_m: Optional[float]) -> World:
     from slam_predict.world.layout import layout_world, parse_layout, stretched_frame
+    from slam_predict.world.layout_raster import nested_cells
     from slam_predict.world.raster import Grid
 
     layout = parse_layout(env.plan)
     frame = stretched_frame(layout, env.size_m, mirror=True)
-    grid = Grid(max(1, int(round(env.size_m[1] / resolution))),
-                max(1, int(round(env.size_m[0] / resolution))), resolution)
-    world = layout_world(layout, frame, grid, wall, door, env.env)
-    world.provenance.update(format="thesis-layout", mirrored=True)
+    grid = Grid(nested_cells(env.size_m[1], resolution), nested_cells(env.size_m[0], resolution),
+                resolution)
+    world = layout_world(layout, frame, grid, wall, door, env.env, sample_m)
+    world.provenance.update(format="thesis-layout", mirrored=True, sample_m=sample_m)
     return world
 
 
 def thesis_world(env: ThesisEnv, resolution: float = 0.05, wall_thickness: float = 0.15,
-                 door_width: float = 0.9) -> Tuple[World, dict]:
-    """(World with its start pose, index row) of one thesis building."""
+                 door_width: float = 0.9, layout_sample_m: Optional[float] = LAYOUT_SAMPLE_M
+                 ) -> Tuple[World, dict]:
+    """(World with its start pose, index row) of one thesis building; layouts are rasterised
+    conservatively on ``layout_sample_m`` m samples (None: pixel-centre rule at ``resolution``)."""
     from slam_predict.world.start import resolve_start
 
     note = ""
     if env.source == "ipa":
         world, note = _ipa_world(env, resolution)
     else:
-        world = _layout_world(env, resolution, wall_thickness, door_width)
+        world = _layout_world(env, resolution, wall_thickness, door_width, layout_sample_m)
     world.provenance.update(start_given=True, thesis_size_m=list(env.size_m), import_note=note,
                             thesis_robot_pose=list(env.start))
     # snap into the building proper (the largest free component), not a scan fragment
