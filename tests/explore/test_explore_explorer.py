@@ -151,3 +151,63 @@ def test_explore_lite_cost_prefers_large_frontiers():
 def test_config_rejects_unknown_strategy():
     with pytest.raises(ValueError):
         ExploreConfig(strategy="closest")
+
+
+def test_blacklist_retry_looks_around_then_forgets_aborted_points_on_a_new_map():
+    ex, client = explorer(blacklist_retries=2)
+    grid = grid_with_frontiers((4, 4, 6, 6))
+    robot = np.array([1.0, 1.0, 0.5])
+    ex.step(0.0, grid, robot)
+    client._status = ABORTED
+    ex.step(0.5, grid, robot)                          # all blacklisted: look around, not stop
+    assert not ex.done and ex.retries == 1
+    look = client.sent[-1][1]                          # in place, facing the frontier
+    gx, gy = ex.frontiers[0].goal
+    assert look[:2] == pytest.approx((1.0, 1.0))
+    assert look[2] == pytest.approx(np.arctan2(gy - 1.0, gx - 1.0))
+    ex.step(1.5, grid, robot)                          # still turning: nothing new
+    assert len(client.sent) == 2
+    client._status = SUCCEEDED
+    ex.step(2.0, grid, robot)                          # turned; the map is still the old one
+    ex.step(3.5, grid, robot)
+    assert len(client.sent) == 2 and len(ex.blacklist) == 1
+    assert ex.log.goals[-1]["outcome"] == "look_around"
+    ex.step(4.0, grid_with_frontiers((4, 4, 6, 6)), robot)   # a newer map: try the frontier again
+    assert len(client.sent) == 3 and not ex.blacklist
+    assert 3.5 < client.sent[-1][1][0] < 6.5
+    client._status = SUCCEEDED                         # reached: the retry count restarts
+    ex.step(5.0, grid_with_frontiers((4, 4, 6, 6)), robot)
+    assert ex.retries == 0
+
+
+def test_blacklist_retries_are_bounded():
+    ex, client = explorer(blacklist_retries=2)
+    robot = np.array([1.0, 1.0, 0.0])
+    t = 0.0
+    for _ in range(20):
+        grid = grid_with_frontiers((4, 4, 6, 6))       # a new map every tick, goals all fail
+        if client.sent and client._status == 1:
+            client._status = ABORTED if abs(client.sent[-1][1][0] - 1.0) > 0.1 else SUCCEEDED
+        ex.step(t, grid, robot)
+        t += 1.0
+        if ex.done:
+            break
+    assert ex.done and ex.log.stop_reason == "all_frontiers_blacklisted"
+    outcomes = [g["outcome"] for g in ex.log.goals]
+    assert outcomes.count("look_around") == 2 and outcomes.count("aborted") == 3
+
+
+def test_blacklist_retry_keeps_points_reached_too_often():
+    ex, client = explorer(blacklist_retries=3, max_goal_attempts=1)
+    grid = grid_with_frontiers((4, 4, 6, 6))
+    robot = np.array([1.0, 1.0, 0.0])
+    ex.step(0.0, grid, robot)
+    client._status = SUCCEEDED                         # reached, frontier still there
+    ex.step(0.5, grid, robot)
+    ex.step(1.5, grid_with_frontiers((4, 4, 6, 6)), robot)
+    assert ex.done and ex.log.stop_reason == "all_frontiers_blacklisted"   # nothing to forget
+
+
+def test_config_rejects_negative_blacklist_retries():
+    with pytest.raises(ValueError):
+        ExploreConfig(blacklist_retries=-1)

@@ -26,6 +26,15 @@ goal is a random frontier; an ABORTED goal is blacklisted (frontiers whose goal 
 ``blacklist_radius`` are skipped), as is one reached or timed out ``max_goal_attempts`` times.
 Exploration ends when no frontier is left (``no_frontiers``) or all are blacklisted
 (``all_frontiers_blacklisted``).
+
+Extension (``blacklist_retries`` > 0; 0, explore_lite's behaviour, by default): when every
+frontier left is blacklisted, before stopping, the explorer sends a "look around" goal (the
+robot's own position, facing the nearest frontier: the way out, often in the laser's blind
+sector, gets scanned into the SLAM map and the next plan starts facing it), waits for the
+first map published after it, forgets the points blacklisted
+because move_base ABORTED (or, explore_lite strategy, for no progress) and chooses again.
+Points blacklisted for ``max_goal_attempts`` stay. At most ``blacklist_retries`` consecutive
+rounds; a frontier goal that succeeds restarts the count.
 """
 from __future__ import annotations
 
@@ -70,6 +79,7 @@ class ExploreConfig:
     goal_yaw: str = "approach"
     near_frontier_distance: float = 1.0
     goal_clearance: float = 0.5
+    blacklist_retries: int = 0
 
     def __post_init__(self) -> None:
         if self.strategy not in STRATEGIES:
@@ -79,6 +89,8 @@ class ExploreConfig:
             raise ValueError("goal_yaw must be 'approach' or 'zero'")
         if not (self.planner_frequency > 0 and self.max_vel_x > 0):
             raise ValueError("planner_frequency and max_vel_x must be > 0")
+        if self.blacklist_retries < 0:
+            raise ValueError("blacklist_retries must be >= 0")
 
 
 class GoalClient(Protocol):
@@ -104,6 +116,7 @@ class Goal:
     min_distance: float
     time_limit: Optional[float] = None
     last_progress: float = 0.0
+    look_around: bool = False
 
 
 @dataclass
@@ -131,6 +144,9 @@ class Explorer:
         self.rng = rng
         self.goal: Optional[Goal] = None
         self.blacklist: List[np.ndarray] = []
+        self.forgettable: List[np.ndarray] = []   # blacklisted by ABORTED / no progress
+        self.retries = 0                          # consecutive blacklist retry rounds
+        self._retry_map = None                    # waiting for a map newer than this one
         self.attempts: List[Tuple[np.ndarray, int]] = []
         self.random_next = False
         self.frontiers: List[Frontier] = []
@@ -156,9 +172,13 @@ class Explorer:
         if not ended and t + 1e-9 < self._next_tick:
             return
         self._next_tick = t + 1.0 / self.cfg.planner_frequency
+        if self._retry_pending(grid):
+            return
         self.frontiers = find_frontiers(grid, robot_pose[:2], self.cfg.min_frontier_size)
         candidates = [f for f in self.frontiers if not self.is_blacklisted(f)]
         if not candidates:
+            if self.frontiers and self._start_retry(t, grid, robot_pose):
+                return
             self._stop(t, "all_frontiers_blacklisted" if self.frontiers else "no_frontiers")
             return
         # frontiers just visited stay out until the map has been refreshed
@@ -176,16 +196,19 @@ class Explorer:
         if goal is None:
             return True
         status = self.client.status()
+        if goal.look_around:
+            return self._check_look_around(t, status)
         if goal.time_limit is None and self.client.plan_length() is not None:
             goal.time_limit = (self.cfg.goal_timeout_factor * self.client.plan_length()
                                / self.cfg.max_vel_x + self.cfg.goal_timeout_offset)
         if status == SUCCEEDED:
             self._end_goal(t, "succeeded")
             self._count_attempt(goal.frontier_point)
+            self.retries = 0
             return True
         if status == ABORTED:
             self._end_goal(t, "aborted")
-            self.blacklist.append(goal.frontier_point)
+            self._blacklist_failure(goal.frontier_point)
             self.random_next = True
             return True
         if status == PREEMPTED:  # by someone else: just choose again
@@ -219,6 +242,62 @@ class Explorer:
         self.attempts.append((point, 1))
         if self.cfg.max_goal_attempts <= 1:
             self.blacklist.append(point)
+
+    def _blacklist_failure(self, point: np.ndarray) -> None:
+        """Blacklist a point move_base failed to reach (forgotten by a retry round)."""
+        self.blacklist.append(point)
+        self.forgettable.append(point)
+
+    # ---------------------------------------------------------------- blacklist retries
+    def _start_retry(self, t: float, grid, robot_pose) -> bool:
+        """All frontiers blacklisted: start a retry round if one is left (see the module
+        docstring); True if started."""
+        if self.retries >= self.cfg.blacklist_retries or not self.forgettable:
+            return False
+        self.retries += 1
+        LOG.info("all frontiers blacklisted at %.1f s: look around and retry (%d/%d)", t,
+                 self.retries, self.cfg.blacklist_retries)
+        if self.goal is not None:
+            self.client.cancel(t)
+            self._end_goal(t, "cancelled")
+        x, y = float(robot_pose[0]), float(robot_pose[1])
+        nearest = min(self.frontiers, key=lambda f: f.min_distance)
+        target = (x, y, math.atan2(nearest.goal[1] - y, nearest.goal[0] - x))
+        self.goal = Goal(target, t, np.array([x, y]), 0, 0.0,
+                         time_limit=self.cfg.goal_timeout_offset, last_progress=t,
+                         look_around=True)
+        self.client.send_goal(target, t)
+        self._retry_map = grid
+        return True
+
+    def _check_look_around(self, t: float, status: Optional[int]) -> bool:
+        """The look-around goal ended (any outcome or its time limit)? Then wait for a map."""
+        goal = self.goal
+        timed_out = t - goal.t_sent > goal.time_limit
+        if status not in (SUCCEEDED, ABORTED, PREEMPTED) and not timed_out:
+            return False
+        if timed_out and status not in (SUCCEEDED, ABORTED, PREEMPTED):
+            self.client.cancel(t)
+        self.log.goals.append({"target": [round(v, 3) for v in goal.target],
+                               "t_sent": goal.t_sent, "t_end": t, "outcome": "look_around",
+                               "time_limit": goal.time_limit})
+        self.goal = None
+        self._retry_map = self._grid   # the next map includes the scans taken while turning
+        return True
+
+    def _retry_pending(self, grid) -> bool:
+        """True while a retry round waits for its look-around goal or a newer map; once that
+        map is here, forget the navigation-failure blacklist."""
+        if self._retry_map is None:
+            return False
+        if (self.goal is not None and self.goal.look_around) or grid is self._retry_map:
+            return True
+        self._retry_map = None
+        self.blacklist = [p for p in self.blacklist
+                          if not any(p is q for q in self.forgettable)]
+        self.forgettable = []
+        self.random_next = False
+        return False
 
     def is_blacklisted(self, frontier: Frontier) -> bool:
         """True when the frontier's reference cell is near a blacklisted point."""
@@ -276,7 +355,7 @@ class Explorer:
             if choice.min_distance < goal.min_distance:
                 goal.last_progress, goal.min_distance = t, choice.min_distance
             elif t - goal.last_progress > cfg.progress_timeout:
-                self.blacklist.append(goal.frontier_point)
+                self._blacklist_failure(goal.frontier_point)
                 self.client.cancel(t)
                 self._end_goal(t, "no_progress")
             return
