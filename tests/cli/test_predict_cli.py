@@ -52,11 +52,17 @@ def check_schema(result: dict, components=tuple(COMPONENTS)) -> None:
 
 
 def test_shipped_world_json(root, models, capsys, monkeypatch):
+    """office_150 is smaller than every training building: the prediction is an extrapolation,
+    kept non-negative and flagged; office_500 lies inside the training range."""
     monkeypatch.chdir(root)
     result = predict_json(root, capsys, SHIPPED_WORLD)
     check_schema(result)
     assert result["setting"] == "realistic" and result["world"] == "office_150"
-    assert 0.01 < result["trans_mean"]["value"] < 2.0
+    assert 0.0 <= result["trans_mean"]["value"] < 2.0
+    assert any("extrapolates" in w and "building_area" in w for w in result["warnings"])
+    result = predict_json(root, capsys, "worlds/office_500.world")
+    check_schema(result)
+    assert 0.05 < result["trans_mean"]["value"] < 1.0
 
 
 def test_text_output_lists_four_components_with_units(root, models, capsys, monkeypatch):
