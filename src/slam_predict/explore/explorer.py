@@ -35,6 +35,11 @@ first map published after it, forgets the points blacklisted
 because move_base ABORTED (or, explore_lite strategy, for no progress) and chooses again.
 Points blacklisted for ``max_goal_attempts`` stay. At most ``blacklist_retries`` consecutive
 rounds; a frontier goal that succeeds restarts the count.
+
+Extension (``min_unknown_width`` m > 0; 0, explore_lite's rule, by default): frontiers border
+only unknown space joined to an unknown square that wide, so the unknown slivers GMapping
+leaves inside walls grazed by the beams are no frontiers
+(:mod:`slam_predict.explore.frontiers`).
 """
 from __future__ import annotations
 
@@ -80,6 +85,7 @@ class ExploreConfig:
     near_frontier_distance: float = 1.0
     goal_clearance: float = 0.5
     blacklist_retries: int = 0
+    min_unknown_width: float = 0.0
 
     def __post_init__(self) -> None:
         if self.strategy not in STRATEGIES:
@@ -91,6 +97,8 @@ class ExploreConfig:
             raise ValueError("planner_frequency and max_vel_x must be > 0")
         if self.blacklist_retries < 0:
             raise ValueError("blacklist_retries must be >= 0")
+        if self.min_unknown_width < 0:
+            raise ValueError("min_unknown_width must be >= 0")
 
 
 class GoalClient(Protocol):
@@ -174,7 +182,8 @@ class Explorer:
         self._next_tick = t + 1.0 / self.cfg.planner_frequency
         if self._retry_pending(grid):
             return
-        self.frontiers = find_frontiers(grid, robot_pose[:2], self.cfg.min_frontier_size)
+        self.frontiers = find_frontiers(grid, robot_pose[:2], self.cfg.min_frontier_size,
+                                        self.cfg.min_unknown_width)
         candidates = [f for f in self.frontiers if not self.is_blacklisted(f)]
         if not candidates:
             if self.frontiers and self._start_retry(t, grid, robot_pose):

@@ -5,6 +5,15 @@ explore_lite's measure) are dropped.
 Each :class:`Frontier` has its cells (world m), size, centroid, a goal point — the frontier cell
 nearest the centroid, a known free cell where a centroid may fall in a wall — and
 ``min_distance``, the Euclidean distance (m) from the robot to its nearest cell.
+
+Extension (``min_unknown_width`` > 0; 0, explore_lite's rule, by default): only unknown space
+with room in it makes a frontier. Unknown cells count only when they are 4-connected, through
+unknown cells, to a square of unknown cells ``min_unknown_width`` m on a side (cells outside
+the grid count as unknown). Beams grazing a long wall mark cells inside the wall free and leave
+unknown slivers 1–2 cells wide between its two occupied faces: frontiers no pose can ever
+observe, always nearer than the real ones (office_800: 27 goals in 630 s to such slivers while
+three real frontiers stayed unvisited). A real frontier borders a room, a corridor or the
+outside, which all hold such a square.
 """
 from __future__ import annotations
 
@@ -32,9 +41,11 @@ class Frontier:
         return self.size * resolution
 
 
-def frontier_mask(data: np.ndarray) -> np.ndarray:
-    """Free cells with at least one unknown 4-neighbour (bool, same shape)."""
-    unknown = data == -1
+def frontier_mask(data: np.ndarray, min_unknown_width: int = 0) -> np.ndarray:
+    """Free cells with at least one unknown 4-neighbour (bool, same shape); with
+    ``min_unknown_width`` (cells) > 1, only unknown cells joined to an unknown square of that
+    side count (:func:`roomy_unknown`)."""
+    unknown = roomy_unknown(data == -1, min_unknown_width)
     near = np.zeros_like(unknown)
     near[1:, :] |= unknown[:-1, :]
     near[:-1, :] |= unknown[1:, :]
@@ -43,29 +54,45 @@ def frontier_mask(data: np.ndarray) -> np.ndarray:
     return (data == 0) & near
 
 
-def known_box(data: np.ndarray):
-    """(r0, r1, c0, c1) of the known cells grown by one cell, or None when all is unknown."""
+def roomy_unknown(unknown: np.ndarray, width: int) -> np.ndarray:
+    """The cells of ``unknown`` (bool) 4-connected, through ``unknown`` cells, to a
+    ``width`` × ``width`` square of unknown cells; cells beyond the array count as unknown.
+    ``width`` <= 1 returns ``unknown`` itself."""
+    if width <= 1:
+        return unknown
+    core = ndimage.binary_erosion(unknown, np.ones((width, width), bool), border_value=1)
+    if not core.any():
+        return core
+    return ndimage.binary_propagation(core, mask=unknown)
+
+
+def known_box(data: np.ndarray, grow: int = 1):
+    """(r0, r1, c0, c1) of the known cells grown by ``grow`` cells, or None when all is
+    unknown."""
     known = data != -1
     rows = np.nonzero(known.any(axis=1))[0]
     if len(rows) == 0:
         return None
     cols = np.nonzero(known.any(axis=0))[0]
-    return (max(0, rows[0] - 1), min(data.shape[0], rows[-1] + 2),
-            max(0, cols[0] - 1), min(data.shape[1], cols[-1] + 2))
+    return (max(0, rows[0] - grow), min(data.shape[0], rows[-1] + 1 + grow),
+            max(0, cols[0] - grow), min(data.shape[1], cols[-1] + 1 + grow))
 
 
-def find_frontiers(grid, robot_xy: Sequence[float], min_frontier_size: float) -> List[Frontier]:
-    """Frontier clusters of ``grid`` (data, origin, resolution) sorted by ``min_distance``."""
+def find_frontiers(grid, robot_xy: Sequence[float], min_frontier_size: float,
+                   min_unknown_width: float = 0.0) -> List[Frontier]:
+    """Frontier clusters of ``grid`` (data, origin, resolution) sorted by ``min_distance``;
+    ``min_unknown_width`` (m): see the module docstring (0 = explore_lite)."""
     data = np.asarray(grid.data)
-    box = known_box(data)
+    res = float(grid.resolution)
+    width = int(round(min_unknown_width / res)) if min_unknown_width > 0 else 0
+    box = known_box(data, 1 + width)   # room for the unknown squares along the known edge
     if box is None:
         return []
     r0, r1, c0, c1 = box
-    mask = frontier_mask(data[r0:r1, c0:c1])
+    mask = frontier_mask(data[r0:r1, c0:c1], width)
     labels, count = ndimage.label(mask, structure=EIGHT)
     if count == 0:
         return []
-    res = float(grid.resolution)
     ox, oy = float(grid.origin[0]), float(grid.origin[1])
     rows, cols = np.nonzero(labels)
     ids = labels[rows, cols]
