@@ -107,8 +107,10 @@ def random_layout(rng: np.random.Generator):
 @pytest.mark.parametrize("seed", range(12))
 def test_sampled_rasterisation_commutes_with_any_reduction(seed):
     """Conservative rasterisation on 0.05 m samples: the 0.10 m/px raster is exactly the 2 x 2
-    "any" reduction of the 0.05 m/px one (same centre and extent); the pixel-centre rule is not."""
-    from slam_predict.world.layout_raster import rasterise, rasterise_sampled, reduce_any
+    "any" reduction of the 0.05 m/px one (same centre and extent) by the features' working-grid
+    resampler; the pixel-centre rule is not."""
+    from slam_predict.world.bitmap import resample_square
+    from slam_predict.world.layout_raster import rasterise, rasterise_sampled
 
     rng = np.random.default_rng(seed)
     rooms, walls = random_layout(rng)
@@ -117,7 +119,7 @@ def test_sampled_rasterisation_commutes_with_any_reduction(seed):
     a, _, _ = rasterise_sampled(rooms, walls, [], fine, 0.15, 0.9, 0.05)
     b, inferred, report = rasterise_sampled(rooms, walls, [], coarse, 0.15, 0.9, 0.05)
     assert len(inferred) == 1 and report["samples_per_cell"] == 2
-    assert np.array_equal(~reduce_any(~a, 2), b)
+    assert np.array_equal(~resample_square(~a, (10.0, 10.0), 0.1), b)
     assert np.array_equal(a, rasterise(rooms, walls, [], fine, 0.15, 0.9)[0])
     plain, _, _ = rasterise(rooms, walls, [], coarse, 0.15, 0.9)
     assert (plain & ~b).any() and not (b & ~plain).any()  # walls only grow

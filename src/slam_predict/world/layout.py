@@ -48,7 +48,6 @@ DEFAULT_RESOLUTION = 0.05
 DEFAULT_WALL = 0.15
 DEFAULT_DOOR = 0.9
 DEFAULT_SAMPLE = 0.05  # m: sample spacing of the conservative rasterisation
-LATTICE_M = 0.1  # m: margin unit of the grid (layout_raster.LATTICE_M: extents in whole cells)
 
 
 @dataclass
@@ -237,7 +236,7 @@ def rasterise_layout(path: os.PathLike | str, resolution: Optional[float] = None
     """A layout XML as a World at its own scale, centred on the origin, without a start pose
     (``provenance['start_given']`` is False). The grid extent is whole 0.1 m cells and the
     plan is sampled every ``sample_m`` m (module docstring, "Resolution")."""
-    from slam_predict.world.layout_raster import nested_cells
+    from slam_predict.world.layout_raster import LATTICE_M, nested_cells
     from slam_predict.world.raster import Grid
 
     resolution = DEFAULT_RESOLUTION if resolution is None else resolution

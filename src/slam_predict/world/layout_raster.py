@@ -17,9 +17,10 @@ Steps (all on the pixel-centre rule of :mod:`slam_predict.world.raster`):
 :func:`rasterise_sampled` is the *conservative* variant: steps 1–4 run on a grid of samples
 ``sample_m`` m apart (``k`` x ``k`` samples per cell, ``k = ceil(resolution / sample_m)``) and a
 cell is an obstacle when any of its samples is — an obstacle wherever the wall geometry (or the
-outside) touches the cell, up to ``sample_m``. Rasterising at 0.05 m/px and then reducing 2 x 2
-blocks by "any" gives exactly the raster made at 0.10 m/px directly, when both grids share their
-centre and extent and the sample lattice is the same (``sample_m`` divides both resolutions).
+outside) touches the cell, up to ``sample_m``. The reduction is :func:`bitmap.resample_square`,
+the features' working-grid resampler, so rasterising at 0.05 m/px and then resampling to 0.10 m
+gives exactly the raster made at 0.10 m/px directly, when both grids share their centre and
+extent and the sample lattice is the same (``sample_m`` divides both resolutions).
 Step 4 runs on the samples only, so free space joined to the building by a passage narrower
 than a cell (a leak at a wall corner) is left as a separate component after the reduction
 (``report['free_components']`` > 1), the same at every resolution.
@@ -34,6 +35,7 @@ import numpy as np
 from scipy import ndimage
 
 from slam_predict.world import raster
+from slam_predict.world.bitmap import resample_square
 from slam_predict.world.layout_doors import DoorCut, is_circulation, shared_wall_door
 from slam_predict.world.model import Room
 
@@ -221,12 +223,6 @@ def nested_cells(size_m: float, resolution: float, ceil: bool = False) -> int:
     return max(1, cells) * max(1, int(round(step / resolution)))
 
 
-def reduce_any(mask: np.ndarray, k: int) -> np.ndarray:
-    """``mask`` (rows·k x cols·k) reduced by k x k blocks: True where any sample in a block is."""
-    rows, cols = mask.shape[0] // k, mask.shape[1] // k
-    return mask[:rows * k, :cols * k].reshape(rows, k, cols, k).any(axis=(1, 3))
-
-
 def samples_per_cell(resolution: float, sample_m: float) -> int:
     """k = ceil(resolution / sample_m) (≥ 1), tolerant of floating-point ratios like 0.1/0.05."""
     return max(1, int(np.ceil(resolution / sample_m - 1e-6)))
@@ -242,7 +238,8 @@ def rasterise_sampled(rooms: Sequence[Room], walls: Sequence[np.ndarray],
         return rasterise(rooms, walls, doors, grid, wall_thickness, door_width)
     fine = raster.Grid(grid.rows * k, grid.cols * k, grid.resolution / k, grid.origin)
     free, inferred, report = rasterise(rooms, walls, doors, fine, wall_thickness, door_width)
-    free = ~reduce_any(~free, k)
+    size_m = (grid.cols * grid.resolution, grid.rows * grid.resolution)
+    free = ~resample_square(~free, size_m, grid.resolution)
     # no second keep_largest: the result must depend on the samples only (not on k), so free
     # space joined only through a passage narrower than a cell stays as its own component
     report.update(samples_per_cell=k, free_components=raster.label_free(free)[1])

@@ -34,7 +34,7 @@ Scale (the thesis' Stage ``floorplan size [W H]`` stretches the bitmap to W x H 
   has the same geometry for SLAM; ``load_layout`` (real buildings) does not mirror.
   Resolution: the grid spans W x H rounded to whole 0.1 m cells
   (:func:`layout_raster.nested_cells`) and the layout is rasterised on samples
-  :data:`LAYOUT_SAMPLE_M` (0.05 m) apart, a cell being an obstacle when any of its samples is
+  :data:`layout.DEFAULT_SAMPLE` (0.05 m) apart, a cell being an obstacle when any of its samples is
   (:func:`layout_raster.rasterise_sampled`): the 0.05 m/px world is the pixel-centre raster,
   the 0.10 m/px world its 2 x 2 "any" reduction — exactly the features' 0.1 m working grid of
   the 0.05 m/px world, so both give the same feature vector (issue #6).
@@ -56,6 +56,7 @@ import numpy as np
 
 from slam_predict.errors import InputError, require_file
 from slam_predict.world import bitmap
+from slam_predict.world.layout import DEFAULT_SAMPLE
 from slam_predict.world.model import World
 
 LOG = logging.getLogger(__name__)
@@ -66,7 +67,6 @@ ANISOTROPIC = {"office_b", "office_d"}
 SCALE_OVERRIDES = {"office_c": 0.1}
 CROPPED = {"freiburg79"}
 FIT_MARGIN = 1.0  # m around a fitted crop
-LAYOUT_SAMPLE_M = 0.05  # m: layouts are rasterised conservatively on samples this far apart
 
 
 @dataclass
@@ -209,12 +209,12 @@ def _layout_world(env: ThesisEnv, resolution: float, wall: float, door: float,
     grid = Grid(nested_cells(env.size_m[1], resolution), nested_cells(env.size_m[0], resolution),
                 resolution)
     world = layout_world(layout, frame, grid, wall, door, env.env, sample_m)
-    world.provenance.update(format="thesis-layout", mirrored=True, sample_m=sample_m)
+    world.provenance.update(format="thesis-layout", mirrored=True)
     return world
 
 
 def thesis_world(env: ThesisEnv, resolution: float = 0.05, wall_thickness: float = 0.15,
-                 door_width: float = 0.9, layout_sample_m: Optional[float] = LAYOUT_SAMPLE_M
+                 door_width: float = 0.9, layout_sample_m: Optional[float] = DEFAULT_SAMPLE
                  ) -> Tuple[World, dict]:
     """(World with its start pose, index row) of one thesis building; layouts are rasterised
     conservatively on ``layout_sample_m`` m samples (None: pixel-centre rule at ``resolution``)."""
