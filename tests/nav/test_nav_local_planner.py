@@ -11,7 +11,7 @@ from slam_predict.nav.costmap import INSCRIBED, LETHAL, NO_INFORMATION, Costmap,
 from slam_predict.nav.local_planner import LocalPlanner
 from slam_predict.nav.rollout import footprint_cost, rollout
 from slam_predict.nav.trajectory_planner import (TrajectoryPlanner, adjust_plan_resolution,
-                                                 path_and_goal_cells)
+                                                 path_and_goal_cells, shrink_footprint)
 
 RES = 0.05
 SQUARE = np.array([[-0.21, -0.21], [-0.21, 0.21], [0.21, 0.21], [0.21, -0.21]])
@@ -257,3 +257,37 @@ def test_facing_away_in_a_narrow_corridor_backs_up_with_reverse_when_blocked():
     best = tc.find_best_path(cm, pose, (0.0, 0.0))
     assert best.xv > 0 and not tc.reversing
 
+
+
+def test_escape_footprint_margin_backs_away_from_a_wall_the_blind_escape_would_hit():
+    costs = np.zeros((60, 60), np.uint8)
+    costs[25, :] = LETHAL                       # a wall at y = 1.25..1.30 m
+    cm = Costmap(costs, (0.0, 0.0), RES)
+    pose = (1.5, 1.5, 0.15)                     # tilted toward the wall: backing drives into it
+    plan = straight_plan(x0=1.5, x1=2.9)
+    body = shrink_footprint(SQUARE, 0.04)
+    np.testing.assert_allclose(np.abs(body), 0.17)
+    assert footprint_cost(costs, 0.0, 0.0, RES, *pose, SQUARE) < 0     # nothing is legal
+    assert footprint_cost(costs, 0.0, 0.0, RES, *pose, body) >= 0
+    cfg, blind = open_planner(escape_vel=-0.15)
+    blind.update_plan(plan)
+    best = blind.find_best_path(cm, pose, (0.0, 0.0))
+    assert (best.xv, best.thetav) == (-0.15, 0.0)          # base_local_planner: straight back
+    back = [(pose[0] - d * math.cos(pose[2]), pose[1] - d * math.sin(pose[2]), pose[2])
+            for d in np.linspace(0.0, 0.2, 9)]             # ... where the body meets the wall
+    assert any(footprint_cost(costs, 0.0, 0.0, RES, x, y, th, body) < 0 for x, y, th in back)
+    cfg, safe = open_planner(escape_vel=-0.15, escape_footprint_margin=0.04)
+    safe.update_plan(plan)
+    best = safe.find_best_path(cm, pose, (0.0, 0.0))
+    assert (best.xv, best.thetav) != (-0.15, 0.0) and best.cost >= 0 and safe.escaping
+    body_tc = TrajectoryPlanner(cfg, body, 0.1, RES)
+    body_tc.update_plan(plan)
+    body_tc.compute_maps(cm, pose)
+    pts = body_tc.trajectory_points(cm, pose, (0.0, 0.0), best.xv, best.thetav)
+    assert len(pts) >= 5 and pts[-1, 0] < pose[0] and abs(pts[-1, 2] - pose[2]) > 0.1
+    assert all(footprint_cost(costs, 0.0, 0.0, RES, x, y, th, body) >= 0 for x, y, th in pts)
+    boxed = np.full((60, 60), LETHAL, np.uint8)             # nothing safe: the blind escape
+    boxed[29:32, 29:32] = 0
+    safe.update_plan(straight_plan(y=1.52, x0=1.52, x1=2.9))
+    best = safe.find_best_path(Costmap(boxed, (0.0, 0.0), RES), (1.52, 1.52, 0.0), (0.0, 0.0))
+    assert (best.xv, best.thetav) == (-0.15, 0.0)

@@ -132,6 +132,11 @@ class TrajectoryPlannerConfig:
     recoveries do this: base_local_planner backs up (straight, escape_vel) only when *no* sample
     is legal, until escape_reset_dist / escape_reset_theta; move_base's recoveries only clear
     costmaps and rotate in place (a back-up recovery exists in navigation2, not in move_base).
+    ``escape_footprint_margin`` (m; an extension, 0 = base_local_planner): when nothing is
+    legal and the straight escape would also collide, the planner backs up blind, as the
+    original, only if no better move exists for the footprint shrunk by this margin (roughly the
+    robot's body): a backward arc at ``escape_vel`` that the shrunk footprint rolls out without
+    touching an obstacle is taken instead.
     """
 
     acc_lim_x: float = 2.5
@@ -156,6 +161,7 @@ class TrajectoryPlannerConfig:
     escape_reset_dist: float = 0.10
     escape_reset_theta: float = math.pi / 2.0
     reverse_when_blocked: bool = False
+    escape_footprint_margin: float = 0.0
     holonomic_robot: bool = False
     y_vels: Tuple[float, ...] = (-0.3, -0.1, 0.1, 0.3)
     dwa: bool = False
@@ -181,6 +187,8 @@ class TrajectoryPlannerConfig:
             raise ValueError("vx_samples and vtheta_samples must be >= 1")
         if not (self.sim_time > 0 and self.sim_granularity > 0 and self.angular_sim_granularity > 0):
             raise ValueError("sim_time and the granularities must be > 0")
+        if self.escape_footprint_margin < 0:
+            raise ValueError("escape_footprint_margin must be >= 0")
 
 
 @dataclass

@@ -92,12 +92,15 @@ class TrajectoryPlanner:
 
     # ---------------------------------------------------------------------------- scoring
     def _score(self, costmap: Costmap, pose, vel, samples: np.ndarray):
+        return self._score_with(costmap, pose, vel, samples, self.footprint)
+
+    def _score_with(self, costmap: Costmap, pose, vel, samples: np.ndarray, footprint):
         c = self.cfg
         return rollout.score_samples(
             np.ascontiguousarray(samples, dtype=float), float(pose[0]), float(pose[1]),
             float(pose[2]), float(vel[0]), float(vel[1]), c.acc_lim_x, c.acc_lim_theta,
             c.sim_time, c.sim_granularity, c.angular_sim_granularity, costmap.costs,
-            costmap.origin[0], costmap.origin[1], costmap.resolution, self.footprint,
+            costmap.origin[0], costmap.origin[1], costmap.resolution, footprint,
             self.path_dist, self.goal_dist, float(costmap.costs.size), self.pdist, self.gdist,
             self.occdist)
 
@@ -248,11 +251,14 @@ class TrajectoryPlanner:
             self.stuck_left = self.stuck_right = False
 
     def _escape(self, costmap, pose, vel) -> Trajectory:
-        """Nothing legal: back up slowly at escape_vel (allowed even through obstacles)."""
+        """Nothing legal: back up slowly at escape_vel (allowed even through obstacles), or,
+        with ``escape_footprint_margin``, the body-safe move of :meth:`_body_safe_escape`."""
         c = self.cfg
         x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
         costs, _ = self._score(costmap, pose, vel, np.array([[c.escape_vel, 0.0]]))
         best = Trajectory(float(costs[0]), c.escape_vel, 0.0)
+        if best.cost == -1.0 and c.escape_footprint_margin > 0:
+            best = self._body_safe_escape(costmap, pose, vel) or best
         self._reset_oscillation(x, y)
         if not self.escaping and best.cost > -2.0:
             self.escape_pose = (x, y, th)
@@ -264,6 +270,33 @@ class TrajectoryPlanner:
         if best.cost == -1.0:
             best.cost = 1.0
         return best
+
+    def _body_safe_escape(self, costmap, pose, vel) -> Optional[Trajectory]:
+        """The straight escape collides: when the footprint shrunk by
+        ``escape_footprint_margin`` would collide on it too, the best backward arc at escape_vel
+        (vθ over the window) that the shrunk footprint rolls out without touching an obstacle,
+        scored as usual with it; else None (the straight escape follows, as the original).
+        No in-place turns: a robot already touching a wall cannot turn (Stage refuses the
+        move) while its odometry turns on, so it would turn "in place" for ever."""
+        c = self.cfg
+        _, _, min_vth, max_vth = self._window(pose, vel)
+        steps = max(c.vtheta_samples - 1, 1)
+        vths = [min_vth + k * (max_vth - min_vth) / steps for k in range(c.vtheta_samples)]
+        samples = np.array([[c.escape_vel, 0.0]] + [[c.escape_vel, v] for v in vths if v != 0.0])
+        body = shrink_footprint(self.footprint, c.escape_footprint_margin)
+        costs, _ = self._score_with(costmap, pose, vel, samples, body)
+        legal = np.nonzero(costs >= 0)[0]
+        if len(legal) == 0 or costs[0] >= 0:
+            return None
+        k = int(legal[np.argmin(costs[legal])])
+        return Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
+
+
+def shrink_footprint(footprint: np.ndarray, margin: float) -> np.ndarray:
+    """The polygon with every vertex moved ``margin`` m toward the robot centre in x and in y
+    (exact for the rectangular footprints of move_base configs), never past the centre."""
+    fp = np.asarray(footprint, dtype=float)
+    return np.ascontiguousarray(np.sign(fp) * np.maximum(np.abs(fp) - margin, 0.0))
 
 
 def _forward_samples(min_vx, dvx, min_vth, dvth, nvx, nvth) -> np.ndarray:
