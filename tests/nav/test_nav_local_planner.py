@@ -258,7 +258,6 @@ def test_facing_away_in_a_narrow_corridor_backs_up_with_reverse_when_blocked():
     assert best.xv > 0 and not tc.reversing
 
 
-
 def test_escape_footprint_margin_backs_away_from_a_wall_the_blind_escape_would_hit():
     costs = np.zeros((60, 60), np.uint8)
     costs[25, :] = LETHAL                       # a wall at y = 1.25..1.30 m
