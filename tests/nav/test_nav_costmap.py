@@ -213,3 +213,13 @@ def test_obstacle_layer_clears_robot_footprint_and_recovery():
     cm.update((0.0, 0.0, 0.0))
     assert c.costs[near[1], near[0]] == LETHAL
     assert c.costs[far[1], far[0]] == FREE
+
+
+def test_footprint_clearing_disabled_keeps_an_obstacle_under_the_footprint():
+    cm = LayeredCostmap(_local_cfg(footprint_clearing_enabled=False))
+    cm.add_scan((0.0, 0.0, 0.0), np.array([[0.05, 0.0], [0.5, 0.0]]))
+    cm.update((0.0, 0.0, 0.0))
+    c = cm.costmap
+    under = c.world_to_map(0.05, 0.0)
+    near = c.world_to_map(0.5, 0.0)
+    assert c.costs[under[1], under[0]] == LETHAL and c.costs[near[1], near[0]] == LETHAL

@@ -277,16 +277,53 @@ def test_escape_footprint_margin_backs_away_from_a_wall_the_blind_escape_would_h
     assert any(footprint_cost(costs, 0.0, 0.0, RES, x, y, th, body) < 0 for x, y, th in back)
     cfg, safe = open_planner(escape_vel=-0.15, escape_footprint_margin=0.04)
     safe.update_plan(plan)
-    best = safe.find_best_path(cm, pose, (0.0, 0.0))
-    assert (best.xv, best.thetav) != (-0.15, 0.0) and best.cost >= 0 and safe.escaping
     body_tc = TrajectoryPlanner(cfg, body, 0.1, RES)
     body_tc.update_plan(plan)
     body_tc.compute_maps(cm, pose)
+    safe.escaping, safe.escape_pose = True, pose       # already escaping: no forward samples
+    best = safe.find_best_path(cm, pose, (0.0, 0.0))
+    assert (best.xv, best.thetav) != (-0.15, 0.0) and best.cost >= 0 and safe.escaping
     pts = body_tc.trajectory_points(cm, pose, (0.0, 0.0), best.xv, best.thetav)
     assert len(pts) >= 5 and pts[-1, 0] < pose[0] and abs(pts[-1, 2] - pose[2]) > 0.1
+    assert all(footprint_cost(costs, 0.0, 0.0, RES, x, y, th, body) >= 0 for x, y, th in pts)
+    safe.escaping = False                  # not escaping: the cycle is planned with the body
+    best = safe.find_best_path(cm, pose, (0.0, 0.0))
+    assert best.xv > 0 and best.cost >= 0 and safe.cycle_footprint is safe.body
+    pts = body_tc.trajectory_points(cm, pose, (0.0, 0.0), best.xv, best.thetav)
+    assert len(pts) >= 5 and pts[-1, 0] > pose[0] + 0.1
     assert all(footprint_cost(costs, 0.0, 0.0, RES, x, y, th, body) >= 0 for x, y, th in pts)
     boxed = np.full((60, 60), LETHAL, np.uint8)             # nothing safe: the blind escape
     boxed[29:32, 29:32] = 0
     safe.update_plan(straight_plan(y=1.52, x0=1.52, x1=2.9))
     best = safe.find_best_path(Costmap(boxed, (0.0, 0.0), RES), (1.52, 1.52, 0.0), (0.0, 0.0))
     assert (best.xv, best.thetav) == (-0.15, 0.0)
+
+
+def test_escape_footprint_margin_escapes_forward_off_a_wall_it_has_backed_into():
+    costs = np.zeros((60, 60), np.uint8)
+    costs[:, 24] = LETHAL                       # a wall behind the robot at x = 1.20..1.25 m
+    costs[34, :] = LETHAL                       # the full footprint's left edge touches y = 1.70
+    cm = Costmap(costs, (0.0, 0.0), RES)
+    pose = (1.5, 1.5, 0.0)
+    plan = straight_plan(x0=1.5, x1=2.9)
+    body = shrink_footprint(SQUARE, 0.04)
+    assert footprint_cost(costs, 0.0, 0.0, RES, *pose, SQUARE) < 0     # nothing is legal
+    assert footprint_cost(costs, 0.0, 0.0, RES, *pose, body) >= 0
+    cfg, safe = open_planner(escape_vel=-0.15, escape_footprint_margin=0.04)
+    safe.update_plan(plan)
+    safe.compute_maps(cm, pose)
+    back = safe._escape_samples(pose, (0.0, 0.0), -0.15)
+    assert (safe._score_with(cm, pose, (0.0, 0.0), back, body)[0] < 0).all()   # no way back
+    safe.escaping, safe.escape_pose = True, pose       # escaping: no forward samples
+    best = safe.find_best_path(cm, pose, (0.0, 0.0))
+    assert best.xv == 0.15 and best.cost >= 0 and safe.escaping
+    body_tc = TrajectoryPlanner(cfg, body, 0.1, RES)
+    body_tc.update_plan(plan)
+    body_tc.compute_maps(cm, pose)
+    pts = body_tc.trajectory_points(cm, pose, (0.0, 0.0), best.xv, best.thetav)
+    assert len(pts) >= 5 and pts[-1, 0] > pose[0] + 0.1
+    assert all(footprint_cost(costs, 0.0, 0.0, RES, x, y, th, body) >= 0 for x, y, th in pts)
+    cfg, blind = open_planner(escape_vel=-0.15)
+    blind.update_plan(plan)
+    best = blind.find_best_path(cm, pose, (0.0, 0.0))
+    assert (best.xv, best.thetav) == (-0.15, 0.0)          # base_local_planner: into the wall

@@ -136,7 +136,8 @@ class TrajectoryPlannerConfig:
     legal and the straight escape would also collide, the planner backs up blind, as the
     original, only if no better move exists for the footprint shrunk by this margin (roughly the
     robot's body): a backward arc at ``escape_vel`` that the shrunk footprint rolls out without
-    touching an obstacle is taken instead.
+    touching an obstacle is taken instead, or, when no backward arc is clear (backed into a
+    wall), such a forward arc at −``escape_vel``.
     """
 
     acc_lim_x: float = 2.5

@@ -41,6 +41,8 @@ class TrajectoryPlanner:
                  resolution: float):
         self.cfg = cfg
         self.footprint = np.ascontiguousarray(footprint, dtype=float)
+        self.body = shrink_footprint(self.footprint, cfg.escape_footprint_margin)
+        self.cycle_footprint = self.footprint   # what this cycle's samples are scored with
         self.sim_period = float(sim_period)
         scale = resolution if cfg.meter_scoring else 1.0
         self.pdist = cfg.path_distance_bias * scale
@@ -92,7 +94,7 @@ class TrajectoryPlanner:
 
     # ---------------------------------------------------------------------------- scoring
     def _score(self, costmap: Costmap, pose, vel, samples: np.ndarray):
-        return self._score_with(costmap, pose, vel, samples, self.footprint)
+        return self._score_with(costmap, pose, vel, samples, self.cycle_footprint)
 
     def _score_with(self, costmap: Costmap, pose, vel, samples: np.ndarray, footprint):
         c = self.cfg
@@ -119,14 +121,33 @@ class TrajectoryPlanner:
 
     def check_trajectory(self, costmap: Costmap, pose, vel, vx: float, vth: float) -> bool:
         """Is the sample legal (cost ≥ 0) with the current distance grids?"""
-        cost, _ = self._score(costmap, pose, vel, np.array([[vx, vth]]))
+        cost, _ = self._score_with(costmap, pose, vel, np.array([[vx, vth]]), self.footprint)
         return bool(cost[0] >= 0)
 
     # ------------------------------------------------------------------------ best sample
     def find_best_path(self, costmap: Costmap, pose, vel) -> Trajectory:
         """TrajectoryPlanner::findBestPath: maps, then createTrajectories; cost < 0 = none."""
         self.compute_maps(costmap, pose)
+        self.cycle_footprint = self._choose_footprint(costmap, pose)
         return self._create_trajectories(costmap, pose, vel)
+
+    def _choose_footprint(self, costmap: Costmap, pose) -> np.ndarray:
+        """``escape_footprint_margin`` > 0 and the footprint already touching an obstacle
+        (LETHAL or unknown under its outline) where the footprint shrunk by the margin (the
+        body) does not: plan this cycle with the body, so the robot can drive or turn away from
+        the obstacle rather than only back up blind. Else the configured footprint."""
+        if self.cfg.escape_footprint_margin <= 0 or self._footprint_cost(costmap, pose,
+                                                                         self.footprint) >= 0:
+            return self.footprint
+        if self._footprint_cost(costmap, pose, self.body) >= 0:
+            return self.body
+        return self.footprint
+
+    @staticmethod
+    def _footprint_cost(costmap: Costmap, pose, footprint: np.ndarray) -> float:
+        return rollout.footprint_cost(costmap.costs, costmap.origin[0], costmap.origin[1],
+                                      costmap.resolution, float(pose[0]), float(pose[1]),
+                                      float(pose[2]), footprint)
 
     def _window(self, pose, vel) -> Tuple[float, float, float, float]:
         c = self.cfg
@@ -177,8 +198,7 @@ class TrajectoryPlanner:
         cell = costmap.world_to_map(x, y)
         if cell is None or c.escape_vel >= 0:
             return None
-        here = rollout.footprint_cost(costmap.costs, costmap.origin[0], costmap.origin[1],
-                                      costmap.resolution, x, y, th, self.footprint)
+        here = self._footprint_cost(costmap, pose, self.cycle_footprint)
         if here < 0:
             return None
         stay = (self.pdist * self.path_dist[cell[1], cell[0]]
@@ -275,21 +295,39 @@ class TrajectoryPlanner:
         """The straight escape collides: when the footprint shrunk by
         ``escape_footprint_margin`` would collide on it too, the best backward arc at escape_vel
         (vθ over the window) that the shrunk footprint rolls out without touching an obstacle,
-        scored as usual with it; else None (the straight escape follows, as the original).
-        No in-place turns: a robot already touching a wall cannot turn (Stage refuses the
-        move) while its odometry turns on, so it would turn "in place" for ever."""
+        scored as usual with it; when no backward arc is clear (the robot has backed into a
+        wall), the best such forward arc at −escape_vel; else None (the straight escape
+        follows, as the original). No in-place turns: a robot already touching a wall cannot
+        turn (Stage refuses the move) while its odometry turns on, so it would turn "in place"
+        for ever."""
+        c = self.cfg
+        body = self.body
+        backward = self._escape_samples(pose, vel, c.escape_vel)
+        costs, _ = self._score_with(costmap, pose, vel, backward, body)
+        if costs[0] >= 0:
+            return None
+        best = _cheapest_legal(backward, costs)
+        if best is None:
+            forward = self._escape_samples(pose, vel, -c.escape_vel)
+            best = _cheapest_legal(forward, self._score_with(costmap, pose, vel, forward, body)[0])
+        return best
+
+    def _escape_samples(self, pose, vel, vx: float) -> np.ndarray:
+        """(vx, 0) then (vx, vθ) for the vθ samples of the window (vθ ≠ 0)."""
         c = self.cfg
         _, _, min_vth, max_vth = self._window(pose, vel)
         steps = max(c.vtheta_samples - 1, 1)
         vths = [min_vth + k * (max_vth - min_vth) / steps for k in range(c.vtheta_samples)]
-        samples = np.array([[c.escape_vel, 0.0]] + [[c.escape_vel, v] for v in vths if v != 0.0])
-        body = shrink_footprint(self.footprint, c.escape_footprint_margin)
-        costs, _ = self._score_with(costmap, pose, vel, samples, body)
-        legal = np.nonzero(costs >= 0)[0]
-        if len(legal) == 0 or costs[0] >= 0:
-            return None
-        k = int(legal[np.argmin(costs[legal])])
-        return Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
+        return np.array([[vx, 0.0]] + [[vx, v] for v in vths if v != 0.0])
+
+
+def _cheapest_legal(samples: np.ndarray, costs: np.ndarray) -> Optional[Trajectory]:
+    """The legal (cost ≥ 0) sample of least cost, or None."""
+    legal = np.nonzero(costs >= 0)[0]
+    if len(legal) == 0:
+        return None
+    k = int(legal[np.argmin(costs[legal])])
+    return Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
 
 
 def shrink_footprint(footprint: np.ndarray, margin: float) -> np.ndarray:
