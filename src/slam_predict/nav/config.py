@@ -137,7 +137,9 @@ class TrajectoryPlannerConfig:
     original, only if no better move exists for the footprint shrunk by this margin (roughly the
     robot's body): a backward arc at ``escape_vel`` that the shrunk footprint rolls out without
     touching an obstacle is taken instead, or, when no backward arc is clear (backed into a
-    wall), such a forward arc at −``escape_vel``.
+    wall), such a forward arc at −``escape_vel``. And a cycle that starts with the footprint
+    already touching an obstacle the shrunk footprint clears scores its samples with the
+    shrunk footprint (the robot drives or turns away instead of backing up blind).
     """
 
     acc_lim_x: float = 2.5
