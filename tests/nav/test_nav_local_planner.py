@@ -250,11 +250,14 @@ def test_facing_away_in_a_narrow_corridor_backs_up_with_reverse_when_blocked():
     pts = tc.trajectory_points(cm, pose, (0.0, 0.0), best.xv, best.thetav)
     assert pts[-1, 0] < pose[0] and all(
         footprint_cost(cm.costs, 0.0, 0.0, RES, x, y, th, SQUARE) >= 0 for x, y, th in pts)
-    # reversing is kept up while it pays; facing the goal again, it drives forward
-    best = tc.find_best_path(cm, (1.4, 1.5, 0.0), (-0.15, 0.0))
+    # reversing is kept up while it pays, and for escape_reset_dist (0.1 m, from x = 1.5) in
+    # any case; facing the goal again after that, it drives forward
+    best = tc.find_best_path(cm, (1.45, 1.5, 0.0), (-0.15, 0.0))
     assert best.xv == -0.15
     tc.update_plan(straight_plan(x0=1.5, x1=2.9))
-    best = tc.find_best_path(cm, pose, (0.0, 0.0))
+    best = tc.find_best_path(cm, (1.45, 1.5, 0.0), (-0.15, 0.0))
+    assert best.xv == -0.15 and tc.reversing
+    best = tc.find_best_path(cm, (1.38, 1.5, 0.0), (0.0, 0.0))
     assert best.xv > 0 and not tc.reversing
 
 

@@ -58,6 +58,8 @@ class TrajectoryPlanner:
         self.reversing = False
         self.prev_xy = (0.0, 0.0)
         self.escape_pose = (0.0, 0.0, 0.0)
+        self.escape_move: Optional[Tuple[float, float]] = None   # kept body-safe escape
+        self.reverse_start = (0.0, 0.0)
 
     # --------------------------------------------------------------------------- the plan
     def update_plan(self, plan: np.ndarray) -> None:
@@ -164,6 +166,9 @@ class TrajectoryPlanner:
 
     def _create_trajectories(self, costmap: Costmap, pose, vel) -> Trajectory:
         c = self.cfg
+        kept = self._keep_escape_move(costmap, pose, vel)
+        if kept is not None:
+            return kept
         min_vx, max_vx, min_vth, max_vth = self._window(pose, vel)
         dvx = (max_vx - min_vx) / (c.vx_samples - 1) if c.vx_samples > 1 else 0.0
         dvth = (max_vth - min_vth) / (c.vtheta_samples - 1) if c.vtheta_samples > 1 else 0.0
@@ -190,8 +195,8 @@ class TrajectoryPlanner:
     def _reverse(self, costmap, pose, vel, best: Trajectory, min_vth, dvth) -> Optional[Trajectory]:
         """``reverse_when_blocked``: no in-place rotation won and the best forward sample
         (if any) scores worse than staying put — the robot faces away from its goal where it
-        cannot turn — or it is already reversing (kept up while it pays, so that it does not
-        shuttle). Returns the best legal backward arc at ``escape_vel`` (vθ over the window) if
+        cannot turn — or it is already reversing (kept up while it pays, and for at least
+        escape_reset_dist, so that it does not shuttle). Returns the best legal backward arc at ``escape_vel`` (vθ over the window) if
         it scores better than staying, else None."""
         c = self.cfg
         x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
@@ -213,10 +218,19 @@ class TrajectoryPlanner:
         if len(legal) == 0:
             return None
         k = int(legal[np.argmin(costs[legal])])
-        if costs[k] >= stay:
+        if costs[k] >= stay and not self._reverse_committed(x, y):
             return None
+        if not self.reversing:
+            self.reverse_start = (x, y)
         self._reset_oscillation(x, y)
         return Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
+
+    def _reverse_committed(self, x: float, y: float) -> bool:
+        """Reversing and not yet escape_reset_dist from where it began: go on backing up even
+        where it no longer pays (else the robot shuttled: 2 cm back, 2 cm forward, for minutes
+        — a GMapping run of scuola_secondaria_i_grado_mera_ was stopped as stuck)."""
+        return self.reversing and math.hypot(x - self.reverse_start[0],
+                                             y - self.reverse_start[1]) < self.cfg.escape_reset_dist
 
     def _in_place(self, costmap, pose, vel, best: Trajectory, min_vth, dvth) -> Trajectory:
         c = self.cfg
@@ -277,8 +291,12 @@ class TrajectoryPlanner:
         x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
         costs, _ = self._score(costmap, pose, vel, np.array([[c.escape_vel, 0.0]]))
         best = Trajectory(float(costs[0]), c.escape_vel, 0.0)
+        self.escape_move = None
         if best.cost == -1.0 and c.escape_footprint_margin > 0:
-            best = self._body_safe_escape(costmap, pose, vel) or best
+            safe = self._body_safe_escape(costmap, pose, vel)
+            if safe is not None:
+                best = safe
+                self.escape_move = (safe.xv, safe.thetav)
         self._reset_oscillation(x, y)
         if not self.escaping and best.cost > -2.0:
             self.escape_pose = (x, y, th)
@@ -290,6 +308,28 @@ class TrajectoryPlanner:
         if best.cost == -1.0:
             best.cost = 1.0
         return best
+
+    def _keep_escape_move(self, costmap, pose, vel) -> Optional[Trajectory]:
+        """The move :meth:`_body_safe_escape` chose, again, while escaping (until
+        escape_reset_dist / escape_reset_theta from the escape pose) and while the body still
+        rolls it out clear; else None (sample as usual). Choosing afresh every cycle, the
+        robot alternated between moves that undid each other (a forward arc, an in-place turn
+        back, a step back: office_1500 made no progress for 25 min)."""
+        move = self.escape_move
+        if move is None or not self.escaping:
+            self.escape_move = None
+            return None
+        c = self.cfg
+        ex, ey, eth = self.escape_pose
+        if (math.hypot(float(pose[0]) - ex, float(pose[1]) - ey) > c.escape_reset_dist
+                or abs(wrap_angle(float(pose[2]) - eth)) > c.escape_reset_theta):
+            self.escape_move = None
+            return None
+        costs, _ = self._score_with(costmap, pose, vel, np.array([move]), self.body)
+        if costs[0] < 0:
+            self.escape_move = None
+            return None
+        return Trajectory(float(costs[0]), move[0], move[1])
 
     def _body_safe_escape(self, costmap, pose, vel) -> Optional[Trajectory]:
         """The straight escape collides: when the footprint shrunk by
