@@ -128,7 +128,7 @@ class TrajectoryPlannerConfig:
     ``reverse_when_blocked`` (an extension; default off = base_local_planner): when no in-place
     rotation wins and every legal forward sample scores worse than standing still, legal
     backward arcs at ``escape_vel`` m/s (vθ over the window) are taken while they score better
-    than standing still (a multi-point turn). Neither base_local_planner nor move_base's
+    than standing still, and for at least escape_reset_dist m once begun (a multi-point turn). Neither base_local_planner nor move_base's
     recoveries do this: base_local_planner backs up (straight, escape_vel) only when *no* sample
     is legal, until escape_reset_dist / escape_reset_theta; move_base's recoveries only clear
     costmaps and rotate in place (a back-up recovery exists in navigation2, not in move_base).
@@ -139,7 +139,8 @@ class TrajectoryPlannerConfig:
     touching an obstacle is taken instead, or, when no backward arc is clear (backed into a
     wall), such a forward arc at −``escape_vel``. And a cycle that starts with the footprint
     already touching an obstacle the shrunk footprint clears scores its samples with the
-    shrunk footprint (the robot drives or turns away instead of backing up blind).
+    shrunk footprint (the robot drives or turns away instead of backing up blind). A move the
+    shrunk footprint chose is kept until escape_reset_dist / escape_reset_theta.
     """
 
     acc_lim_x: float = 2.5
