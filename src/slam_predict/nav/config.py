@@ -128,10 +128,11 @@ class TrajectoryPlannerConfig:
     ``reverse_when_blocked`` (an extension; default off = base_local_planner): when no in-place
     rotation wins and every legal forward sample scores worse than standing still, legal
     backward arcs at ``escape_vel`` m/s (vθ over the window) are taken while they score better
-    than standing still, and for at least escape_reset_dist m once begun (a multi-point turn). Neither base_local_planner nor move_base's
-    recoveries do this: base_local_planner backs up (straight, escape_vel) only when *no* sample
-    is legal, until escape_reset_dist / escape_reset_theta; move_base's recoveries only clear
-    costmaps and rotate in place (a back-up recovery exists in navigation2, not in move_base).
+    than standing still, and for at least escape_reset_dist m once begun (a multi-point turn).
+    Neither base_local_planner nor move_base's recoveries do this: base_local_planner backs up
+    (straight, escape_vel) only when *no* sample is legal, until escape_reset_dist /
+    escape_reset_theta; move_base's recoveries only clear costmaps and rotate in place (a
+    back-up recovery exists in navigation2, not in move_base).
     ``escape_footprint_margin`` (m; an extension, 0 = base_local_planner): when nothing is
     legal and the straight escape would also collide, the planner backs up blind, as the
     original, only if no better move exists for the footprint shrunk by this margin (roughly the

@@ -196,8 +196,8 @@ class TrajectoryPlanner:
         """``reverse_when_blocked``: no in-place rotation won and the best forward sample
         (if any) scores worse than staying put — the robot faces away from its goal where it
         cannot turn — or it is already reversing (kept up while it pays, and for at least
-        escape_reset_dist, so that it does not shuttle). Returns the best legal backward arc at ``escape_vel`` (vθ over the window) if
-        it scores better than staying, else None."""
+        escape_reset_dist, so that it does not shuttle). Returns the best legal backward arc at
+        ``escape_vel`` (vθ over the window) if it scores better than staying, else None."""
         c = self.cfg
         x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
         cell = costmap.world_to_map(x, y)
@@ -214,16 +214,13 @@ class TrajectoryPlanner:
         vths = [min_vth + k * dvth for k in range(c.vtheta_samples)] + [0.0]
         samples = np.array([[c.escape_vel, v] for v in vths])
         costs, _ = self._score(costmap, pose, vel, samples)
-        legal = np.nonzero(costs >= 0)[0]
-        if len(legal) == 0:
-            return None
-        k = int(legal[np.argmin(costs[legal])])
-        if costs[k] >= stay and not self._reverse_committed(x, y):
+        back = _cheapest_legal(samples, costs)
+        if back is None or (back.cost >= stay and not self._reverse_committed(x, y)):
             return None
         if not self.reversing:
             self.reverse_start = (x, y)
         self._reset_oscillation(x, y)
-        return Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
+        return back
 
     def _reverse_committed(self, x: float, y: float) -> bool:
         """Reversing and not yet escape_reset_dist from where it began: go on backing up even
@@ -261,8 +258,7 @@ class TrajectoryPlanner:
         return best
 
     def _update_flags(self, best: Trajectory, pose) -> None:
-        c = self.cfg
-        x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
+        x, y = float(pose[0]), float(pose[1])
         if not best.xv > 0:
             if best.thetav < 0:
                 if self.rotating_right:
@@ -274,10 +270,14 @@ class TrajectoryPlanner:
                 self.rotating_right = True
             self.prev_xy = (x, y)
         self._reset_oscillation(x, y)
-        ex, ey, eth = self.escape_pose
-        if (math.hypot(x - ex, y - ey) > c.escape_reset_dist
-                or abs(wrap_angle(th - eth)) > c.escape_reset_theta):
+        if self._past_escape_reset(pose):
             self.escaping = False
+
+    def _past_escape_reset(self, pose) -> bool:
+        """Farther than escape_reset_dist m or escape_reset_theta rad from the escape pose."""
+        ex, ey, eth = self.escape_pose
+        return (math.hypot(float(pose[0]) - ex, float(pose[1]) - ey) > self.cfg.escape_reset_dist
+                or abs(wrap_angle(float(pose[2]) - eth)) > self.cfg.escape_reset_theta)
 
     def _reset_oscillation(self, x: float, y: float) -> None:
         if math.hypot(x - self.prev_xy[0], y - self.prev_xy[1]) > self.cfg.oscillation_reset_dist:
@@ -301,9 +301,7 @@ class TrajectoryPlanner:
         if not self.escaping and best.cost > -2.0:
             self.escape_pose = (x, y, th)
             self.escaping = True
-        ex, ey, eth = self.escape_pose
-        if (math.hypot(x - ex, y - ey) > c.escape_reset_dist
-                or abs(wrap_angle(th - eth)) > c.escape_reset_theta):
+        if self._past_escape_reset(pose):
             self.escaping = False
         if best.cost == -1.0:
             best.cost = 1.0
@@ -319,10 +317,7 @@ class TrajectoryPlanner:
         if move is None or not self.escaping:
             self.escape_move = None
             return None
-        c = self.cfg
-        ex, ey, eth = self.escape_pose
-        if (math.hypot(float(pose[0]) - ex, float(pose[1]) - ey) > c.escape_reset_dist
-                or abs(wrap_angle(float(pose[2]) - eth)) > c.escape_reset_theta):
+        if self._past_escape_reset(pose):
             self.escape_move = None
             return None
         costs, _ = self._score_with(costmap, pose, vel, np.array([move]), self.body)
@@ -341,15 +336,15 @@ class TrajectoryPlanner:
         turn (Stage refuses the move) while its odometry turns on, so it would turn "in place"
         for ever."""
         c = self.cfg
-        body = self.body
         backward = self._escape_samples(pose, vel, c.escape_vel)
-        costs, _ = self._score_with(costmap, pose, vel, backward, body)
+        costs, _ = self._score_with(costmap, pose, vel, backward, self.body)
         if costs[0] >= 0:
             return None
         best = _cheapest_legal(backward, costs)
         if best is None:
             forward = self._escape_samples(pose, vel, -c.escape_vel)
-            best = _cheapest_legal(forward, self._score_with(costmap, pose, vel, forward, body)[0])
+            costs, _ = self._score_with(costmap, pose, vel, forward, self.body)
+            best = _cheapest_legal(forward, costs)
         return best
 
     def _escape_samples(self, pose, vel, vx: float) -> np.ndarray:
