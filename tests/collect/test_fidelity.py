@@ -6,14 +6,17 @@ import pytest
 from scipy.stats import spearmanr
 
 from slam_predict.cli.main import main
-from slam_predict.collect.fidelity import compare_campaign, read_thesis_table
+from slam_predict.collect.fidelity import (ACCEPTANCE, acceptance_lines, compare_campaign,
+                                           read_thesis_table)
 
 THESIS_HEADER = ("dataset, Voronoi distance, Voronoi rotation, totalLen, totalRot, "
                  "transError.mean.mean, transError.mean.std, rotError.mean.mean, rotError.mean.std\n")
 
 
-def fake_campaign(root, per_world):
-    """run.json files with the fields the summary reads; per_world: name -> list of trans."""
+def fake_campaign(root, per_world, areas=None):
+    """run.json files with the fields the summary reads; per_world: name -> list of trans;
+    areas: name -> free area (m²) recorded in each run.json."""
+    areas = areas or {}
     for world, values in per_world.items():
         for i, trans in enumerate(values):
             folder = root / world / f"run_{i:03d}"
@@ -22,7 +25,8 @@ def fake_campaign(root, per_world):
                       "rot_sqr_mean": (trans / 10) ** 2}
             (folder / "run.json").write_text(json.dumps(
                 {"metric": metric, "distance_m": 100.0 * trans, "rotation_rad": 5.0,
-                 "coverage": 1.0, "sim_duration_s": 1200.0}))
+                 "coverage": 1.0, "sim_duration_s": 1200.0,
+                 "free_area_m2": areas.get(world)}))
     return root
 
 
@@ -33,7 +37,8 @@ def tables(tmp_path):
     thesis.write_text(THESIS_HEADER + "".join(
         f"{w}, 1, 1, {50.0}, 1, {v}, 0.01, {v / 5}, 0.001\n" for w, v in theirs.items()))
     ours = {"a": [0.1, 0.14], "b": [0.5, 0.3], "c": [0.3, 0.34], "d": [0.9, 0.7], "own": [0.2]}
-    return fake_campaign(tmp_path / "camp", ours), thesis, theirs, ours
+    areas = {"a": 100.0, "b": 400.0, "c": 300.0, "d": 200.0, "own": 50.0}
+    return fake_campaign(tmp_path / "camp", ours, areas), thesis, theirs, ours
 
 
 def test_comparison_against_a_hand_computation(tables):
@@ -68,3 +73,32 @@ def test_bad_inputs_are_one_line_errors(tables, tmp_path, capsys):
         assert main(argv) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1, err
+
+
+def test_size_trend_and_acceptance_bars_against_a_hand_computation(tables):
+    camp, thesis, theirs, ours = tables
+    c = compare_campaign(camp, read_thesis_table(thesis))
+    ratios = [np.mean(ours[w]) / theirs[w] for w in "abcd"]     # 1.2, 2.0, 1.066.., 2.0
+    assert c.size_trend() == pytest.approx(spearmanr(ratios, [100, 400, 300, 200])[0])
+    lines = acceptance_lines(c)
+    assert len(lines) == len(ACCEPTANCE) == 5
+    assert lines[0] == "- ε_t Spearman ≥ 0.85: 0.80 (FAIL)"
+    assert lines[1].endswith(f"{np.median(ratios):.2f} (FAIL)")          # 1.60
+    # the path ratio: ours 100·ε_t m against 50 m
+    path = np.median([100 * np.mean(ours[w]) / 50.0 for w in "abcd"])
+    assert lines[3].endswith(f"{path:.2f} (FAIL)")
+
+
+def test_size_trend_needs_areas(tmp_path):
+    thesis = tmp_path / "stats.csv"
+    thesis.write_text(THESIS_HEADER + "".join(f"{w}, 1, 1, 50, 1, 0.1, 0.01, 0.02, 0.001\n"
+                                              for w in "abc"))
+    camp = fake_campaign(tmp_path / "camp", {w: [0.1] for w in "abc"})
+    assert np.isnan(compare_campaign(camp, read_thesis_table(thesis)).size_trend())
+
+
+def test_plot_is_written(tables, tmp_path):
+    camp, thesis, *_ = tables
+    png = tmp_path / "ratio.png"
+    assert main(["fidelity", str(camp), "--thesis", str(thesis), "--plot", str(png)]) == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000

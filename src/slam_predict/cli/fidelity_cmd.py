@@ -16,6 +16,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--min-runs", type=int, default=1,
                         help="skip buildings with fewer finished runs")
     parser.add_argument("--out", metavar="MD", help="also write the markdown tables to MD")
+    parser.add_argument("--plot", metavar="PNG",
+                        help="also write the ratios ours/theirs against free area to PNG")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -32,5 +34,10 @@ def run(args: argparse.Namespace) -> int:
     text = markdown_report(comparisons, Path(args.thesis).name)
     if args.out:
         write_text(args.out, text)
+    if args.plot:
+        from slam_predict.atomic import write_bytes
+        from slam_predict.collect.fidelity_plot import ratio_vs_area_png
+
+        write_bytes(args.plot, ratio_vs_area_png(comparisons))
     print(text, end="")
     return 0

@@ -3,7 +3,9 @@
 For each campaign (a ``slam-predict collect`` folder), the buildings it shares with the thesis
 table (``stats_realistic.csv``: ``dataset``, ``transError.mean.mean`` m, ``rotError.mean.mean``
 rad, ``totalLen`` m) are compared: Spearman rank correlation and median ratio ours/theirs of the
-mean translational error, the mean rotational error and the explored path length.
+mean translational error, the mean rotational error and the explored path length, plus the
+size trend (Spearman of our ε_t ratio with the building's free area, m²) and the acceptance bars
+of issue #16 (:data:`ACCEPTANCE`).
 """
 from __future__ import annotations
 
@@ -20,6 +22,38 @@ from slam_predict.errors import InputError
 
 THESIS_COLUMNS = {"trans_mean": "transError.mean.mean", "rot_mean": "rotError.mean.mean",
                   "path_length_mean": "totalLen"}
+
+
+@dataclass(frozen=True)
+class Bar:
+    """One acceptance bar: ``figure`` of a comparison must lie in [low, high]."""
+
+    label: str
+    figure: str          # "spearman:<key>", "ratio:<key>" or "size_trend"
+    low: float
+    high: float
+
+    def value(self, comparison: "Comparison") -> float:
+        kind, _, key = self.figure.partition(":")
+        if kind == "spearman":
+            return comparison.spearman(key)
+        if kind == "ratio":
+            return comparison.median_ratio(key)
+        return comparison.size_trend()
+
+    def holds(self, comparison: "Comparison") -> bool:
+        value = self.value(comparison)
+        return bool(np.isfinite(value) and self.low <= value <= self.high)
+
+
+# Issue #16's bars, ours vs the seed study's per-building means.
+ACCEPTANCE = (
+    Bar("ε_t Spearman ≥ 0.85", "spearman:trans_mean", 0.85, 1.0),
+    Bar("ε_t median ratio in [0.85, 1.2]", "ratio:trans_mean", 0.85, 1.2),
+    Bar("ε_r median ratio in [0.7, 1.4]", "ratio:rot_mean", 0.7, 1.4),
+    Bar("path length median ratio in [0.85, 1.2]", "ratio:path_length_mean", 0.85, 1.2),
+    Bar("no size trend: Spearman(ε_t ratio, free area) in [-0.3, 0.3]", "size_trend", -0.3, 0.3),
+)
 
 
 @dataclass
@@ -46,6 +80,20 @@ class Comparison:
         if not self.rows:
             return float("nan")
         return float(np.median(self.values(key, "ours") / self.values(key, "theirs")))
+
+    def ratios(self, key: str) -> np.ndarray:
+        """Per-building ours / theirs of ``key``."""
+        return self.values(key, "ours") / self.values(key, "theirs")
+
+    def size_trend(self) -> float:
+        """Spearman rank correlation of the ε_t ratio with the free area (nan under 3 buildings
+        or without areas): near 0 when our error tracks theirs at every building size."""
+        from scipy.stats import spearmanr
+
+        areas = np.array([row.get("free_area_m2", np.nan) for row in self.rows], dtype=float)
+        if len(self.rows) < 3 or not np.all(np.isfinite(areas)):
+            return float("nan")
+        return float(spearmanr(self.ratios("trans_mean"), areas)[0])
 
     @property
     def runs(self) -> int:
@@ -82,12 +130,27 @@ def compare_campaign(folder: Path, thesis: Dict[str, Dict[str, float]],
         if len(records) < min_runs:
             continue
         ours = building_row(world, records)
-        row = {"world": world, "runs": len(records)}
+        row = {"world": world, "runs": len(records), "free_area_m2": _free_area(records)}
         for key in THESIS_COLUMNS:
             row[f"{key}_ours"] = float(ours[key])
             row[f"{key}_theirs"] = thesis[world][key]
         comparison.rows.append(row)
     return comparison
+
+
+def _free_area(records: List[Dict]) -> float:
+    """The building's free area (m²) as its run records state it (nan when none does)."""
+    areas = [float(r["free_area_m2"]) for r in records if r.get("free_area_m2") is not None]
+    return float(np.mean(areas)) if areas else float("nan")
+
+
+def acceptance_lines(comparison: Comparison) -> List[str]:
+    """One line per acceptance bar: the figure, and whether it holds."""
+    lines = []
+    for bar in ACCEPTANCE:
+        verdict = "pass" if bar.holds(comparison) else "FAIL"
+        lines.append(f"- {bar.label}: {bar.value(comparison):.2f} ({verdict})")
+    return lines
 
 
 def markdown_report(comparisons: List[Comparison], thesis_source: str) -> str:
@@ -103,13 +166,14 @@ def markdown_report(comparisons: List[Comparison], thesis_source: str) -> str:
     lines += ["", f"Theirs: `transError.mean.mean` (m), `rotError.mean.mean` (rad) and `totalLen` "
               f"(m) of {thesis_source}. Ours: the campaign's per-building mean over runs."]
     for c in comparisons:
-        lines += ["", f"### {c.name}", "",
-                  "| building | runs | ε_t ours (m) | ε_t theirs (m) | ratio | ε_r ours (rad) "
+        lines += ["", f"### {c.name}", "", f"Issue #16's bars ({len(c.rows)} buildings, "
+                  f"{c.runs} runs):", "", *acceptance_lines(c), "",
+                  "| building | free area (m²) | runs | ε_t ours (m) | ε_t theirs (m) | ratio | ε_r ours (rad) "
                   "| ε_r theirs (rad) | ratio | path ours (m) | path theirs (m) |",
-                  "|---|---|---|---|---|---|---|---|---|---|"]
+                  "|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sorted(c.rows, key=lambda row: row["trans_mean_theirs"]):
             lines.append(
-                f"| {r['world']} | {r['runs']} | {r['trans_mean_ours']:.3f} | "
+                f"| {r['world']} | {r['free_area_m2']:.0f} | {r['runs']} | {r['trans_mean_ours']:.3f} | "
                 f"{r['trans_mean_theirs']:.3f} | {r['trans_mean_ours'] / r['trans_mean_theirs']:.2f} "
                 f"| {r['rot_mean_ours']:.4f} | {r['rot_mean_theirs']:.4f} | "
                 f"{r['rot_mean_ours'] / r['rot_mean_theirs']:.2f} | {r['path_length_mean_ours']:.0f} "
