@@ -12,6 +12,7 @@ import argparse
 import json
 import math
 
+from slam_predict.cli import plan_checks
 from slam_predict.errors import InputError
 
 NAME = "predict"
@@ -40,6 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "default is realistic; with a named model it must match its card")
     parser.add_argument("--models-dir", metavar="DIR", help="model folders (default models/)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
+    plan_checks.add_arguments(parser)
 
 
 def _world_scale(world_path: str, plan: str):
@@ -123,12 +125,13 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.predict import components_of, predict_plan
 
     components = components_of(args.component)  # before the (slow) feature computation
-    world = load_world(args)
+    world = plan_checks.load_checked(load_world, args)
+    plan_checks.show_progress()
     setting = args.setting or ("realistic" if args.model == "best" else None)
     result = predict_plan(world, args.model, setting, args.component, args.models_dir)
     if args.json:
-        keys = ["world", "setting", "model_store", "confidence", *components, "warnings",
-                "features"]
+        keys = ["world", "setting", "model_store", "confidence", *components, "free_space",
+                "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))
     else:
         print(format_text(result, components))

@@ -27,6 +27,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
+import time
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Dict, List, Optional, Tuple
@@ -44,6 +45,7 @@ from slam_predict.world.bitmap import resample_square
 from slam_predict.world.model import World
 
 LOG = logging.getLogger(__name__)
+PROGRESS = logging.getLogger("slam_predict.features.progress")  # shown by the CLI on a TTY
 FEATURE_VERSION = "2"  # 2: rooms on a fixed 0.2 m grid, traversal averaged over 4 grid phases
 MODES = traversal_mod.MODES
 FAMILIES = ("geometric", "topological", "voronoi_graph", "voronoi_traversal")
@@ -156,7 +158,9 @@ class Context:
         :attr:`traversal`)."""
         results = [self.traversal]
         vconfig = self.config.voronoi_config()
-        for world in phase_worlds(self.world, self.config.grid_phases)[1:]:
+        for k, world in enumerate(phase_worlds(self.world, self.config.grid_phases)[1:]):
+            PROGRESS.info("%s: traversal on shifted grid %d/%d", self.source.name, k + 1,
+                          self.config.grid_phases - 1)
             graph = voronoi_mod.voronoi_graph(world.occupied, world.resolution, vconfig)
             start = world.world_to_cell(world.start_pose[:2])
             results.append(traversal_mod.traverse(graph, world.occupied, start,
@@ -225,9 +229,14 @@ def compute_with_context(world: World, config: Optional[FeaturesConfig] = None
                          ) -> Tuple[Dict[str, float], Context]:
     """The flat feature vector and the :class:`Context` holding rooms, graphs and the path."""
     config = config or FeaturesConfig()
+    start = time.monotonic()
     ctx = Context(world, config)
+    rows, cols = ctx.world.occupied.shape
     values: Dict[str, float] = {}
-    for name in config.families:
+    for i, name in enumerate(config.families):
+        PROGRESS.info("%s: %s features (%d/%d, %d x %d px working grid, %.0f s so far)",
+                      world.name, name, i + 1, len(config.families), cols, rows,
+                      time.monotonic() - start)
         family = REGISTRY.family(name)
         out = family.compute(ctx)
         expected = [f.name for f in family.features]
@@ -238,6 +247,18 @@ def compute_with_context(world: World, config: Optional[FeaturesConfig] = None
     if bad:
         LOG.warning("%s: non-finite features %s", world.name, ", ".join(bad))
     return values, ctx
+
+
+def degenerate_reason(values: Dict[str, float]) -> Optional[str]:
+    """Why a feature vector describes no building (None when it does): no Voronoi graph or
+    no room was found (random noise, free space too narrow for the working grid)."""
+    missing = [what for key, what in (("voronoi_order", "no Voronoi graph"),
+                                      ("num_spaces", "no rooms"))
+               if key in values and not values[key] > 0]
+    if not missing:
+        return None
+    return (" and ".join(missing) + " could be extracted: not a building floor plan (noise, "
+            "or free space too narrow or fragmented)")
 
 
 def compute_features(world: World, config: Optional[FeaturesConfig] = None) -> Dict[str, float]:

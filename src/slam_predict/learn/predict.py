@@ -176,11 +176,22 @@ def predict_plan(world, model: str = "best", setting: Optional[str] = "realistic
         component: ``all`` or one of COMPONENTS.
         models_dir: where model folders live (default: the package's ``models/``).
     """
+    from slam_predict.features.vector import degenerate_reason
+    from slam_predict.world.plausibility import reachability, unreachable_warning
+
     components_of(component)
     store = resolve_store(models_dir or default_models_dir(), model, setting, None)
     check_feature_version(store)
     features = compute_plan_features(world, store.card)
+    reason = degenerate_reason(features)
+    if reason:
+        raise InputError(f"{reason}: nothing to predict from", world.provenance.get("source"))
     result = predict_features(features, store, component)
+    reach = reachability(world)
+    result["free_space"] = {"free_m2": reach.free_m2, "reachable_m2": reach.reachable_m2,
+                            "reachable_share": reach.share}
+    note = unreachable_warning(world)
+    result["warnings"] = ([note] if note else []) + result["warnings"]
     result["world"] = world.name
     result["features"] = features
     return result
