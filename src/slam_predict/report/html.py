@@ -18,7 +18,7 @@ h1{border-bottom:2px solid #444}h2{border-bottom:1px solid #aaa;margin-top:2em}
 div.table{overflow-x:auto;max-width:100%;margin:.6em 0}
 table{border-collapse:collapse;font-size:.9em}
 th,td{border:1px solid #bbb;padding:.25em .5em}th{background:#eee;text-align:left}
-td.num{text-align:right;font-variant-numeric:tabular-nums}
+td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}
 tr.best td{font-weight:bold}
 .notes{background:#fff6e0;border-left:4px solid #e0a000;padding:.4em 1em;margin:.6em 0}
 .notes li{margin:.15em 0}

@@ -118,7 +118,7 @@ def card_overview(card: Dict[str, Any]) -> str:
     versions = card.get("versions", {})
     pairs = [("description", card.get("description", "") or H.MISSING),
              ("setting", card.get("setting", H.MISSING)),
-             ("SLAM config hash", card.get("slam_config_hash", H.MISSING)),
+             ("SLAM config hash", card.get("slam_config_hash") or "not recorded"),
              ("feature version", card.get("feature_version", H.MISSING)),
              ("features", len(card.get("features", []))),
              ("training buildings", len(buildings)),

@@ -146,7 +146,10 @@ def predict_campaign(entry: ModelEntry, campaign: Campaign,
         except InputError as exc:
             out.notes.append(f"{name}: no prediction ({exc.one_line()})")
             continue
-        out.notes += [f"{name}: {w}" for w in result["warnings"] if w not in entry.store.notes]
+        unmodelled = tuple(f"{c}: no model" for c in COMPONENTS
+                           if result[c]["status"] == "no_model")  # said once per model
+        out.notes += [f"{name}: {w}" for w in result["warnings"]
+                      if w not in entry.store.notes and not w.startswith(unmodelled)]
         for component in COMPONENTS:
             out.items.append(Prediction.of(name, component, run_count(row),
                                            float(row[component]), result[component]))
@@ -163,8 +166,6 @@ def _with_degrees(value: float, component: str) -> str:
 def _predicted_text(p: Prediction) -> str:
     if p.status == "below_range":
         return f"below the model's range (raw {H.number(p.raw_value, 4)})"
-    if p.status == "no_model":
-        return "no model (R² ≤ 0)"
     return _with_degrees(p.value, p.component)
 
 
@@ -219,10 +220,12 @@ def setup_notes(entry: ModelEntry, campaign: Campaign) -> List[str]:
     card_hash = str(entry.card.get("slam_config_hash", ""))
     hashes = {str(run.value("config_hashes", "gmapping")) for run in campaign.runs
               if run.value("config_hashes", "gmapping")}
+    if hashes and not card_hash:
+        return [f"the model's card does not record the GMapping configuration it learnt "
+                f"from: it cannot be checked against this campaign's "
+                f"({', '.join(sorted(hashes))})"]
     if hashes and card_hash not in hashes:
-        learnt = (f"of SLAM configuration '{card_hash}'" if card_hash
-                  else "of a SLAM configuration its card does not record")
-        return [f"the model learnt GMapping errors {learnt} "
+        return [f"the model learnt GMapping errors of SLAM configuration '{card_hash}' "
                 f"(setting {entry.card.get('setting')}); this campaign ran configuration(s) "
                 f"{', '.join(sorted(hashes))}: differences include the set-up, not only the "
                 "model's error"]
@@ -234,6 +237,12 @@ def predictions_section(entry: ModelEntry, campaign: Campaign, cache: FeatureCac
     if entry.store is None:
         return ""
     result = predict_campaign(entry, campaign, cache)
+    unmodelled = sorted({p.component for p in result.items if p.status == "no_model"},
+                        key=COMPONENTS.index)
+    result.items = [p for p in result.items if p.status != "no_model"]
+    if unmodelled:
+        result.notes.insert(0, f"{', '.join(unmodelled)}: not predicted, no model of "
+                               f"{entry.name} beats the training mean (evaluation R² ≤ 0)")
     single = [r["world"] for r in campaign.summary_rows() if run_count(r) == 1]
     extra = ([f"{', '.join(single)}: one run only, so the measured std components are 0 by "
               "definition"] if single and result.items else [])
