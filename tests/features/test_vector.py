@@ -114,3 +114,28 @@ def test_traversal_is_the_mean_over_grid_phases():
     assert all(abs(d / distances[0] - 1) < 0.1 for d in distances)
     with pytest.raises(ValueError, match="grid_phases"):
         FeaturesConfig(grid_phases=3)
+
+
+def test_progress_is_logged_per_family_and_shifted_grid(caplog):
+    import logging
+
+    world = corridor_with_rooms(3).world()
+    with caplog.at_level(logging.INFO, logger="slam_predict.features.progress"):
+        compute_features(world)
+    messages = [r.getMessage() for r in caplog.records
+                if r.name == "slam_predict.features.progress"]
+    for i, family in enumerate(("geometric", "topological", "voronoi_graph",
+                                "voronoi_traversal")):
+        assert any(f": {family} features ({i + 1}/4, " in m for m in messages), messages
+    assert sum("traversal on shifted grid" in m for m in messages) == 3
+
+
+def test_degenerate_vectors_are_named():
+    from slam_predict.features.vector import degenerate_reason
+
+    values = compute_features(corridor_with_rooms(3).world())
+    assert degenerate_reason(values) is None
+    assert degenerate_reason(dict(values, voronoi_order=0.0)).startswith("no Voronoi graph")
+    assert degenerate_reason(dict(values, voronoi_order=0.0, num_spaces=0.0)).startswith(
+        "no Voronoi graph and no rooms")
+    assert degenerate_reason({"building_area": 1.0}) is None  # families not computed
