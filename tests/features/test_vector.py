@@ -139,3 +139,21 @@ def test_degenerate_vectors_are_named():
     assert degenerate_reason(dict(values, voronoi_order=0.0, num_spaces=0.0)).startswith(
         "no Voronoi graph and no rooms")
     assert degenerate_reason({"building_area": 1.0}) is None  # families not computed
+
+
+def test_features_describe_the_part_the_start_lies_in():
+    """A door drawn closed between a 6 m x 10 m room (start) and a 12 m x 10 m one: the old
+    outline (longest contour) was the larger room for either start, so the features described
+    a room the robot never enters."""
+    from slam_predict.world.model import World
+    from slam_predict.world.start import resolve_start
+
+    occupied = np.ones((102, 183), bool)
+    occupied[1:-1, 1:61] = False
+    occupied[1:-1, 62:182] = False
+    world = World(name="closed", occupied=occupied, resolution=0.1, origin=(0.0, 0.0))
+    areas = []
+    for col in (30, 120):
+        x, y = world.cell_to_world((50, col))
+        areas.append(compute_features(resolve_start(world, [x, y]))["building_area"])
+    assert areas == [pytest.approx(60.0), pytest.approx(120.0)]

@@ -18,6 +18,10 @@ differences of the Voronoi graph into another visiting order), which is most of 
 the same building at 0.05 and 0.10 m/px disagree; the mean is steadier. Rooms, the graphs
 and the output path come from the unshifted grid.
 
+When the start cell lies outside the building outline (a door drawn closed, the start in the
+smaller part), only the free space connected to the start is used (:func:`start_outline`); no
+thesis, shipped or ipa plan is affected.
+
 ``FeaturesConfig.mode = "thesis_compatible"`` switches the Voronoi graph and the traversal to
 the seed code's behaviour (see :mod:`traversal`); ``FEATURE_VERSION`` changes whenever a
 feature's definition does, and :func:`feature_version` adds the configuration hash.
@@ -33,6 +37,7 @@ from functools import cached_property
 from typing import Dict, List, Optional, Tuple
 
 import numpy as np
+from scipy import ndimage
 
 from slam_predict.config import config_hash
 from slam_predict.features import geometric, graph_metrics
@@ -95,6 +100,24 @@ def working_world(world: World, resolution: float) -> World:
     return world.replace(occupied=occupied, resolution=resolution)
 
 
+def start_outline(world: World) -> World:
+    """``world`` itself when its start cell lies inside the building outline (the longest
+    contour of the free space, :func:`voronoi.building_interior`); else ``world`` with only the
+    free space 8-connected to the start cell, so that the outline, rooms, graphs and traversal
+    are those of the part the robot starts in (a door drawn closed left the start outside the
+    largest part, and every feature described a part the robot never enters)."""
+    free = ~world.occupied
+    row, col = world.world_to_cell(world.start_pose[:2])
+    if not world.in_bounds((row, col)) or not free[row, col]:
+        return world
+    if voronoi_mod.building_interior(free)[row, col]:
+        return world
+    labels, _ = ndimage.label(free, structure=np.ones((3, 3), bool))
+    LOG.warning("%s: the start (%.2f, %.2f) m lies outside the largest part of the plan: "
+                "features of the part it lies in", world.name, *world.start_pose[:2])
+    return world.replace(occupied=labels != labels[row, col])
+
+
 def phase_worlds(world: World, count: int = 4) -> List[World]:
     """``world`` (on its working grid) and up to three copies on the grid shifted by half a
     cell: along rows and columns, along rows only, along columns only (``count`` = 1, 2 or 4
@@ -119,7 +142,7 @@ class Context:
 
     def __init__(self, world: World, config: FeaturesConfig):
         self.source = world
-        self.world = working_world(world, config.working_resolution_m)
+        self.world = start_outline(working_world(world, config.working_resolution_m))
         self.config = config
 
     @cached_property
