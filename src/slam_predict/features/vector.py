@@ -113,8 +113,8 @@ def start_outline(world: World) -> World:
     if voronoi_mod.building_interior(free)[row, col]:
         return world
     labels, _ = ndimage.label(free, structure=np.ones((3, 3), bool))
-    LOG.warning("%s: the start (%.2f, %.2f) m lies outside the largest part of the plan: "
-                "features of the part it lies in", world.name, *world.start_pose[:2])
+    LOG.info("%s: the start (%.2f, %.2f) m lies outside the largest part of the plan: "
+             "features of the part it lies in", world.name, *world.start_pose[:2])
     return world.replace(occupied=labels != labels[row, col])
 
 
