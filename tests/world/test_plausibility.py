@@ -89,3 +89,15 @@ def test_header_size_without_decoding(tmp_path):
     with bitmap.pixel_limit(6_000_000):
         assert bitmap.read_grey(path).shape == (2000, 3000)
     assert bitmap.read_grey(path).shape == (2000, 3000)  # the default limit is restored
+
+
+def test_pillow_bomb_warning_and_error_do_not_leak(tmp_path, recwarn, monkeypatch):
+    """Above MAX_IMAGE_PIXELS Pillow warns (DecompressionBombWarning), above twice that it
+    raises: neither may reach the user (one-line errors) nor stop the header read. Pillow's
+    limit (89 M px) is lowered to 1,000 px to keep the images small."""
+    monkeypatch.setattr(Image, "MAX_IMAGE_PIXELS", 1000)
+    for side in (40, 100):  # 1,600 px: warning; 10,000 px: error
+        Image.new("1", (side, side), 1).save(tmp_path / "h.png")
+        assert bitmap.header_size(str(tmp_path / "h.png")) == (side, side)
+    assert not [w for w in recwarn if "DecompressionBomb" in type(w.message).__name__]
+    assert Image.MAX_IMAGE_PIXELS == 1000

@@ -51,21 +51,25 @@ def pixel_limit(max_pixels: Optional[int]) -> Iterator[None]:
 def header_size(path: str) -> Optional[Tuple[int, int]]:
     """(width, height) in px from the image header, without decoding; None if Pillow cannot
     identify the format (the decoder then has the last word)."""
+    import warnings
+
     from PIL import Image
 
-    try:
-        with Image.open(path) as image:  # lazy: reads the header only
-            return image.size
-    except Image.DecompressionBombError:  # Pillow's own guard, raised before decoding
-        pass
-    except Exception:  # noqa: BLE001 — unidentified or corrupt: the decoder reports it
-        return None
-    old, Image.MAX_IMAGE_PIXELS = Image.MAX_IMAGE_PIXELS, None
-    try:
-        with Image.open(path) as image:
-            return image.size
-    finally:
-        Image.MAX_IMAGE_PIXELS = old
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", Image.DecompressionBombWarning)  # our guard decides
+        try:
+            with Image.open(path) as image:  # lazy: reads the header only
+                return image.size
+        except Image.DecompressionBombError:  # Pillow's own guard, raised before decoding
+            pass
+        except Exception:  # noqa: BLE001 — unidentified or corrupt: the decoder reports it
+            return None
+        old, Image.MAX_IMAGE_PIXELS = Image.MAX_IMAGE_PIXELS, None
+        try:
+            with Image.open(path) as image:
+                return image.size
+        finally:
+            Image.MAX_IMAGE_PIXELS = old
 
 
 def check_pixel_count(path: str) -> None:
