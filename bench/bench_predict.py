@@ -86,8 +86,11 @@ def main() -> None:
     print(f"in-process (warm): load {split['load']:.2f} s, features {split['features']:.2f} s, "
           f"models {split['models']:.3f} s")
     print(f"load average (1 min) at the end: {os.getloadavg()[0]:.1f}")
-    print(f"trans_mean {result['trans_mean']['value']:.3f} m "
-          f"[{result['trans_mean']['low']:.3f}, {result['trans_mean']['high']:.3f}]")
+    entry = result["trans_mean"]
+    if entry["status"] != "ok" or entry["low"] is None:
+        print(f"trans_mean: {entry['status']} (raw output {entry.get('raw_value')})")
+    else:
+        print(f"trans_mean {entry['value']:.3f} m [{entry['low']:.3f}, {entry['high']:.3f}]")
 
 
 if __name__ == "__main__":

@@ -41,12 +41,24 @@ def check_schema(result: dict, components=tuple(COMPONENTS)) -> None:
     assert all(isinstance(v, float) for v in result["features"].values())
     for comp in components:
         entry = result[comp]
-        assert set(entry) == {"value", "low", "high", "model", "unit"}
         assert entry["unit"] == COMPONENTS[comp]
+        assert entry["model"].startswith(result["model_store"] + "/")
+        if entry["status"] == "no_model":  # best model's evaluation R² ≤ 0
+            assert set(entry) == {"status", "value", "low", "high", "model", "unit", "r2"}
+            assert entry["value"] is None and entry["r2"] <= 0
+            continue
+        assert set(entry) == {"status", "value", "low", "high", "model", "unit", "raw_value",
+                              "raw_low", "raw_high"}
+        assert all(isinstance(entry[k], float) and math.isfinite(entry[k])
+                   for k in ("raw_value", "raw_low", "raw_high"))
+        if entry["status"] == "below_range":
+            assert entry["value"] is None and entry["raw_value"] <= 0
+            continue
+        assert entry["status"] == "ok"
         assert all(isinstance(entry[k], float) and math.isfinite(entry[k])
                    for k in ("value", "low", "high"))
         assert 0.0 <= entry["low"] <= entry["value"] <= entry["high"]
-        assert entry["model"].startswith(result["model_store"] + "/")
+        assert entry["low"] < entry["high"]
     for comp in set(COMPONENTS) - set(components):
         assert comp not in result
 
@@ -58,7 +70,8 @@ def test_shipped_world_json(root, models, capsys, monkeypatch):
     result = predict_json(root, capsys, SHIPPED_WORLD)
     check_schema(result)
     assert result["setting"] == "realistic" and result["world"] == "office_150"
-    assert 0.0 <= result["trans_mean"]["value"] < 2.0
+    assert result["trans_mean"]["status"] == "below_range" or \
+        0.0 < result["trans_mean"]["value"] < 2.0
     assert any("extrapolates" in w and "building_area" in w for w in result["warnings"])
     result = predict_json(root, capsys, "worlds/office_500.world")
     check_schema(result)

@@ -72,12 +72,37 @@ def test_list(capsys):
     (["{plan}", "--resolution", "0.05", "--config", "{tmp}/bad.yaml"], "did you mean 'mode'"),
     (["{plan}", "--resolution", "0.05", "--start", "500", "0"], "outside the map"),
     ([], "PLAN is required"),
+    (["{plan}", "--resolution", "0.05", "--config", "{tmp}/top.yaml"],
+     "unknown top-level key 'featurse_extra' (this file holds only 'features')"),
+    (["{plan}", "--resolution", "0.05", "--config", "{tmp}/deep.yaml"],
+     "unknown config key 'sourec' for RoomsConfig (did you mean 'source'?)"),
+    (["{plan}", "--resolution", "0.05", "--config", "{tmp}/flat.yaml"],
+     "unknown config key 'mdoe' for FeaturesConfig"),
+    (["{plan}", "--resolution", "5.0"], "is larger than any building"),
+    (["{tmp}/noise.png", "--resolution", "0.05"], "no Voronoi graph and no rooms"),
 ])
 def test_bad_input(args, message, plan_png, tmp_path, capsys):
     (tmp_path / "bad.yaml").write_text("features:\n  mod: documented\n")
+    (tmp_path / "top.yaml").write_text("features:\n  mode: documented\nfeaturse_extra: 1\n")
+    (tmp_path / "deep.yaml").write_text("features:\n  rooms:\n    sourec: segment\n")
+    (tmp_path / "flat.yaml").write_text("mdoe: documented\n")  # no section: read as one
+    noise = np.random.default_rng(0).random((200, 200)) > 0.5
+    cv2.imwrite(str(tmp_path / "noise.png"), noise.astype(np.uint8) * 255)
     args = [a.format(plan=plan_png, tmp=tmp_path) for a in args]
     code, out, err = _run(args, capsys)
     assert code == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], err
     assert not (tmp_path / "o.jpg").exists()
+
+
+def test_force_accepts_an_implausible_scale(plan_png, capsys):
+    code, out, err = _run([plan_png, "--resolution", "5.0", "--json", "--force"], capsys)
+    assert code == 0, err
+    assert json.loads(out)["building_area"] > 100_000
+
+
+def test_the_shipped_config_passes_the_strict_loader(root, capsys, plan_png):
+    code, _, err = _run([plan_png, "--resolution", "0.05", "--config",
+                         root / "config" / "features.yaml", "--json"], capsys)
+    assert code == 0, err

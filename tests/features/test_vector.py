@@ -114,3 +114,46 @@ def test_traversal_is_the_mean_over_grid_phases():
     assert all(abs(d / distances[0] - 1) < 0.1 for d in distances)
     with pytest.raises(ValueError, match="grid_phases"):
         FeaturesConfig(grid_phases=3)
+
+
+def test_progress_is_logged_per_family_and_shifted_grid(caplog):
+    import logging
+
+    world = corridor_with_rooms(3).world()
+    with caplog.at_level(logging.INFO, logger="slam_predict.features.progress"):
+        compute_features(world)
+    messages = [r.getMessage() for r in caplog.records
+                if r.name == "slam_predict.features.progress"]
+    for i, family in enumerate(("geometric", "topological", "voronoi_graph",
+                                "voronoi_traversal")):
+        assert any(f": {family} features ({i + 1}/4, " in m for m in messages), messages
+    assert sum("traversal on shifted grid" in m for m in messages) == 3
+
+
+def test_degenerate_vectors_are_named():
+    from slam_predict.features.vector import degenerate_reason
+
+    values = compute_features(corridor_with_rooms(3).world())
+    assert degenerate_reason(values) is None
+    assert degenerate_reason(dict(values, voronoi_order=0.0)).startswith("no Voronoi graph")
+    assert degenerate_reason(dict(values, voronoi_order=0.0, num_spaces=0.0)).startswith(
+        "no Voronoi graph and no rooms")
+    assert degenerate_reason({"building_area": 1.0}) is None  # families not computed
+
+
+def test_features_describe_the_part_the_start_lies_in():
+    """A door drawn closed between a 6 m x 10 m room (start) and a 12 m x 10 m one: the old
+    outline (longest contour) was the larger room for either start, so the features described
+    a room the robot never enters."""
+    from slam_predict.world.model import World
+    from slam_predict.world.start import resolve_start
+
+    occupied = np.ones((102, 183), bool)
+    occupied[1:-1, 1:61] = False
+    occupied[1:-1, 62:182] = False
+    world = World(name="closed", occupied=occupied, resolution=0.1, origin=(0.0, 0.0))
+    areas = []
+    for col in (30, 120):
+        x, y = world.cell_to_world((50, col))
+        areas.append(compute_features(resolve_start(world, [x, y]))["building_area"])
+    assert areas == [pytest.approx(60.0), pytest.approx(120.0)]

@@ -21,7 +21,7 @@ def synthetic_dataset(n: int = 30, seed: int = 0, version: str = "test-v1") -> d
         targets = {"trans_mean": 1e-3 * length[i] + 0.05 * rng.normal() + 0.1,
                    "trans_std": 1e-4 * length[i] + 0.005 * rng.normal() + 0.02,
                    "rot_mean": 2e-5 * length[i] + 0.001 * rng.normal() + 0.01,
-                   "rot_std": 0.002 + 0.0005 * rng.random()}
+                   "rot_std": 1e-6 * length[i] + 0.0005 * rng.random() + 0.002}
         rows.append(ds.ErrorRow(f"w{i:02d}", targets, runs=5, setting="realistic",
                                 slam_config_hash="abc123"))
     features = {f"w{i:02d}": {"length": float(length[i]), "noise": float(junk[i])}

@@ -80,6 +80,23 @@ def test_best_models_ignore_reference_and_pick_max_r2():
     summary = [{"model": "reference:x", "component": "trans_mean", "r2_mean": 0.99},
                {"model": "single:a", "component": "trans_mean", "r2_mean": 0.5},
                {"model": "elasticnet", "component": "trans_mean", "r2_mean": 0.7},
-               {"model": "single:b", "component": "rot_std", "r2_mean": float("nan")}]
+               {"model": "single:b", "component": "rot_std", "r2_mean": 0.01}]
     assert ev.best_models(summary) == {"trans_mean": "elasticnet", "rot_std": "single:b"}
     assert ev.best_models(summary, single_only=True)["trans_mean"] == "single:a"
+
+
+def test_a_model_no_better_than_the_mean_is_never_best():
+    """R² ≤ 0 (or NaN) predicts no better than the training mean: no best for rot_std, and
+    trans_mean's best is the one positive model even though it is listed last."""
+    summary = [{"model": "single:b", "component": "rot_std", "r2_mean": float("nan")},
+               {"model": "elasticnet", "component": "rot_std", "r2_mean": -0.16},
+               {"model": "single:c", "component": "rot_std", "r2_mean": 0.0},
+               {"model": "knn", "component": "trans_mean", "r2_mean": -0.5},
+               {"model": "single:a", "component": "trans_mean", "r2_mean": 0.2}]
+    assert ev.best_models(summary) == {"trans_mean": "single:a"}
+    assert ev.best_models(summary, single_only=True) == {"trans_mean": "single:a"}
+    from slam_predict.learn.tables import best_table
+
+    scores = {"r2_std": 0.1, "rmse_mean": 0.01, "nrmse_mean": 0.1, "nrmse_all_mean": 0.1}
+    table = best_table([dict(row, **scores) for row in summary])
+    assert "none (no model with R² > 0)" in table and "line on a" in table

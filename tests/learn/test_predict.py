@@ -18,7 +18,7 @@ def test_all_components_with_intervals_and_models(store):
     for comp, unit in (("trans_mean", "m"), ("trans_std", "m"), ("rot_mean", "rad"),
                        ("rot_std", "rad")):
         entry = result[comp]
-        assert entry["unit"] == unit
+        assert entry["unit"] == unit and entry["status"] == "ok"
         assert 0 <= entry["low"] <= entry["value"] <= entry["high"]
         assert entry["model"].startswith("tiny-realistic/")
     assert result["trans_mean"]["value"] == pytest.approx(0.9, abs=0.1)  # 1e-3·800 + 0.1
@@ -31,12 +31,79 @@ def test_one_component_only(store):
     assert "rot_mean" in result and "trans_mean" not in result
 
 
-def test_out_of_range_features_warn_and_negative_values_clip(store):
+def test_out_of_range_features_warn_and_negative_values_are_below_range(store):
+    """A negative model output is not reported as 0 (the old clipping gave value 0 and the
+    zero-width interval 0–0): it is 'below the model's range', with the raw output kept."""
     result = predict_features({"length": -5000.0, "noise": 0.0}, store, "trans_mean")
-    assert result["trans_mean"]["value"] == 0.0 and result["trans_mean"]["low"] == 0.0
+    entry = result["trans_mean"]
+    assert entry["status"] == "below_range"
+    assert entry["value"] is None and entry["low"] is None
+    assert entry["raw_value"] == pytest.approx(1e-3 * -5000 + 0.1, abs=0.3)
+    assert entry["high"] is None or entry["high"] > 0
     text = " ".join(result["warnings"])
     assert "features outside the training range: length = -5000 not in [" in text
-    assert "clipped to 0" in text
+    assert "trans_mean: the model's output -4." in text and "below the model's range" in text
+
+
+def check_entry(entry, value, low, high):
+    """The reported entry is inside its own non-zero-width interval, or has no value."""
+    if entry["status"] == "ok":
+        assert entry["value"] == value > 0
+        if entry["low"] is not None:
+            assert 0 <= entry["low"] <= entry["value"] <= entry["high"]
+            assert entry["high"] > entry["low"]
+            assert entry["high"] == max(high, value)
+            assert entry["low"] == max(min(low, value), 0.0)
+    else:
+        assert entry["status"] == "below_range" and value <= 0
+        assert entry["value"] is None and entry["low"] is None
+        assert entry["high"] is None or entry["high"] == max(high, value) > 0
+
+
+@pytest.mark.parametrize("value, low, high", [
+    (0.592, 0.162, 0.562),     # the noise image: value above its own interval
+    (0.10, 0.15, 0.30),        # value below its interval
+    (-0.8852, -1.2, -0.3),     # the two-room plan: all negative, clipping gave 0–0
+    (-0.2, -0.5, 0.17),        # negative value, interval reaching above 0
+    (0.0, 0.0, 0.0),           # exactly 0
+    (0.05, -0.1, 0.2),         # ordinary, low clipped at 0
+    (0.3, 0.3, 0.3),           # zero-width interval around a positive value
+])
+def test_value_never_outside_its_interval_nor_zero_width(value, low, high):
+    from slam_predict.learn.predict import component_entry
+
+    check_entry(component_entry(value, low, high, "m", "s/m"), value, low, high)
+
+
+def test_random_outputs_respect_the_interval_rules():
+    import numpy as np
+
+    from slam_predict.learn.predict import component_entry
+
+    rng = np.random.default_rng(3)
+    for value, a, b in rng.normal(size=(500, 3)):
+        check_entry(component_entry(value, min(a, b), max(a, b), "m", "s/m"), value,
+                    min(a, b), max(a, b))
+
+
+def test_a_component_whose_best_model_has_r2_at_most_0_is_not_offered(tiny_models, tmp_path):
+    import json
+    import shutil
+
+    from slam_predict.learn.store import CARD
+
+    folder = tmp_path / "m"
+    shutil.copytree(tiny_models / "tiny-realistic", folder)
+    card = json.loads((folder / CARD).read_text())
+    comp = card["components"]["rot_std"]
+    comp["models"][comp["best"]]["metrics"]["leave_one_out"]["r2"] = -0.16
+    (folder / CARD).write_text(json.dumps(card))
+    changed = ModelStore(folder, "test-v1")
+    result = predict_features({"length": 800.0, "noise": 0.0}, changed)
+    assert result["rot_std"]["status"] == "no_model" and result["rot_std"]["value"] is None
+    assert result["rot_std"]["r2"] == -0.16
+    assert any("rot_std: no model" in w and "-0.16" in w for w in result["warnings"])
+    assert result["trans_mean"]["status"] == "ok"
 
 
 def test_missing_or_unknown_inputs(store):

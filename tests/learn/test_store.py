@@ -128,3 +128,23 @@ def test_corrupt_plain_file_is_refused(tiny_models, tmp_path):
     store = ModelStore(folder, "test-v1")
     with pytest.raises(InputError, match="rot_mean.plain.json: corrupt model file"):
         store.plain("rot_mean", store.best("rot_mean"))
+
+
+def test_a_dataset_no_model_can_learn_is_not_stored(tmp_path):
+    """Targets of pure noise: every mean test R² ≤ 0, so no component has a best model."""
+    import dataclasses
+
+    import numpy as np
+
+    from slam_predict.learn.results import run_evaluation
+    from slam_predict.learn.train import train_store
+
+    from .conftest import tiny_config
+
+    data = synthetic_dataset()
+    noise = dataclasses.replace(data, Y=np.random.default_rng(1).normal(1.0, 0.1, data.Y.shape))
+    outcome = run_evaluation(noise, tiny_config())
+    assert outcome.best == {}
+    with pytest.raises(InputError, match="no model predicts any component better"):
+        train_store(noise, tiny_config(), outcome, "noise", tmp_path)
+    assert not (tmp_path / "noise").exists()

@@ -10,15 +10,18 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
 import os
 import sys
 
+from slam_predict.cli import plan_checks
 from slam_predict.cli.worlds_cmd import add_plan_arguments
 from slam_predict.errors import InputError
 
 NAME = "features"
 HELP = "compute the floor-plan features (geometry, topology, Voronoi graph and traversal)"
 MODES = ("documented", "thesis_compatible")
+LOG = logging.getLogger(__name__)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -40,16 +43,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--overlay", metavar="OUT.png", help="write a picture of the extraction")
     parser.add_argument("--path", metavar="OUT.csv", help="write the traversal path (x, y in m)")
     parser.add_argument("--list", action="store_true", help="list the features and exit")
+    plan_checks.add_arguments(parser)
 
 
 def _config(args: argparse.Namespace):
     import dataclasses
 
-    from slam_predict.config import load_config
+    from slam_predict.config import from_dict
     from slam_predict.features.vector import FeaturesConfig
+    from slam_predict.learn.config import yaml_section
 
-    config = (load_config(FeaturesConfig, args.config, "features") if args.config
-              else FeaturesConfig())
+    config = (from_dict(FeaturesConfig, yaml_section(args.config, "features"), args.config)
+              if args.config else FeaturesConfig())
     if args.mode:
         config = dataclasses.replace(config, mode=args.mode)
     if args.rooms_source:
@@ -106,15 +111,23 @@ def _write_path(path: str, xy) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from slam_predict.features.vector import REGISTRY, compute_with_context
+    from slam_predict.features.vector import REGISTRY, compute_with_context, degenerate_reason
+    from slam_predict.world.plausibility import unreachable_warning
 
     if args.list:
         return _list(REGISTRY)
     if not args.plan:
         raise InputError("PLAN is required (or use --list)")
     config = _config(args)
-    world = _world(args)
+    world = plan_checks.load_checked(_world, args)
+    plan_checks.show_progress()
     values, ctx = compute_with_context(world, config)
+    reason = degenerate_reason(values)
+    if reason:
+        raise InputError(reason, world.provenance.get("source") or args.plan)
+    note = unreachable_warning(world)
+    if note:
+        LOG.warning("%s: %s", args.plan, note)
     if args.overlay:
         from slam_predict.features.overlay import write_overlay
 

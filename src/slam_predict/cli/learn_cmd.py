@@ -74,12 +74,12 @@ def default_config_path() -> str:
 
 
 def load_learning_config(args: argparse.Namespace):
-    from slam_predict.config import from_dict, load_yaml, to_dict
-    from slam_predict.learn.config import LearningConfig
+    from slam_predict.config import from_dict, to_dict
+    from slam_predict.learn.config import LearningConfig, yaml_section
 
     path = args.config or default_config_path()
-    data = load_yaml(path) if (args.config or os.path.isfile(path)) else {}
-    config = from_dict(LearningConfig, data.get("learning", data), path)
+    data = yaml_section(path, "learning") if (args.config or os.path.isfile(path)) else {}
+    config = from_dict(LearningConfig, data, path)
     changes = to_dict(config)
     if args.splits is not None:
         if args.splits < 1:
@@ -93,12 +93,11 @@ def load_learning_config(args: argparse.Namespace):
 
 
 def _feature_config(path):
-    from slam_predict.config import load_yaml
+    from slam_predict.learn.config import yaml_section
 
     if path is None:
         return {}
-    data = load_yaml(path)
-    return data.get("features", data)
+    return yaml_section(path, "features")
 
 
 def run_dataset(args: argparse.Namespace) -> int:

@@ -12,6 +12,7 @@ import argparse
 import json
 import math
 
+from slam_predict.cli import plan_checks
 from slam_predict.errors import InputError
 
 NAME = "predict"
@@ -40,6 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "default is realistic; with a named model it must match its card")
     parser.add_argument("--models-dir", metavar="DIR", help="model folders (default models/)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
+    plan_checks.add_arguments(parser)
 
 
 def _world_scale(world_path: str, plan: str):
@@ -84,6 +86,28 @@ def _interval(entry: dict, digits: int) -> str:
     return f"{entry['low']:.{digits}f}–{entry['high']:.{digits}f}"
 
 
+def _value_text(e: dict, conf: str) -> str:
+    """"0.123 m (90 % interval 0.05–0.2 m)" or the rotation form in rad and deg."""
+    if e["unit"] == "m":
+        text = f"{e['value']:.3f} m"
+        return text + (f" ({conf} interval {_interval(e, 3)} m)" if e["low"] is not None
+                       else " (no interval)")
+    deg = {k: math.degrees(e[k]) for k in ("value", "low", "high") if e[k] is not None}
+    text = f"{e['value']:.4f} rad = {deg['value']:.2f} deg"
+    if e["low"] is None:
+        return text + " (no interval)"
+    return text + f" ({conf} interval {_interval(e, 4)} rad = {_interval(deg, 2)} deg)"
+
+
+def _entry_text(e: dict, conf: str) -> str:
+    """The value part of one component's line, whatever its status."""
+    if e["status"] == "no_model":
+        return "no model (none beats the training mean)"
+    if e["status"] == "below_range":
+        return (f"below the model's range (raw output {e['raw_value']:.4g} {e['unit']})")
+    return _value_text(e, conf)
+
+
 def format_text(result: dict, components) -> str:
     """Human-readable lines: value, interval and model per component, then warnings."""
     conf = f"{100 * result['confidence']:g} %"
@@ -91,13 +115,8 @@ def format_text(result: dict, components) -> str:
              f"(setting {result['setting']}, model {result['model_store']}, {conf} intervals)"]
     for comp in components:
         e = result[comp]
-        if e["unit"] == "m":
-            text = f"{e['value']:.3f} m ({conf} interval {_interval(e, 3)} m)"
-        else:
-            deg = {k: math.degrees(e[k]) for k in ("value", "low", "high")}
-            text = (f"{e['value']:.4f} rad = {deg['value']:.2f} deg ({conf} interval "
-                    f"{_interval(e, 4)} rad = {_interval(deg, 2)} deg)")
-        lines.append(f"  {comp:<10s} {LABELS[comp]:<27s} {text}  [{e['model']}]")
+        model = f"  [{e['model']}]" if e["model"] else ""
+        lines.append(f"  {comp:<10s} {LABELS[comp]:<27s} {_entry_text(e, conf)}{model}")
     lines += [f"warning: {w}" for w in result["warnings"]]
     return "\n".join(lines)
 
@@ -106,12 +125,13 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.predict import components_of, predict_plan
 
     components = components_of(args.component)  # before the (slow) feature computation
-    world = load_world(args)
+    world = plan_checks.load_checked(load_world, args)
+    plan_checks.show_progress()
     setting = args.setting or ("realistic" if args.model == "best" else None)
     result = predict_plan(world, args.model, setting, args.component, args.models_dir)
     if args.json:
-        keys = ["world", "setting", "model_store", "confidence", *components, "warnings",
-                "features"]
+        keys = ["world", "setting", "model_store", "confidence", *components, "free_space",
+                "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))
     else:
         print(format_text(result, components))

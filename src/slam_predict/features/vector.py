@@ -18,6 +18,10 @@ differences of the Voronoi graph into another visiting order), which is most of 
 the same building at 0.05 and 0.10 m/px disagree; the mean is steadier. Rooms, the graphs
 and the output path come from the unshifted grid.
 
+When the start cell lies outside the building outline (a door drawn closed, the start in the
+smaller part), only the free space connected to the start is used (:func:`start_outline`); no
+thesis, shipped or ipa plan is affected.
+
 ``FeaturesConfig.mode = "thesis_compatible"`` switches the Voronoi graph and the traversal to
 the seed code's behaviour (see :mod:`traversal`); ``FEATURE_VERSION`` changes whenever a
 feature's definition does, and :func:`feature_version` adds the configuration hash.
@@ -27,11 +31,13 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
+import time
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Dict, List, Optional, Tuple
 
 import numpy as np
+from scipy import ndimage
 
 from slam_predict.config import config_hash
 from slam_predict.features import geometric, graph_metrics
@@ -44,6 +50,7 @@ from slam_predict.world.bitmap import resample_square
 from slam_predict.world.model import World
 
 LOG = logging.getLogger(__name__)
+PROGRESS = logging.getLogger("slam_predict.features.progress")  # shown by the CLI on a TTY
 FEATURE_VERSION = "2"  # 2: rooms on a fixed 0.2 m grid, traversal averaged over 4 grid phases
 MODES = traversal_mod.MODES
 FAMILIES = ("geometric", "topological", "voronoi_graph", "voronoi_traversal")
@@ -93,6 +100,24 @@ def working_world(world: World, resolution: float) -> World:
     return world.replace(occupied=occupied, resolution=resolution)
 
 
+def start_outline(world: World) -> World:
+    """``world`` itself when its start cell lies inside the building outline (the longest
+    contour of the free space, :func:`voronoi.building_interior`); else ``world`` with only the
+    free space 8-connected to the start cell, so that the outline, rooms, graphs and traversal
+    are those of the part the robot starts in (a door drawn closed left the start outside the
+    largest part, and every feature described a part the robot never enters)."""
+    free = ~world.occupied
+    row, col = world.world_to_cell(world.start_pose[:2])
+    if not world.in_bounds((row, col)) or not free[row, col]:
+        return world
+    if voronoi_mod.building_interior(free)[row, col]:
+        return world
+    labels, _ = ndimage.label(free, structure=np.ones((3, 3), bool))
+    LOG.info("%s: the start (%.2f, %.2f) m lies outside the largest part of the plan: "
+             "features of the part it lies in", world.name, *world.start_pose[:2])
+    return world.replace(occupied=labels != labels[row, col])
+
+
 def phase_worlds(world: World, count: int = 4) -> List[World]:
     """``world`` (on its working grid) and up to three copies on the grid shifted by half a
     cell: along rows and columns, along rows only, along columns only (``count`` = 1, 2 or 4
@@ -117,7 +142,7 @@ class Context:
 
     def __init__(self, world: World, config: FeaturesConfig):
         self.source = world
-        self.world = working_world(world, config.working_resolution_m)
+        self.world = start_outline(working_world(world, config.working_resolution_m))
         self.config = config
 
     @cached_property
@@ -156,7 +181,9 @@ class Context:
         :attr:`traversal`)."""
         results = [self.traversal]
         vconfig = self.config.voronoi_config()
-        for world in phase_worlds(self.world, self.config.grid_phases)[1:]:
+        for k, world in enumerate(phase_worlds(self.world, self.config.grid_phases)[1:]):
+            PROGRESS.info("%s: traversal on shifted grid %d/%d", self.source.name, k + 1,
+                          self.config.grid_phases - 1)
             graph = voronoi_mod.voronoi_graph(world.occupied, world.resolution, vconfig)
             start = world.world_to_cell(world.start_pose[:2])
             results.append(traversal_mod.traverse(graph, world.occupied, start,
@@ -225,9 +252,14 @@ def compute_with_context(world: World, config: Optional[FeaturesConfig] = None
                          ) -> Tuple[Dict[str, float], Context]:
     """The flat feature vector and the :class:`Context` holding rooms, graphs and the path."""
     config = config or FeaturesConfig()
+    start = time.monotonic()
     ctx = Context(world, config)
+    rows, cols = ctx.world.occupied.shape
     values: Dict[str, float] = {}
-    for name in config.families:
+    for i, name in enumerate(config.families):
+        PROGRESS.info("%s: %s features (%d/%d, %d x %d px working grid, %.0f s so far)",
+                      world.name, name, i + 1, len(config.families), cols, rows,
+                      time.monotonic() - start)
         family = REGISTRY.family(name)
         out = family.compute(ctx)
         expected = [f.name for f in family.features]
@@ -238,6 +270,18 @@ def compute_with_context(world: World, config: Optional[FeaturesConfig] = None
     if bad:
         LOG.warning("%s: non-finite features %s", world.name, ", ".join(bad))
     return values, ctx
+
+
+def degenerate_reason(values: Dict[str, float]) -> Optional[str]:
+    """Why a feature vector describes no building (None when it does): no Voronoi graph or
+    no room was found (random noise, free space too narrow for the working grid)."""
+    missing = [what for key, what in (("voronoi_order", "no Voronoi graph"),
+                                      ("num_spaces", "no rooms"))
+               if key in values and not values[key] > 0]
+    if not missing:
+        return None
+    return (" and ".join(missing) + " could be extracted: not a building floor plan (noise, "
+            "or free space too narrow or fragmented)")
 
 
 def compute_features(world: World, config: Optional[FeaturesConfig] = None) -> Dict[str, float]:

@@ -1,9 +1,11 @@
 """Typed configuration of learning and evaluation (``config/learning.yaml``)."""
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
-from typing import Optional, Tuple
+from typing import Any, Dict, Optional, Tuple
 
+from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.estimators import THESIS_ALPHAS, THESIS_L1_RATIOS
 
 MODEL_KINDS = ("single", "fregression", "elasticnet", "random_forest", "gradient_boosting")
@@ -96,3 +98,27 @@ class LearningConfig:
             raise ValueError("evaluation.loo_models must be 'best' or 'all'")
         if not 0.0 < self.evaluation.test_fraction < 1.0:
             raise ValueError("evaluation.test_fraction must lie in (0, 1)")
+
+
+def yaml_section(path: os.PathLike | str, section: str) -> Dict[str, Any]:
+    """The ``section`` mapping of a YAML config file, strictly.
+
+    A file holding ``section:`` may hold nothing else at the top level (a misspelt or foreign
+    key is refused, not ignored); a file without it is taken as the section itself (the
+    dataclass loader then refuses unknown keys at every level).
+    """
+    from slam_predict.config import load_yaml
+
+    data = load_yaml(path)
+    if section not in data:
+        return data
+    extra = [key for key in data if key != section]
+    if extra:
+        raise InputError(f"unknown top-level key '{extra[0]}' (this file holds only "
+                         f"'{section}')" + did_you_mean(str(extra[0]), [section]), path)
+    value = data[section]
+    if value is None:
+        return {}
+    if not isinstance(value, dict):
+        raise InputError(f"'{section}' must be a mapping", path)
+    return value

@@ -152,11 +152,17 @@ def _choices(group: Sequence[SplitResult]) -> dict:
 
 
 def best_models(summary: Sequence[dict], single_only: bool = False) -> Dict[str, str]:
-    """Component → model id with the highest mean test R² (reference models excluded)."""
+    """Component → model id with the highest mean test R² (reference models excluded).
+
+    Only models with a mean test R² > 0 compete: a model no better than the training mean is
+    never the best, so a component where none beats it has no entry.
+    """
     best: Dict[str, Tuple[float, str]] = {}
     for row in summary:
         model = row["model"]
         if is_reference(model) or (single_only and not model.startswith(SINGLE)):
+            continue
+        if not row["r2_mean"] > 0:
             continue
         key = (_sortable(row["r2_mean"]), model)
         if row["component"] not in best or key[0] > best[row["component"]][0]:

@@ -1,9 +1,17 @@
 """Floor plan → features → the four error components with conformal intervals.
 
 :func:`predict_plan` computes the plan's features with the feature configuration stored in
-the model card, then evaluates each component's best model. Values are clipped at 0 (an error
-statistic cannot be negative); features outside the training range and clipped values are
-reported as warnings.
+the model card, then evaluates each component's best model (:func:`component_entry`):
+
+- the interval always contains the prediction (CV+ bounds come from the fold models, the
+  value from the model fitted on every building, so the value can fall outside them: the
+  interval is widened to it);
+- a model output ≤ 0 is not an error statistic: the component is reported as ``below_range``
+  ("below the model's range") with its raw output, never as 0 m;
+- a component whose best model does not beat the training mean (evaluation R² ≤ 0,
+  :func:`slam_predict.learn.store.skilful`) is reported as ``no_model``.
+
+Features outside the training range are reported as warnings.
 """
 from __future__ import annotations
 
@@ -16,7 +24,8 @@ import numpy as np
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.plain import predict_plain
-from slam_predict.learn.store import ModelStore, default_models_dir, resolve_store
+from slam_predict.learn.store import (ModelStore, default_models_dir, evaluation_r2,
+                                      resolve_store, skilful)
 
 LOG = logging.getLogger(__name__)
 
@@ -57,6 +66,56 @@ def _evaluate(store: ModelStore, component: str, model_id: str, x: np.ndarray):
     return float(estimator.predict(x)[0]), float(low), float(high)
 
 
+def component_entry(value: float, low: float, high: float, unit: str,
+                    model: str) -> Dict[str, Any]:
+    """The reported form of one component's raw model output ``value`` and interval.
+
+    ``status`` is ``ok`` (value > 0, 0 ≤ low ≤ value ≤ high, low < high) or ``below_range``
+    (value ≤ 0: ``value`` and ``low`` are None, ``high`` the interval's upper bound when it is
+    > 0, else None). ``raw_value``/``raw_low``/``raw_high`` keep the model's own numbers.
+    """
+    entry: Dict[str, Any] = {"status": "ok", "value": value, "low": min(low, value),
+                             "high": max(high, value), "model": model, "unit": unit,
+                             "raw_value": value, "raw_low": low, "raw_high": high}
+    if value <= 0:
+        top = entry["high"]
+        entry.update(status="below_range", value=None, low=None,
+                     high=top if top > 0 else None)
+    else:
+        entry["low"] = max(entry["low"], 0.0)
+        if not entry["high"] > entry["low"]:  # zero-width: no usable interval
+            entry.update(low=None, high=None)
+    return entry
+
+
+def no_model_entry(store: ModelStore, component: str) -> Dict[str, Any]:
+    """The reported form of a component without a model that beats the training mean."""
+    comp = store.card["components"].get(component) or {}
+    model_id = comp.get("best")
+    r2 = evaluation_r2(comp.get("models", {}).get(model_id, {}).get("metrics", {}))
+    return {"status": "no_model", "value": None, "low": None, "high": None,
+            "model": f"{store.name}/{model_id}" if model_id else None,
+            "unit": UNITS[component], "r2": min(r2) if r2 else None}
+
+
+def describe_entry(component: str, entry: Dict[str, Any]) -> Optional[str]:
+    """A warning for a component that has no plain value (None when it has one)."""
+    unit = UNITS[component]
+    if entry["status"] == "below_range":
+        bound = (f"; upper bound of its interval {entry['high']:.4g} {unit}"
+                 if entry["high"] is not None else "")
+        return (f"{component}: the model's output {entry['raw_value']:.4g} {unit} is below "
+                f"the model's range (an error statistic cannot be ≤ 0): the plan lies "
+                f"outside what the model learnt{bound}")
+    if entry["status"] == "no_model":
+        r2 = f" (best evaluation R² {entry['r2']:.3g})" if entry["r2"] is not None else ""
+        return (f"{component}: no model of this store predicts it better than the training "
+                f"mean{r2}")
+    if entry["low"] is None:
+        return f"{component}: the model gives no interval (its calibration residuals are 0)"
+    return None
+
+
 def predict_features(features: Dict[str, float], store: ModelStore,
                      component: str = "all") -> Dict[str, Any]:
     """Predictions of ``store`` for one feature vector (name → value)."""
@@ -71,17 +130,19 @@ def predict_features(features: Dict[str, float], store: ModelStore,
     warnings_: List[str] = list(store.notes)
     used_all: List[str] = []
     for comp in components_of(component):
-        model_id = store.best(comp)
-        used = card["components"][comp]["models"][model_id]["features_used"]
-        bad = [n for n in used if not math.isfinite(float(features[n]))]
-        if bad:
-            raise InputError(f"feature '{bad[0]}' could not be computed for this plan")
-        value, low, high = _evaluate(store, comp, model_id, x)
-        if value < 0:
-            warnings_.append(f"{comp} predicted {value:.4g} {UNITS[comp]} < 0, clipped to 0")
-        result[comp] = {"value": max(value, 0.0), "low": max(low, 0.0), "high": max(high, 0.0),
-                        "model": f"{store.name}/{model_id}", "unit": UNITS[comp]}
-        used_all += [n for n in used if n not in used_all]
+        model_id = store.offered(comp)
+        if model_id is None:
+            result[comp] = no_model_entry(store, comp)
+        else:
+            used = card["components"][comp]["models"][model_id]["features_used"]
+            bad = [n for n in used if not math.isfinite(float(features[n]))]
+            if bad:
+                raise InputError(f"feature '{bad[0]}' could not be computed for this plan")
+            result[comp] = component_entry(*_evaluate(store, comp, model_id, x),
+                                           unit=UNITS[comp], model=f"{store.name}/{model_id}")
+            used_all += [n for n in used if n not in used_all]
+        note = describe_entry(comp, result[comp])
+        warnings_ += [note] if note else []
     note = range_warning(features, used_all, card.get("feature_ranges", {}))
     result["warnings"] = warnings_ + ([note] if note else [])
     return result
@@ -115,11 +176,22 @@ def predict_plan(world, model: str = "best", setting: Optional[str] = "realistic
         component: ``all`` or one of COMPONENTS.
         models_dir: where model folders live (default: the package's ``models/``).
     """
+    from slam_predict.features.vector import degenerate_reason
+    from slam_predict.world.plausibility import reachability, unreachable_warning
+
     components_of(component)
     store = resolve_store(models_dir or default_models_dir(), model, setting, None)
     check_feature_version(store)
     features = compute_plan_features(world, store.card)
+    reason = degenerate_reason(features)
+    if reason:
+        raise InputError(f"{reason}: nothing to predict from", world.provenance.get("source"))
     result = predict_features(features, store, component)
+    reach = reachability(world)
+    result["free_space"] = {"free_m2": reach.free_m2, "reachable_m2": reach.reachable_m2,
+                            "reachable_share": reach.share}
+    note = unreachable_warning(world)
+    result["warnings"] = ([note] if note else []) + result["warnings"]
     result["world"] = world.name
     result["features"] = features
     return result

@@ -60,6 +60,18 @@ def sha256(path: os.PathLike | str) -> str:
     return digest.hexdigest()
 
 
+def evaluation_r2(metrics: Dict[str, Any]) -> List[float]:
+    """The R² scores of a card's model metrics: mean over random splits and leave-one-out."""
+    values = [metrics.get("r2_mean"), (metrics.get("leave_one_out") or {}).get("r2")]
+    return [float(v) for v in values if isinstance(v, (int, float))]
+
+
+def skilful(metrics: Dict[str, Any]) -> bool:
+    """True unless an evaluation R² of the model is ≤ 0 (or NaN): such a model predicts no
+    better than the training buildings' mean and is not offered as best."""
+    return all(r2 > 0 for r2 in evaluation_r2(metrics))
+
+
 def default_models_dir() -> Path:
     """``$SLAM_PREDICT_MODELS`` or the package's ``models/`` folder."""
     env = os.environ.get("SLAM_PREDICT_MODELS")
@@ -154,6 +166,15 @@ class ModelStore:
     def best(self, component: str) -> str:
         """The best model id of ``component``."""
         return str(self._component(component)["best"])
+
+    def offered(self, component: str) -> Optional[str]:
+        """The best model id of ``component`` when it is :func:`skilful`, else None (also
+        when the card has no model of the component)."""
+        comp = self.card["components"].get(component)
+        if not isinstance(comp, dict) or comp.get("best") not in comp.get("models", {}):
+            return None
+        best = str(comp["best"])
+        return best if skilful(comp["models"][best].get("metrics") or {}) else None
 
     def _component(self, component: str) -> Dict[str, Any]:
         comps = self.card["components"]

@@ -147,5 +147,6 @@ def best_table(summary: Sequence[dict]) -> str:
     best = best_models(summary)
     by_key: Dict[tuple, dict] = {(r["model"], r["component"]): r for r in summary}
     rows = [[SYMBOLS[c], model_label(best[c]), *_score_cells(by_key[(best[c], c)])]
-            for c in COMPONENTS if c in best]
+            if c in best else [SYMBOLS[c], "none (no model with R² > 0)", *[""] * len(SCORES)]
+            for c in COMPONENTS if c in best or any(r["component"] == c for r in summary)]
     return markdown(["component", "best model", *SCORES], rows)

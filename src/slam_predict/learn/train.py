@@ -87,6 +87,9 @@ def train_store(data: Dataset, config: LearningConfig, outcome: Outcome, name: s
                 sources: Optional[Dict[str, str]] = None) -> Path:
     """Fit and write ``out_dir/name``; returns the folder."""
     check_trainable(data)
+    if not outcome.best:
+        raise InputError("no model predicts any component better than the training mean "
+                         "(every mean test R² ≤ 0): nothing to store")
     estimators, plain, components = {}, {}, {}
     for component in COMPONENTS:
         if component not in outcome.best:

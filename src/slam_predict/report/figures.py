@@ -147,15 +147,17 @@ def map_overlay_figure(grid: MapServerMap, ground_truth: np.ndarray, slam: np.nd
 
 def predicted_vs_measured(points: Dict[str, List[Dict]], units: Dict[str, str],
                           labels: Dict[str, str], title: str) -> bytes:
-    """2×2 panels, one per component: predicted (with interval bars) vs measured, y = x line.
+    """One panel per component that has points (2×2 for four, side by side for fewer):
+    predicted (with interval bars) vs measured, y = x line.
 
     ``points[component]`` lists dicts with ``world``, ``measured``, ``value``, ``low``, ``high``.
     """
-    fig, axes = plt.subplots(2, 2, figsize=(9.5, 8))
+    points = {c: items for c, items in points.items() if items}
+    n = len(points)
+    cols = 2 if n == 4 else n
+    rows = 2 if n == 4 else 1
+    fig, axes = plt.subplots(rows, cols, figsize=(4.75 * cols, 4 * rows + 0.5), squeeze=False)
     for ax, (component, items) in zip(axes.ravel(), points.items()):
-        if not items:
-            ax.set_visible(False)
-            continue
         measured = np.array([p["measured"] for p in items])
         value = np.array([p["value"] for p in items])
         low = np.array([p["low"] for p in items])

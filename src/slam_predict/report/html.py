@@ -15,9 +15,10 @@ STYLE = """
 body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:1.5em auto;
 max-width:1200px;padding:0 1em;color:#222;line-height:1.4}
 h1{border-bottom:2px solid #444}h2{border-bottom:1px solid #aaa;margin-top:2em}
-table{border-collapse:collapse;margin:.6em 0;font-size:.9em}
+div.table{overflow-x:auto;max-width:100%;margin:.6em 0}
+table{border-collapse:collapse;font-size:.9em}
 th,td{border:1px solid #bbb;padding:.25em .5em}th{background:#eee;text-align:left}
-td.num{text-align:right;font-variant-numeric:tabular-nums}
+td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}
 tr.best td{font-weight:bold}
 .notes{background:#fff6e0;border-left:4px solid #e0a000;padding:.4em 1em;margin:.6em 0}
 .notes li{margin:.15em 0}
@@ -64,9 +65,10 @@ def num_cell(value, digits: int = 3) -> Cell:
 
 def table(header: Sequence[str], rows: Iterable[Sequence], caption: str = "",
           table_id: str = "", row_classes: Optional[Sequence[str]] = None) -> str:
-    """An HTML table; cells are :class:`Cell` objects or plain values (escaped)."""
+    """An HTML table in a horizontally scrolling box; cells are :class:`Cell` objects or plain
+    values (escaped)."""
     attr = f' id="{esc(table_id)}"' if table_id else ""
-    parts = [f"<table{attr}>"]
+    parts = [f'<div class="table"><table{attr}>']  # the div scrolls a table wider than the page
     if caption:
         parts.append(f"<caption>{esc(caption)}</caption>")
     parts.append("<thead><tr>" + "".join(f"<th>{esc(h)}</th>" for h in header) + "</tr></thead>")
@@ -75,7 +77,7 @@ def table(header: Sequence[str], rows: Iterable[Sequence], caption: str = "",
         cls = row_classes[i] if row_classes and row_classes[i] else ""
         cells = "".join((c if isinstance(c, Cell) else Cell(str(c))).render() for c in row)
         parts.append(f'<tr class="{esc(cls)}">{cells}</tr>' if cls else f"<tr>{cells}</tr>")
-    parts.append("</tbody></table>")
+    parts.append("</tbody></table></div>")
     return "\n".join(parts)
 
 

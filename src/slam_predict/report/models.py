@@ -14,6 +14,7 @@ from typing import Any, Dict, List, Optional
 
 from slam_predict.errors import InputError
 from slam_predict.learn.dataset import COMPONENTS, UNITS
+from slam_predict.learn.store import skilful
 from slam_predict.report import html as H
 
 LABELS = {"trans_mean": "mean translational error", "trans_std": "std of translational error",
@@ -105,7 +106,8 @@ def metrics_table(card: Dict[str, Any]) -> str:
         for model_id, entry in comp.get("models", {}).items():
             rows.append(metrics_row(component, model_id, entry if isinstance(entry, dict)
                                     else {}))
-            classes.append("best" if model_id == comp.get("best") else "")
+            classes.append("best" if model_id == comp.get("best") and isinstance(entry, dict)
+                           and skilful(entry.get("metrics") or {}) else "")
     header = ["component", "unit", "model", "features used", *METRIC_COLUMNS]
     return H.table(header, rows, row_classes=classes)
 
@@ -116,7 +118,7 @@ def card_overview(card: Dict[str, Any]) -> str:
     versions = card.get("versions", {})
     pairs = [("description", card.get("description", "") or H.MISSING),
              ("setting", card.get("setting", H.MISSING)),
-             ("SLAM config hash", card.get("slam_config_hash", H.MISSING)),
+             ("SLAM config hash", card.get("slam_config_hash") or "not recorded"),
              ("feature version", card.get("feature_version", H.MISSING)),
              ("features", len(card.get("features", []))),
              ("training buildings", len(buildings)),
@@ -136,6 +138,8 @@ def card_section(entry: ModelEntry) -> str:
     body = (card_overview(entry.card)
             + "<p>Scores from the model's evaluation on its training buildings (mean over "
               "random train/test splits; LOO = leave one building out; best model per "
-              "component in bold). Errors in m (translation) and rad (rotation).</p>"
+              "component in bold, unless an R² is ≤ 0: such a model predicts no better than "
+              "the training mean and is not used). Errors in m (translation) and rad "
+              "(rotation).</p>"
             + metrics_table(entry.card) + H.notes(entry.notes))
     return H.section(f"Model {entry.name}", body, level=3, anchor=f"model-{entry.name}")

@@ -36,10 +36,27 @@ class Prediction:
     value: float
     low: float
     high: float
+    status: str = "ok"
+    raw_value: float = math.nan
+
+    @classmethod
+    def of(cls, world: str, component: str, runs: int, measured: float, entry: Dict):
+        """From a component entry of :func:`predict_features` (None → NaN)."""
+        def num(key):
+            value = entry.get(key)
+            return math.nan if value is None else float(value)
+
+        low = 0.0 if entry["status"] == "below_range" else num("low")
+        return cls(world, component, runs, measured, num("value"), low, num("high"),
+                   entry["status"], num("raw_value"))
+
+    @property
+    def has_interval(self) -> bool:
+        return math.isfinite(self.low) and math.isfinite(self.high)
 
     @property
     def inside(self) -> bool:
-        return self.low <= self.measured <= self.high
+        return self.has_interval and self.low <= self.measured <= self.high
 
     @property
     def relative_error(self) -> float:
@@ -129,11 +146,13 @@ def predict_campaign(entry: ModelEntry, campaign: Campaign,
         except InputError as exc:
             out.notes.append(f"{name}: no prediction ({exc.one_line()})")
             continue
-        out.notes += [f"{name}: {w}" for w in result["warnings"] if w not in entry.store.notes]
+        unmodelled = tuple(f"{c}: no model" for c in COMPONENTS
+                           if result[c]["status"] == "no_model")  # said once per model
+        out.notes += [f"{name}: {w}" for w in result["warnings"]
+                      if w not in entry.store.notes and not w.startswith(unmodelled)]
         for component in COMPONENTS:
-            p = result[component]
-            out.items.append(Prediction(name, component, run_count(row),
-                                        float(row[component]), p["value"], p["low"], p["high"]))
+            out.items.append(Prediction.of(name, component, run_count(row),
+                                           float(row[component]), result[component]))
     return out
 
 
@@ -144,16 +163,28 @@ def _with_degrees(value: float, component: str) -> str:
     return text if text == H.MISSING else f"{text} ({math.degrees(value):.3f}°)"
 
 
+def _predicted_text(p: Prediction) -> str:
+    if p.status == "below_range":
+        return f"below the model's range (raw {H.number(p.raw_value, 4)})"
+    return _with_degrees(p.value, p.component)
+
+
+def _interval_text(p: Prediction) -> str:
+    if not p.has_interval:
+        return H.MISSING
+    return f"{_with_degrees(p.low, p.component)} – {_with_degrees(p.high, p.component)}"
+
+
 def predictions_table(items: List[Prediction]) -> str:
     """World × component rows: measured, predicted, interval, inside?, relative error."""
     rows = []
     for p in items:
+        known = math.isfinite(p.measured) and p.has_interval
         rows.append([p.world, H.num_cell(p.runs, 0), p.component, UNITS[p.component],
                      H.Cell(_with_degrees(p.measured, p.component), numeric=True),
-                     H.Cell(_with_degrees(p.value, p.component), numeric=True),
-                     H.Cell(f"{_with_degrees(p.low, p.component)} – "
-                            f"{_with_degrees(p.high, p.component)}", numeric=True),
-                     ("yes" if p.inside else "no") if math.isfinite(p.measured) else H.MISSING,
+                     H.Cell(_predicted_text(p), numeric=True),
+                     H.Cell(_interval_text(p), numeric=True),
+                     ("yes" if p.inside else "no") if known else H.MISSING,
                      H.num_cell(100.0 * p.relative_error, 1)])
     header = ["world", "runs", "component", "unit", "measured (mean over runs)", "predicted",
               "interval", "measured inside", "error %"]
@@ -162,6 +193,7 @@ def predictions_table(items: List[Prediction]) -> str:
 
 def coverage_line(items: List[Prediction], confidence) -> str:
     """How many measured values fall inside their intervals."""
+    items = [p for p in items if p.has_interval]
     if not items:
         return ""
     inside = sum(p.inside for p in items)
@@ -176,8 +208,8 @@ def plot(items: List[Prediction], title: str) -> Optional[bytes]:
         return None
     from slam_predict.report.figures import predicted_vs_measured
 
-    points = {c: [vars(p) for p in items if p.component == c and math.isfinite(p.measured)]
-              for c in COMPONENTS}
+    points = {c: [vars(p) for p in items if p.component == c and p.status == "ok"
+                  and p.has_interval and math.isfinite(p.measured)] for c in COMPONENTS}
     if not any(points.values()):
         return None
     return predicted_vs_measured(points, UNITS, LABELS, title)
@@ -188,6 +220,10 @@ def setup_notes(entry: ModelEntry, campaign: Campaign) -> List[str]:
     card_hash = str(entry.card.get("slam_config_hash", ""))
     hashes = {str(run.value("config_hashes", "gmapping")) for run in campaign.runs
               if run.value("config_hashes", "gmapping")}
+    if hashes and not card_hash:
+        return [f"the model's card does not record the GMapping configuration it learnt "
+                f"from: it cannot be checked against this campaign's "
+                f"({', '.join(sorted(hashes))})"]
     if hashes and card_hash not in hashes:
         return [f"the model learnt GMapping errors of SLAM configuration '{card_hash}' "
                 f"(setting {entry.card.get('setting')}); this campaign ran configuration(s) "
@@ -201,6 +237,12 @@ def predictions_section(entry: ModelEntry, campaign: Campaign, cache: FeatureCac
     if entry.store is None:
         return ""
     result = predict_campaign(entry, campaign, cache)
+    unmodelled = sorted({p.component for p in result.items if p.status == "no_model"},
+                        key=COMPONENTS.index)
+    result.items = [p for p in result.items if p.status != "no_model"]
+    if unmodelled:
+        result.notes.insert(0, f"{', '.join(unmodelled)}: not predicted, no model of "
+                               f"{entry.name} beats the training mean (evaluation R² ≤ 0)")
     single = [r["world"] for r in campaign.summary_rows() if run_count(r) == 1]
     extra = ([f"{', '.join(single)}: one run only, so the measured std components are 0 by "
               "definition"] if single and result.items else [])

@@ -7,12 +7,20 @@ The threshold rule (one rule for every image):
    room-segmentation maps; anti-aliased wall edges and grey "outside" fills count as obstacle).
 3. Free space 4-connected to the image border is outside the building: it becomes obstacle
    (with a warning). An image with nothing left is not an enclosed building.
+
+Size guard: before decoding, :func:`read_grey` reads the image size from its header (Pillow
+reads headers without decoding) and refuses an image of more than the pixel limit
+(:data:`DEFAULT_MAX_PIXELS`, 50 M px; :func:`pixel_limit` changes it, the CLI's
+``--max-pixels``): a 20000 x 20000 px plan needs about 13 GB (:data:`BYTES_PER_PIXEL`) and
+minutes of feature extraction.
 """
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import logging
 import os
-from typing import Optional
+from typing import Iterator, Optional, Tuple
 
 import cv2
 import numpy as np
@@ -22,11 +30,66 @@ from slam_predict.errors import InputError, require_file
 
 LOG = logging.getLogger(__name__)
 FREE_THRESHOLD = 250
+DEFAULT_MAX_PIXELS = 50_000_000
+BYTES_PER_PIXEL = 33  # peak memory of loading + feature extraction per image pixel (bench)
+_MAX_PIXELS = contextvars.ContextVar("max_pixels", default=DEFAULT_MAX_PIXELS)
+
+
+@contextlib.contextmanager
+def pixel_limit(max_pixels: Optional[int]) -> Iterator[None]:
+    """Within the block, :func:`read_grey` refuses images above ``max_pixels`` (None: the
+    default limit)."""
+    if max_pixels is not None and max_pixels < 1:
+        raise InputError(f"--max-pixels must be ≥ 1, got {max_pixels}")
+    token = _MAX_PIXELS.set(DEFAULT_MAX_PIXELS if max_pixels is None else int(max_pixels))
+    try:
+        yield
+    finally:
+        _MAX_PIXELS.reset(token)
+
+
+def header_size(path: str) -> Optional[Tuple[int, int]]:
+    """(width, height) in px from the image header, without decoding; None if Pillow cannot
+    identify the format (the decoder then has the last word)."""
+    import warnings
+
+    from PIL import Image
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", Image.DecompressionBombWarning)  # our guard decides
+        try:
+            with Image.open(path) as image:  # lazy: reads the header only
+                return image.size
+        except Image.DecompressionBombError:  # Pillow's own guard, raised before decoding
+            pass
+        except Exception:  # noqa: BLE001 — unidentified or corrupt: the decoder reports it
+            return None
+        old, Image.MAX_IMAGE_PIXELS = Image.MAX_IMAGE_PIXELS, None
+        try:
+            with Image.open(path) as image:
+                return image.size
+        finally:
+            Image.MAX_IMAGE_PIXELS = old
+
+
+def check_pixel_count(path: str) -> None:
+    """InputError when the image's header announces more pixels than the current limit."""
+    size = header_size(path)
+    limit = _MAX_PIXELS.get()
+    if size is None or size[0] * size[1] <= limit:
+        return
+    pixels = size[0] * size[1]
+    raise InputError(f"image is {size[0]} x {size[1]} px ({pixels / 1e6:.0f} M px, about "
+                     f"{pixels * BYTES_PER_PIXEL / 1e9:.1f} GB to process), more than the "
+                     f"limit of {limit / 1e6:g} M px: downscale it, or raise the limit with "
+                     f"--max-pixels {pixels}", path)
 
 
 def read_grey(path: os.PathLike | str) -> np.ndarray:
-    """Read an image as 8-bit grey (rows, cols); InputError when unreadable or corrupt."""
+    """Read an image as 8-bit grey (rows, cols); InputError when unreadable or corrupt, or
+    larger than the pixel limit (checked from the header, before decoding)."""
     path = require_file(path, "image")
+    check_pixel_count(path)
     raw = cv2.imread(path, cv2.IMREAD_UNCHANGED)
     if raw is None or raw.size == 0:
         raise InputError("cannot read image (corrupt or unsupported format)", path)
