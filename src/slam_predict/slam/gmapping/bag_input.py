@@ -42,6 +42,7 @@ class TfTree:
         self.parent: Dict[str, str] = {}
         self.samples: Dict[str, List[Tuple[float, np.ndarray]]] = {}
         self.static: Dict[str, np.ndarray] = {}
+        self._times: Dict[str, np.ndarray] = {}   # sample times per child, rebuilt after adds
 
     def add(self, parent: str, child: str, t: float, value: np.ndarray, static: bool) -> None:
         """One transform: ``value`` = (tx, ty, tz, qx, qy, qz, qw)."""
@@ -50,15 +51,26 @@ class TfTree:
             self.static[child] = value
         else:
             self.samples.setdefault(child, []).append((t, value))
+            self._times.pop(child, None)
+
+    def _sample_times(self, child: str) -> np.ndarray:
+        if child not in self._times:
+            self._times[child] = np.array([r[0] for r in self.samples[child]])
+        return self._times[child]
 
     def _link(self, child: str, t: float) -> Optional[np.ndarray]:
+        """The link at ``t``: a sample stamped exactly ``t`` unchanged (as tf returns it),
+        else interpolated between the samples around ``t``."""
         if child in self.static:
             return self.static[child]
         rows = self.samples[child]
-        times = np.array([r[0] for r in rows])
+        times = self._sample_times(child)
         if t < times[0] - 1e-9 or t > times[-1] + 1e-9:
             return None
-        k = int(np.clip(np.searchsorted(times, t), 1, len(times) - 1)) if len(times) > 1 else 0
+        k = int(np.searchsorted(times, t))
+        if k < len(times) and times[k] == t:
+            return rows[k][1]
+        k = int(np.clip(k, 1, len(times) - 1)) if len(times) > 1 else 0
         a, b = rows[max(k - 1, 0)], rows[k]
         w = 0.0 if b[0] == a[0] else (t - a[0]) / (b[0] - a[0])
         return _interpolate(a[1], b[1], float(np.clip(w, 0.0, 1.0)))
@@ -161,15 +173,10 @@ def _read_messages(reader, scan_topic: str, odom_topic: Optional[str]):
 
 def _assemble(path, scans, tree: TfTree, odom, base_frame, odom_frame, max_scans) -> SlamInput:
     first = scans[0]
-    t0 = _stamp(first.header)
-    mount = tree.lookup(base_frame, _frame(first.header.frame_id), t0)
-    if mount is None:
-        raise InputError(f"no tf from {base_frame} to the laser frame "
-                         f"{_frame(first.header.frame_id)}", path)
-    laser, reverse = laser_geometry(mount[1], mount[0], first.angle_min, first.angle_increment,
-                                    len(first.ranges), first.range_max)
-    if laser is None:
-        raise InputError("the laser is not mounted planar (slam_gmapping needs it level)", path)
+    laser_frame = _frame(first.header.frame_id)
+    laser, reverse = mounted_laser(tree, base_frame, laser_frame, _stamp(first.header),
+                                   first.angle_min, first.angle_increment, len(first.ranges),
+                                   first.range_max, path)
     source = TfTree()
     for t, value in odom:
         source.add(odom_frame, base_frame, t, value, static=False)
@@ -178,11 +185,11 @@ def _assemble(path, scans, tree: TfTree, odom, base_frame, odom_frame, max_scans
     times, poses, ranges = [], [], []
     for msg in scans:
         t = _stamp(msg.header)
-        found = source.lookup(odom_frame, base_frame, t)
-        if found is None or len(msg.ranges) != laser.beams:
+        pose = odometry_pose(source, odom_frame, base_frame, t)
+        if pose is None or len(msg.ranges) != laser.beams:
             continue
         times.append(t)
-        poses.append(_planar(*found))
+        poses.append(pose)
         ranges.append(prepare_ranges(msg.ranges, msg.range_min, msg.range_max, reverse))
         if max_scans is not None and len(times) >= max_scans:
             break
@@ -191,10 +198,63 @@ def _assemble(path, scans, tree: TfTree, odom, base_frame, odom_frame, max_scans
     return SlamInput(path=path, times=np.array(times), odometry=np.array(poses),
                      ranges=np.array(ranges), laser=laser, reference=None,
                      info={"format": "rosbag", "scans_in_log": len(scans),
-                           "scans_with_odometry": len(times), "laser_frame":
-                           _frame(first.header.frame_id), "base_frame": base_frame,
-                           "odom_frame": odom_frame, "reversed": reverse,
-                           "laser_offset_m": float(mount[0][0])})
+                           "scans_with_odometry": len(times), "laser_frame": laser_frame,
+                           "base_frame": base_frame, "odom_frame": odom_frame,
+                           "reversed": reverse, "laser_offset_m": laser.pose_in_base[0]})
+
+
+def mounted_laser(tree: TfTree, base_frame: str, laser_frame: str, t: float, angle_min: float,
+                  angle_increment: float, beams: int, range_max: float, path=None):
+    """(laser geometry in the base frame, reverse flag) from the tf link base → laser at ``t``
+    and a LaserScan's fields, as slam_gmapping sets up its laser on the first scan."""
+    mount = tree.lookup(base_frame, laser_frame, t)
+    if mount is None:
+        raise InputError(f"no tf from {base_frame} to the laser frame {laser_frame}", path)
+    laser, reverse = laser_geometry(mount[1], mount[0], angle_min, angle_increment, beams,
+                                    range_max)
+    if laser is None:
+        raise InputError("the laser is not mounted planar (slam_gmapping needs it level)", path)
+    return laser, reverse
+
+
+def odometry_pose(tree: TfTree, odom_frame: str, base_frame: str, t: float):
+    """Planar pose (x, y, yaw) of ``base_frame`` in ``odom_frame`` at ``t``, or None."""
+    found = tree.lookup(odom_frame, base_frame, t)
+    return None if found is None else _planar(*found)
+
+
+class LiveDecoder:
+    """What slam_gmapping receives from the messages of
+    :mod:`slam_predict.formats.stage_stream`, decoded exactly as :func:`read_bag_input` decodes the same messages read back from a bag
+    (same stamps, tf lookups and range clean-up), so a replay of the bag is bit-identical."""
+
+    def __init__(self, laser, base_frame: str = "base_link", odom_frame: str = "odom"):
+        from slam_predict.formats.stage_stream import scan_transforms
+
+        self.description = laser
+        self.base_frame, self.odom_frame = base_frame, odom_frame
+        tree = _tree(scan_transforms(laser, (0.0, 0.0, 0.0)), 0.0)
+        self.laser, self.reverse = mounted_laser(
+            tree, base_frame, laser.frame_id, 0.0, laser.angle_min, laser.angle_increment,
+            laser.beams, laser.range_max)
+
+    def odometry(self, messages) -> np.ndarray:
+        """The odometry pose (x, y, yaw) of ``base_frame`` at the messages' stamp."""
+        t = messages.t
+        return odometry_pose(_tree(messages.transforms, t), self.odom_frame, self.base_frame, t)
+
+    def scan(self, messages) -> Tuple[np.ndarray, np.ndarray, float]:
+        """(odometry pose, float64 ranges, stamp s) of a step that carries a scan."""
+        d = self.description
+        ranges = prepare_ranges(messages.ranges, d.range_min, d.range_max, self.reverse)
+        return self.odometry(messages), ranges, messages.t
+
+
+def _tree(transforms, t: float) -> TfTree:
+    tree = TfTree()
+    for tr in transforms:
+        tree.add(tr.parent, tr.child, t, tr.value, static=False)
+    return tree
 
 
 def bag_like(path: os.PathLike | str) -> bool:
