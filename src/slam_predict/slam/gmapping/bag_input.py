@@ -8,7 +8,8 @@ slam_gmapping would see it live.
   odometry's time span are dropped, as slam_gmapping drops scans whose tf is not available.
 - Laser mounting: tf ``base_frame → scan frame`` (from ``/tf_static`` or ``/tf``), which must be
   planar; readings below range_min become range_max; scans running clockwise are reversed.
-- No reference trajectory (bags carry none in a standard form).
+- Reference trajectory: stage_ros' ``/base_pose_ground_truth`` (nav_msgs/Odometry) at the
+  scans' stamps, when the bag has it (e.g. a collected run's ``sensors.bag``); else none.
 """
 from __future__ import annotations
 
@@ -25,6 +26,7 @@ from slam_predict.slam.laser import laser_geometry, prepare_ranges, quaternion_m
 SCAN_TYPE = "sensor_msgs/msg/LaserScan"
 ODOM_TYPE = "nav_msgs/msg/Odometry"
 TF_TOPICS = ("/tf", "/tf_static")
+TRUTH_TOPIC = "/base_pose_ground_truth"
 
 
 def _stamp(header) -> float:
@@ -140,35 +142,56 @@ def read_bag_input(path: os.PathLike | str, scan_topic: Optional[str] = None,
         scan_topic = _pick_topic(reader, path, scan_topic, SCAN_TYPE, "scan")
         if odom_topic is not None:
             odom_topic = _pick_topic(reader, path, odom_topic, ODOM_TYPE, "odometry")
-        scans, tree, odom = _read_messages(reader, scan_topic, odom_topic)
+        truth_topic = TRUTH_TOPIC if any(c.topic == TRUTH_TOPIC and c.msgtype == ODOM_TYPE
+                                         for c in reader.connections) else None
+        scans, tree, poses = _read_messages(reader, scan_topic, (odom_topic, truth_topic))
     finally:
         reader.close()
     if not scans:
         raise InputError(f"no scans on {scan_topic}", path)
-    return _assemble(path, scans, tree, odom, base_frame, odom_frame, max_scans)
+    data = _assemble(path, scans, tree, poses[odom_topic], base_frame, odom_frame, max_scans)
+    if truth_topic is not None:
+        data.reference = _poses_at(poses[truth_topic], data.times)
+        data.info["reference"] = truth_topic if data.reference is not None else None
+    return data
 
 
-def _read_messages(reader, scan_topic: str, odom_topic: Optional[str]):
-    wanted = {scan_topic, *TF_TOPICS} | ({odom_topic} if odom_topic else set())
+def _read_messages(reader, scan_topic: str, pose_topics):
+    """(scans sorted by stamp, tf tree, {pose topic: [(stamp, tf value)] sorted})."""
+    pose_topics = [t for t in pose_topics if t is not None]
+    wanted = {scan_topic, *TF_TOPICS, *pose_topics}
     connections = [c for c in reader.connections if c.topic in wanted]
-    scans, odom = [], []
+    scans = []
+    poses = {None: [], **{topic: [] for topic in pose_topics}}
     tree = TfTree()
     for conn, _, raw in reader.messages(connections=connections):
         msg = reader.deserialize(raw, conn.msgtype)
         if conn.topic == scan_topic:
             scans.append(msg)
-        elif conn.topic == odom_topic:
+        elif conn.topic in poses:
             p = msg.pose.pose
             value = np.array([p.position.x, p.position.y, p.position.z, p.orientation.x,
                               p.orientation.y, p.orientation.z, p.orientation.w])
-            odom.append((_stamp(msg.header), value))
+            poses[conn.topic].append((_stamp(msg.header), value))
         else:
             for tr in msg.transforms:
                 tree.add(_frame(tr.header.frame_id), _frame(tr.child_frame_id),
                          _stamp(tr.header), _value(tr.transform), conn.topic == "/tf_static")
     scans.sort(key=lambda m: _stamp(m.header))
-    odom.sort(key=lambda row: row[0])
-    return scans, tree, odom
+    for rows in poses.values():
+        rows.sort(key=lambda row: row[0])
+    return scans, tree, poses
+
+
+def _poses_at(samples, times: np.ndarray) -> Optional[np.ndarray]:
+    """Planar poses of an Odometry topic's samples at ``times`` (None if one is outside)."""
+    tree = TfTree()
+    for t, value in samples:
+        tree.add("world", "robot", t, value, static=False)
+    if not samples:
+        return None
+    out = [odometry_pose(tree, "world", "robot", float(t)) for t in times]
+    return None if any(p is None for p in out) else np.array(out)
 
 
 def _assemble(path, scans, tree: TfTree, odom, base_frame, odom_frame, max_scans) -> SlamInput:
