@@ -248,8 +248,10 @@ def odometry_pose(tree: TfTree, odom_frame: str, base_frame: str, t: float):
 
 class LiveDecoder:
     """What slam_gmapping receives from the messages of
-    :mod:`slam_predict.formats.stage_stream`, decoded exactly as :func:`read_bag_input` decodes the same messages read back from a bag
-    (same stamps, tf lookups and range clean-up), so a replay of the bag is bit-identical."""
+    :mod:`slam_predict.formats.stage_stream`, decoded exactly as :func:`read_bag_input` decodes
+    the same messages read back from a bag (same stamps, tf lookups and range clean-up), so a
+    replay of the bag is bit-identical. ``laser``: a
+    :class:`~slam_predict.formats.stage_stream.LaserDescription`."""
 
     def __init__(self, laser, base_frame: str = "base_link", odom_frame: str = "odom"):
         from slam_predict.formats.stage_stream import scan_transforms
