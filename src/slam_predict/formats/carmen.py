@@ -243,8 +243,8 @@ def _num(value: float) -> str:
 
 
 def _ranges_text(values: np.ndarray, decimals: Optional[int]) -> List[str]:
-    if decimals is None:  # shortest text that reads back (as float32) as the same float32
-        return [str(v) for v in np.asarray(values, dtype=np.float32)]
+    if decimals is None:  # 9 significant digits: reads back as the same float32
+        return ["%.9g" % v for v in np.asarray(values, dtype=np.float32).tolist()]
     fmt = f"{{:.{int(decimals)}f}}".format
     return [fmt(v) for v in np.asarray(values, dtype=float).tolist()]
 
@@ -270,8 +270,8 @@ def scan_line(scan: LaserScan, range_decimals: Optional[int] = 3) -> str:
     """One ``FLASER`` or ``ROBOTLASER1`` line for ``scan`` (no newline).
 
     ``range_decimals``: digits after the point for ranges (3 = mm, CARMEN's habit); None writes
-    each float32 reading exactly: the shortest decimal text that parses (as a float32, e.g.
-    C's strtof) back to the same float32.
+    each float32 reading exactly: 9 significant digits (``%.9g``), which read back as the same
+    float32 whether parsed as a float (C's strtof) or as a double rounded to float.
     """
     ranges = _ranges_text(scan.ranges, range_decimals)
     times = _times(scan.timestamp, scan.logger_timestamp, scan.host)
@@ -353,7 +353,7 @@ class CarmenLogWriter:
     gzip-compressed when ``path`` ends in .gz. :meth:`close` renames it onto ``path``,
     :meth:`abort` deletes it. ``header`` lines are written first as ``#`` comments."""
 
-    def __init__(self, path: os.PathLike | str, header: Iterable[str] = (), compresslevel: int = 6):
+    def __init__(self, path: os.PathLike | str, header: Iterable[str] = (), compresslevel: int = 3):
         import contextlib
 
         self._stack = contextlib.ExitStack()
