@@ -132,3 +132,16 @@ def test_logs_do_not_change_the_run_and_are_off_by_default(collected, tmp_path):
     logged = {k: v for k, v in without_timing(record).items() if k != "sensor_logs"}
     assert logged == without_timing(plain)
     assert (tmp_path / "plain" / "slam.tum").read_text() == (folder / "slam.tum").read_text()
+
+
+def test_debian_rosbag_reads_the_bag(collected):
+    rosbag = pytest.importorskip("rosbag", reason="python3-rosbag (Debian) not installed")
+    record, folder = collected
+    with rosbag.Bag(str(folder / SENSOR_BAG)) as bag:
+        info = bag.get_type_and_topic_info()
+        assert info.topics["/base_scan"].msg_type == "sensor_msgs/LaserScan"
+        assert info.topics["/base_scan"].message_count == record["sensor_logs"]["scans"]
+        assert info.msg_types["sensor_msgs/LaserScan"] == "90c7ef2dc6895d81024acba2ac42f369"
+        assert info.msg_types["tf2_msgs/TFMessage"] == "94810edda583a504dfda3829e70d7eec"
+        _, msg, t = next(bag.read_messages(topics=["/base_scan"]))
+        assert msg.header.stamp == t and len(msg.ranges) == 541
