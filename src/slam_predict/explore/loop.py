@@ -14,8 +14,8 @@ stop rules around it); :meth:`ClosedLoop.run` explores until the explorer stops.
 A SLAM back-end receives each scan as slam_gmapping would from stage_ros' messages
 (:mod:`slam_predict.formats.stage_stream`: nanosecond stamps, tf-decoded odometry, float32
 LaserScan fields), decoded as a bag of those messages is read back, so a replay of the run's
-sensor log gives the same SLAM trajectory. ``observers`` are called with every step's messages (the
-collection's sensor-log recorder is one).
+sensor log gives the same SLAM trajectory. ``observers`` are called with every step's messages
+(the collection's sensor-log recorder is one).
 """
 from __future__ import annotations
 
@@ -32,11 +32,11 @@ import numpy as np
 from slam_predict.errors import InputError
 from slam_predict.explore.explorer import ExploreConfig, Explorer
 from slam_predict.explore.mapsource import PerfectMap, PerfectMapConfig
+from slam_predict.formats.stage_stream import StagePublisher, StepMessages
 from slam_predict.geometry import compose, inverse, wrap_angle
 from slam_predict.nav.config import MoveBaseConfig
 from slam_predict.nav.navigator import GoalRecord, Navigator
 from slam_predict.sim import SimConfig, Simulator
-from slam_predict.formats.stage_stream import StagePublisher, StepMessages
 from slam_predict.slam import LaserGeometry
 from slam_predict.world.model import World
 
