@@ -210,7 +210,7 @@ def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
             rec.write_bag(folder, traj)
         if sensors is not None:
             record["sensor_logs"] = _finish_sensor_logs(sensors, folder, loop, settings)
-            record["timing"]["sensor_logs"] = sensors.wall_s
+            record["timing"].update(sensor_logs=sensors.wall_s, sensor_logs_cpu=sensors.cpu_s)
         rec.write_run_json(folder, record)
     LOG.info("%s run %d: %s after %.0f s sim (%.0f s wall), trans %.3f m", spec.world,
              spec.index, reason, loop.t, wall, record["metric"]["trans_mean"])

@@ -41,6 +41,7 @@ class SensorLogRecorder:
         self.scans = 0
         self.steps = 0
         self.wall_s = 0.0
+        self.cpu_s = 0.0
         self.bag = SensorBagWriter(self.folder / SENSOR_BAG, self.laser)
         try:
             self.log = CarmenLogWriter(self.folder / SENSOR_LOG, header)
@@ -54,7 +55,7 @@ class SensorLogRecorder:
             self.log.write(param_line(name, repr(float(value))))
 
     def __call__(self, step: StepMessages) -> None:
-        tick = time.perf_counter()
+        tick, cpu = time.perf_counter(), time.process_time()
         self.bag.write(step)
         odom = self.decoder.odometry(step)
         v, _, w = step.odom_twist
@@ -64,6 +65,7 @@ class SensorLogRecorder:
             self.scans += 1
         self.steps += 1
         self.wall_s += time.perf_counter() - tick
+        self.cpu_s += time.process_time() - cpu
 
     def _carmen_scan(self, step: StepMessages, odom) -> LaserScan:
         geometry = self.decoder.laser
@@ -78,10 +80,11 @@ class SensorLogRecorder:
 
     def close(self) -> Dict:
         """Finish both logs; returns their summary for run.json."""
-        tick = time.perf_counter()
+        tick, cpu = time.perf_counter(), time.process_time()
         self.bag.close()
         self.log.close()
         self.wall_s += time.perf_counter() - tick
+        self.cpu_s += time.process_time() - cpu
         files = {name: (self.folder / name).stat().st_size for name in (SENSOR_BAG, SENSOR_LOG)}
         return {"files": files, "steps": self.steps, "scans": self.scans,
                 "slam_rng": SLAM_RNG_RULE}
