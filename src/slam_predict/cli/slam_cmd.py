@@ -5,6 +5,11 @@ Writes DIR/slam.tum, DIR/slam.log, DIR/map.{yaml,pgm,png} and DIR/stats.json (se
 :mod:`slam_predict.slam.gmapping.runner`). ``--config`` takes a slam_gmapping parameter YAML
 (e.g. config/gmapping.yaml or ../shared/baselines/gmapping_real_intel.yaml); without it the
 slam_gmapping defaults are used.
+
+A sensor log of a collected run (``RUN/sensors.bag`` or ``RUN/sensors.log.gz``, beside a
+``run.json`` with ``sensor_logs``) is replayed with the run's recorded GMapping parameters and
+its in-loop SLAM generator (from the run's seed), so DIR/slam.tum reproduces RUN/slam_scans.tum
+exactly; ``--config`` or ``--seed`` replace them.
 """
 from __future__ import annotations
 
@@ -36,8 +41,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                      "would.")
     run.add_argument("input", metavar="INPUT", help="CARMEN log (.log, .log.gz) or ROS bag")
     run.add_argument("--config", metavar="YAML",
-                     help="slam_gmapping parameters (default: slam_gmapping's defaults)")
-    run.add_argument("--seed", type=_non_negative, default=0, help="random seed (default 0)")
+                     help="slam_gmapping parameters (default: a collected run's recorded "
+                          "ones, else slam_gmapping's defaults)")
+    run.add_argument("--seed", type=_non_negative,
+                     help="random seed (default: a collected run's SLAM generator, else 0)")
     run.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced)")
     run.add_argument("--max-scans", type=_positive, metavar="K",
                      help="only the first K scans of the input")
@@ -50,14 +57,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from slam_predict.slam.gmapping.params import GMappingParams, load_params
-    from slam_predict.slam.gmapping.runner import evaluate, read_input, run as run_slam, write_run
+    from slam_predict.slam.gmapping.runner import (evaluate, read_input, recorded_run,
+                                                   run as run_slam, write_run)
 
-    params = load_params(args.config) if args.config else GMappingParams()
+    recorded = recorded_run(args.input)
+    params = GMappingParams()
+    if args.config:
+        params = load_params(args.config)
+    elif recorded is not None:
+        params = recorded.params
+    rng, seed = None, 0 if args.seed is None else args.seed
+    if args.seed is None and recorded is not None:
+        rng, seed = recorded.rng(), recorded.seed
     data = read_input(args.input, args.max_scans, scan_topic=args.scan_topic,
                       odom_topic=args.odom_topic, base_frame=args.base_frame,
                       odom_frame=args.odom_frame)
-    result = run_slam(data, params, args.seed)
-    out = write_run(args.out, result, data, params, args.seed, args.config)
+    result = run_slam(data, params, seed, rng=rng)
+    if rng is not None:
+        result.stats["rng"] = f"in-loop SLAM generator of the collected run (seed {seed})"
+    config = args.config or (recorded.run_json if recorded is not None else None)
+    out = write_run(args.out, result, data, params, seed, config)
     stats = result.stats
     line = (f"{stats['scans_processed']}/{len(data)} scans processed, "
             f"{stats['resamples']} resamples, CPU {stats['cpu_s']:.1f} s -> {out}")

@@ -143,6 +143,29 @@ def measure(traj: rec.Trajectories, settings: CollectSettings, seed: int) -> Dic
     return {**result.summary(), "info": info, "poses": int(len(gt))}
 
 
+def _sensor_recorder(folder: Path, loop, spec):
+    from slam_predict.collect.sensorlog import SensorLogRecorder
+
+    recorder = SensorLogRecorder(folder, loop.publisher, header=[
+        f"slam_predict {code_version()} sensor log: world {spec.world} "
+        f"({portable_path(spec.world_path)}), run {spec.index}, seed {spec.seed}"])
+    loop.observers.append(recorder)
+    return recorder
+
+
+def _finish_sensor_logs(sensors, folder: Path, loop, settings: CollectSettings) -> Dict:
+    """Close the sensor logs, write the in-loop SLAM trajectory; run.json's ``sensor_logs``."""
+    from slam_predict.collect.sensorlog import SLAM_SCANS
+    from slam_predict.formats.tum import write_tum
+    from slam_predict.slam.gmapping.params import params_to_dict
+
+    summary = sensors.close()
+    _, times, poses = loop.source.trajectory()
+    write_tum(folder / SLAM_SCANS, times, poses)
+    return {**summary, "slam_scans": int(len(times)),
+            "gmapping": params_to_dict(settings.gmapping)}
+
+
 def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
     """Run one exploration (a :class:`~slam_predict.collect.batch.RunSpec`); returns run.json."""
     from slam_predict.explore.coverage import coverage, reachable_free
@@ -154,8 +177,14 @@ def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
     loop = ClosedLoop(world, spec.seed, settings.nav, settings.explore, settings.sim,
                       map_source="gmapping", slam_params=settings.gmapping)
     with atomic_dir(spec.out_dir) as folder:
-        reason, rule, recorder, explorer_end, wall = explore_until_stop(
-            loop, settings, folder, world.free_area_m2)
+        sensors = _sensor_recorder(folder, loop, spec) if settings.sensor_logs else None
+        try:
+            reason, rule, recorder, explorer_end, wall = explore_until_stop(
+                loop, settings, folder, world.free_area_m2)
+        except BaseException:
+            if sensors is not None:
+                sensors.abort()
+            raise
         traj = recorder.trajectories()
         grid = loop.source.map()
         reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
@@ -179,6 +208,9 @@ def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
         rec.write_map(folder, grid.data, grid.resolution, grid.origin)
         if settings.bag:
             rec.write_bag(folder, traj)
+        if sensors is not None:
+            record["sensor_logs"] = _finish_sensor_logs(sensors, folder, loop, settings)
+            record["timing"].update(sensor_logs=sensors.wall_s, sensor_logs_cpu=sensors.cpu_s)
         rec.write_run_json(folder, record)
     LOG.info("%s run %d: %s after %.0f s sim (%.0f s wall), trans %.3f m", spec.world,
              spec.index, reason, loop.t, wall, record["metric"]["trans_mean"])

@@ -41,6 +41,7 @@ class CollectFiles:
     stop: StopConfig = field(default_factory=StopConfig)
     metric: MetricSettings = field(default_factory=MetricSettings)
     bag: bool = False
+    sensor_logs: bool = False
     sim_overrides: Dict[str, Any] = field(default_factory=dict)
 
 
@@ -56,6 +57,7 @@ class CollectSettings:
     metric: MetricSettings
     bag: bool
     source: str
+    sensor_logs: bool = False
 
     def hashes(self) -> Dict[str, str]:
         """Short hashes of each component config, for run metadata."""
@@ -82,7 +84,8 @@ def load_settings(path: Optional[os.PathLike | str] = None) -> CollectSettings:
         sim=sim, gmapping=load_params(Path(files.gmapping)),
         nav=load_nav_config(Path(files.navigation)),
         explore=load_config(ExploreConfig, Path(files.explore)),
-        stop=files.stop, metric=files.metric, bag=files.bag, source=str(path))
+        stop=files.stop, metric=files.metric, bag=files.bag, source=str(path),
+        sensor_logs=files.sensor_logs)
 
 
 def read_settings_tree(path: Path, seen: Optional[Set[Path]] = None) -> Dict[str, Any]:

@@ -10,6 +10,12 @@ SeedSequence spawned into simulator, explorer and SLAM generators).
 
 :class:`ClosedLoop` is stepped by :meth:`ClosedLoop.step` (the collection episodes add their own
 stop rules around it); :meth:`ClosedLoop.run` explores until the explorer stops.
+
+A SLAM back-end receives each scan as slam_gmapping would from stage_ros' messages
+(:mod:`slam_predict.formats.stage_stream`: nanosecond stamps, tf-decoded odometry, float32
+LaserScan fields), decoded as a bag of those messages is read back, so a replay of the run's
+sensor log gives the same SLAM trajectory. ``observers`` are called with every step's messages
+(the collection's sensor-log recorder is one).
 """
 from __future__ import annotations
 
@@ -19,13 +25,14 @@ import math
 import time
 from collections import defaultdict
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Tuple
+from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
 from slam_predict.errors import InputError
 from slam_predict.explore.explorer import ExploreConfig, Explorer
 from slam_predict.explore.mapsource import PerfectMap, PerfectMapConfig
+from slam_predict.formats.stage_stream import StagePublisher, StepMessages
 from slam_predict.geometry import compose, inverse, wrap_angle
 from slam_predict.nav.config import MoveBaseConfig
 from slam_predict.nav.navigator import GoalRecord, Navigator
@@ -89,7 +96,7 @@ class ClosedLoop:
         if map_source not in MAP_SOURCES:
             raise InputError(f"unknown map source '{map_source}' (expected "
                              f"{' or '.join(MAP_SOURCES)})")
-        sim_ss, explore_ss, slam_ss = np.random.SeedSequence(seed).spawn(3)
+        sim_ss, explore_ss, slam_ss = loop_seeds(seed)
         self.world = world
         self.seed = seed
         self.map_source_name = map_source
@@ -97,12 +104,18 @@ class ClosedLoop:
         laser = LaserGeometry(self.sim.laser_angles, tuple(self.sim.laser_pose),
                               float(self.sim.laser.range_max))
         self._scan_truth = np.array(world.start_pose, dtype=float)
+        self.publisher = StagePublisher.of(self.sim)
+        self.observers: List[Callable[[StepMessages], None]] = []
+        self.decoder = None
         if map_source == "perfect":
             perfect = perfect or PerfectMapConfig()
             self.source = PerfectMap(world, laser, lambda: self._scan_truth, perfect)
             self.map_update_interval = perfect.map_update_interval
             self.world_T_map = np.zeros(3)
         else:
+            from slam_predict.slam.gmapping.bag_input import LiveDecoder
+            self.decoder = LiveDecoder(self.publisher.laser)
+            laser = self.decoder.laser
             self.source, self.map_update_interval = _make_slam(map_source, slam_params, laser,
                                                                np.random.default_rng(slam_ss))
             self.world_T_map = np.array(world.start_pose, dtype=float)
@@ -137,10 +150,13 @@ class ClosedLoop:
         """Advance one simulator step; returns False once the explorer has stopped."""
         tick = time.perf_counter()
         state = self.sim.step(*self.cmd)
+        messages = self.publisher.messages(state)
         self.timing["sim"] += time.perf_counter() - tick
         self._record(state)
         if state.scan is not None:
-            self._handle_scan(state)
+            self._handle_scan(state, messages)
+        for observer in self.observers:
+            observer(messages)
         tick = time.perf_counter()
         self.explorer.step(state.t, self.grid, self.robot_pose_map)
         self.timing["explorer"] += time.perf_counter() - tick
@@ -156,10 +172,13 @@ class ClosedLoop:
             self.log.commands.append((float(state.t), self.cmd[0], self.cmd[1]))
         return True
 
-    def _handle_scan(self, state) -> None:
+    def _handle_scan(self, state, messages: StepMessages) -> None:
         tick = time.perf_counter()
         self._scan_truth = state.scan_true_pose
-        pose = self.source.update(state.scan_odom_pose, state.scan, state.t)
+        if self.decoder is None:
+            pose = self.source.update(state.scan_odom_pose, state.scan, state.t)
+        else:
+            pose = self.source.update(*self.decoder.scan(messages))
         if pose is not None:
             self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
             if self.grid is None or state.t - self._last_map_t >= self.map_update_interval - 1e-9:
@@ -195,6 +214,11 @@ class ClosedLoop:
         if self.explorer.goal is not None:
             self.client.cancel(self.t)
         return "max_sim_time"
+
+
+def loop_seeds(seed: int) -> List[np.random.SeedSequence]:
+    """The seed sequences of the simulator, the explorer and the SLAM back-end of a run."""
+    return np.random.SeedSequence(seed).spawn(3)
 
 
 def _with_speed(cfg: ExploreConfig, max_vel_x: float) -> ExploreConfig:

@@ -243,8 +243,8 @@ def _num(value: float) -> str:
 
 
 def _ranges_text(values: np.ndarray, decimals: Optional[int]) -> List[str]:
-    if decimals is None:
-        return [repr(float(v)) for v in np.asarray(values, dtype=np.float32).tolist()]
+    if decimals is None:  # 9 significant digits: reads back as the same float32
+        return ["%.9g" % v for v in np.asarray(values, dtype=np.float32).tolist()]
     fmt = f"{{:.{int(decimals)}f}}".format
     return [fmt(v) for v in np.asarray(values, dtype=float).tolist()]
 
@@ -252,6 +252,11 @@ def _ranges_text(values: np.ndarray, decimals: Optional[int]) -> List[str]:
 def _times(timestamp: float, logger_timestamp: Optional[float], host: str) -> List[str]:
     logger_t = timestamp if logger_timestamp is None else logger_timestamp
     return [_num(timestamp), host or "slam_predict", _num(logger_t)]
+
+
+def param_line(name: str, value, timestamp: float = 0.0, host: str = "slam_predict") -> str:
+    """One ``PARAM name value host timestamp`` line (no newline); values hold no spaces."""
+    return f"PARAM {name} {value} {host} {_num(timestamp) if timestamp else 0}"
 
 
 def odom_line(t: float, pose: Sequence[float], tv: float = 0.0, rv: float = 0.0,
@@ -265,7 +270,8 @@ def scan_line(scan: LaserScan, range_decimals: Optional[int] = 3) -> str:
     """One ``FLASER`` or ``ROBOTLASER1`` line for ``scan`` (no newline).
 
     ``range_decimals``: digits after the point for ranges (3 = mm, CARMEN's habit); None writes
-    each float32 reading exactly.
+    each float32 reading exactly: 9 significant digits (``%.9g``), which read back as the same
+    float32 whether parsed as a float (C's strtof) or as a double rounded to float.
     """
     ranges = _ranges_text(scan.ranges, range_decimals)
     times = _times(scan.timestamp, scan.logger_timestamp, scan.host)
@@ -287,7 +293,7 @@ def scan_line(scan: LaserScan, range_decimals: Optional[int] = 3) -> str:
 def _log_lines(carmen: CarmenLog, range_decimals: Optional[int]) -> Iterator[str]:
     """PARAM lines, then ODOM and scan lines merged by timestamp (ODOM first on ties)."""
     for name, value in carmen.params.items():
-        yield f"PARAM {name} {value} slam_predict 0"
+        yield param_line(name, value)
     odo = carmen.odometry
     records = [(float(t), 0, i) for i, t in enumerate(odo.t)]
     records += [(float(s.timestamp), 1, i) for i, s in enumerate(carmen.scans)]
@@ -340,3 +346,37 @@ def _write_lines(path: os.PathLike | str, lines: List[str]) -> None:
                 fh.write(text)
         else:
             tmp.write_text(text, encoding="utf-8")
+
+
+class CarmenLogWriter:
+    """Writes a CARMEN log line by line (streamed) under a temporary name beside ``path``;
+    gzip-compressed when ``path`` ends in .gz. :meth:`close` renames it onto ``path``,
+    :meth:`abort` deletes it. ``header`` lines are written first as ``#`` comments."""
+
+    def __init__(self, path: os.PathLike | str, header: Iterable[str] = (), compresslevel: int = 3):
+        import contextlib
+
+        self._stack = contextlib.ExitStack()
+        tmp = self._stack.enter_context(atomic_path(path))
+        if os.fspath(path).endswith(".gz"):
+            self._fh = gzip.open(tmp, "wt", encoding="utf-8", compresslevel=compresslevel)
+        else:
+            self._fh = open(tmp, "wt", encoding="utf-8")
+        self.lines = 0
+        for line in header:
+            self.write(f"# {line}")
+
+    def write(self, line: str) -> None:
+        """One line (without its newline)."""
+        self._fh.write(line + "\n")
+        self.lines += 1
+
+    def close(self) -> None:
+        """Finish the file and rename it onto its final name."""
+        self._fh.close()
+        self._stack.close()
+
+    def abort(self) -> None:
+        """Drop the partial file."""
+        self._fh.close()
+        self._stack.__exit__(InterruptedError, InterruptedError("aborted"), None)

@@ -30,9 +30,15 @@ def laser_geometry(rotation: np.ndarray, translation, angle_min: float, angle_in
     up = float(rotation[2, 2])
     if abs(abs(up) - 1.0) > 0.001:
         return None, False
-    bearings = angle_min + angle_increment * np.arange(beams)
-    dirs = rotation @ np.vstack([np.cos(bearings), np.sin(bearings), np.zeros(beams)])
-    angles = np.unwrap(np.arctan2(dirs[1], dirs[0]))
+    if up > 0:
+        # upright: base bearing = mounting yaw + laser bearing (same formula as CARMEN's
+        # start_angle + i·angular_res, so a log and a bag of one scan give the same angles)
+        yaw = float(np.arctan2(rotation[1, 0], rotation[0, 0]))
+        angles = (yaw + angle_min) + angle_increment * np.arange(beams)
+    else:
+        bearings = angle_min + angle_increment * np.arange(beams)
+        dirs = rotation @ np.vstack([np.cos(bearings), np.sin(bearings), np.zeros(beams)])
+        angles = np.unwrap(np.arctan2(dirs[1], dirs[0]))
     reverse = beams > 1 and angles[-1] < angles[0]
     if reverse:
         angles = angles[::-1]

@@ -91,10 +91,11 @@ def read_input(path: os.PathLike | str, max_scans: Optional[int] = None,
         raise InputError("scans have different numbers of beams", path)
     ranges = np.array([s.ranges for s in scans], dtype=np.float64)
     offset = log.param_float("robot_frontlaser_offset", 0.0)
+    side_offset = log.param_float("robot_frontlaser_side_offset", 0.0)
     sensor_max = scans[0].max_range
     if not math.isfinite(sensor_max):
         sensor_max = float(np.max(ranges))
-    laser = LaserGeometry(scans[0].angles, (offset, 0.0, 0.0), sensor_max)
+    laser = LaserGeometry(scans[0].angles, (offset, side_offset, 0.0), sensor_max)
     return SlamInput(path=path, times=np.array([s.timestamp for s in scans]),
                      odometry=np.array([s.odom_pose for s in scans]), ranges=ranges, laser=laser,
                      reference=np.array([s.pose for s in scans]),
@@ -102,11 +103,47 @@ def read_input(path: os.PathLike | str, max_scans: Optional[int] = None,
                            "laser_offset_m": offset, "scans_in_log": len(log.scans)})
 
 
+@dataclass
+class RecordedRun:
+    """The GMapping set-up of a collected run whose sensor log is replayed: its parameters and
+    its seed (the SLAM generator is the closed loop's, see :func:`recorded_run`)."""
+
+    params: GMappingParams
+    seed: int
+    run_json: str
+
+    def rng(self) -> np.random.Generator:
+        """The generator the in-loop GMapping of the run had."""
+        from slam_predict.explore.loop import loop_seeds
+        return np.random.default_rng(loop_seeds(self.seed)[2])
+
+
+def recorded_run(path: os.PathLike | str) -> Optional[RecordedRun]:
+    """The :class:`RecordedRun` of a sensor log inside a collected run folder (``run.json``
+    beside it with a ``sensor_logs`` entry), else None."""
+    from slam_predict.slam.gmapping.params import params_from_dict
+
+    run_json = Path(path).resolve().parent / "run.json"
+    if not run_json.is_file():
+        return None
+    try:
+        record = json.loads(run_json.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise InputError(f"cannot read run record: {exc}", run_json)
+    sensors = record.get("sensor_logs")
+    if not isinstance(sensors, dict) or "gmapping" not in sensors:
+        return None
+    return RecordedRun(params_from_dict(sensors["gmapping"], f"{run_json} sensor_logs.gmapping"),
+                       int(record["seed"]), str(run_json))
+
+
 def run(data: SlamInput, params: GMappingParams, seed: int,
-        progress: Optional[Callable[[int, int], None]] = None) -> RunResult:
-    """Run GMapping over ``data`` with a generator seeded by ``seed``; the map is built at the end."""
+        progress: Optional[Callable[[int, int], None]] = None,
+        rng: Optional[np.random.Generator] = None) -> RunResult:
+    """Run GMapping over ``data`` with a generator seeded by ``seed`` (or ``rng`` when given,
+    e.g. a collected run's SLAM generator); the map is built at the end."""
     cpu0, wall0 = time.process_time(), time.perf_counter()
-    slam = GMapping(params, data.laser, np.random.default_rng(seed))
+    slam = GMapping(params, data.laser, rng if rng is not None else np.random.default_rng(seed))
     indices = []
     for k in range(len(data)):
         if slam.update(data.odometry[k], data.ranges[k], data.times[k]) is not None:
