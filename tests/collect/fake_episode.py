@@ -1,5 +1,6 @@
 """A stand-in episode for batch tests: deterministic pseudo-results from the seed, written
-atomically like the real episode. ``FAKE_EPISODE_SLEEP`` (s) slows it down for kill tests."""
+atomically like the real episode. ``FAKE_EPISODE_SLEEP`` (s) slows it down for kill tests; like
+the real episode loop it checks the stop flag every 10 ms step."""
 import json
 import os
 import time
@@ -7,6 +8,7 @@ import time
 import numpy as np
 
 from slam_predict.atomic import atomic_dir
+from slam_predict.collect import interrupt
 
 
 def run_episode(spec):
@@ -22,6 +24,14 @@ def run_episode(spec):
     }
     with atomic_dir(spec.out_dir) as tmp:
         (tmp / "trajectory.txt").write_text("x" * 1000)
-        time.sleep(float(os.environ.get("FAKE_EPISODE_SLEEP", "0")))
+        _sleep_checking(float(os.environ.get("FAKE_EPISODE_SLEEP", "0")))
         (tmp / "run.json").write_text(json.dumps(record))
     return record
+
+
+def _sleep_checking(seconds):
+    """Sleep ``seconds`` in 10 ms steps, checking the stop flag at each (the control step)."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        interrupt.check()
+        time.sleep(0.01)

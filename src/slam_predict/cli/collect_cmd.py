@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import argparse
+import signal
+import sys
 from pathlib import Path
 from typing import Dict, List
 
@@ -26,6 +28,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="collection settings (robot, gmapping, navigation, exploration, "
                              "stopping); default config/collect.yaml")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument("--force", action="store_true",
+                        help="resume a campaign even with another --seed or other settings than "
+                             "its campaign.json records (the change is kept in its history)")
 
 
 def find_worlds(items: List[str]) -> Dict[str, str]:
@@ -59,21 +64,54 @@ def parse_runs(text: str):
     return int(text)
 
 
+def check_counts(args: argparse.Namespace) -> None:
+    """--jobs and --max-runs must be ≥ 1."""
+    for flag, value in (("--jobs", args.jobs), ("--max-runs", args.max_runs)):
+        if value < 1:
+            raise InputError(f"{flag} must be >= 1, got {value}")
+
+
+def load_worlds(worlds: Dict[str, str]) -> None:
+    """Parse every world of the batch once, before any run starts (one error line each)."""
+    from slam_predict.world.load import load_plan
+
+    for path in worlds.values():
+        try:
+            load_plan(path)
+        except InputError:
+            raise
+        except (OSError, ValueError) as exc:
+            raise InputError(f"cannot load the world: {exc}", path) from None
+
+
 def run(args: argparse.Namespace) -> int:
-    from slam_predict.collect.batch import Batch, BatchConfig
+    from slam_predict.collect.batch import Batch, BatchConfig, plural
+    from slam_predict.collect.campaign import check_out_folder, identity, open_campaign
+    from slam_predict.collect.episode import code_version
     from slam_predict.collect.settings import load_settings
     from slam_predict.collect.summary import write_summary
 
+    runs = parse_runs(args.runs)
+    check_counts(args)
     worlds = find_worlds(args.worlds)
-    load_settings(args.settings)   # bad settings: one error before any run starts
+    settings = load_settings(args.settings)
+    out = Path(args.out)
+    check_out_folder(out)
+    load_worlds(worlds)
+    open_campaign(out, identity(settings, args.seed, code_version()), force=args.force)
     options = {"settings": args.settings} if args.settings else {}
-    config = BatchConfig(runs=parse_runs(args.runs), max_runs=args.max_runs, jobs=args.jobs,
+    config = BatchConfig(runs=runs, max_runs=args.max_runs, jobs=args.jobs,
                          scheduler=args.scheduler, base_seed=args.seed,
                          progress=not args.no_progress, options=options)
-    batch = Batch(worlds, args.out, config)
+    batch = Batch(worlds, out, config)
     done = batch.run()
-    summary = write_summary(Path(args.out))
-    print(f"{done} runs done; summary: {summary}")
+    summary = write_summary(out)
+    print(f"{plural(done, 'run')} done; summary: {summary}")
     for failure in batch.failures:
         print(f"failed: {failure}")
+    if batch.stopped_by is not None:
+        name = signal.Signals(batch.stopped_by).name
+        print(f"slam-predict collect: stopped by {name}; the runs in progress were discarded",
+              file=sys.stderr)
+        return 128 + batch.stopped_by
     return 1 if batch.failures else 0
