@@ -152,7 +152,7 @@ def record_mismatch(record: Dict[str, Any], world: str, index: int,
         changed = sorted(k for k in set(hashes) | set(current["config_hashes"])
                          if hashes.get(k) != current["config_hashes"].get(k))
         return (f"collected with other settings than {current['settings_file']} "
-                f"({', '.join(changed)} differ)")
+                f"({', '.join(changed)} config{'' if len(changed) == 1 else 's'} differ)")
     return None
 
 
