@@ -89,3 +89,15 @@ def test_signal_stops_local_worker_processes(tmp_path, monkeypatch):
 
 def test_plural():
     assert plural(1, "run") == "1 run" and plural(0, "run") == "0 runs"
+
+
+def test_a_batch_outside_the_main_thread_runs_without_handlers(tmp_path):
+    import threading
+
+    results = []
+    worker = threading.Thread(target=lambda: results.append(
+        Batch({"alpha": "a.world"}, tmp_path, BatchConfig(runs=2, episode=FAKE,
+                                                          progress=False)).run()))
+    worker.start()
+    worker.join(30)
+    assert results == [2]

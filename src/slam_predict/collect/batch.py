@@ -5,6 +5,11 @@ folder atomically and returns its run.json content. Finished runs are never redo
 was interrupted left only a temporary folder, which is deleted and the run redone from scratch.
 With ``runs='auto'`` the number of runs per world follows the thesis: a pilot of 10 runs, then
 |R| = ⌈z²·s²/d²⌉ re-estimated after each round until it is ≤ the runs done (``max_runs`` caps it).
+
+Runs are started lazily, at most ``jobs`` at a time, and counted as each finishes. SIGINT/SIGTERM
+set a stop flag (:mod:`slam_predict.collect.interrupt`) that the episode loop checks every control
+step: no new run starts, the runs in progress end at their next step and are discarded, local
+workers get the signal forwarded and are waited for (at most ``STOP_WAIT_S``, then killed).
 """
 from __future__ import annotations
 

@@ -16,6 +16,7 @@ import logging
 import os
 import signal
 import sys
+import threading
 from typing import Callable, Iterator, Optional
 
 LOG = logging.getLogger(__name__)
@@ -67,7 +68,7 @@ def check() -> None:
 @contextlib.contextmanager
 def signal_handlers(forward: Optional[Callable[[int], None]] = None) -> Iterator[None]:
     """SIGINT/SIGTERM set the stop flag (and call ``forward(signum)``) inside the block; the
-    previous handlers are restored after it. Only the main thread can install handlers."""
+    previous handlers are restored after it (outside the main thread: nothing installed)."""
     def handler(signum, _frame):
         if _State.signum is None:
             LOG.warning("%s: stopping; the runs in progress are discarded",
@@ -76,6 +77,9 @@ def signal_handlers(forward: Optional[Callable[[int], None]] = None) -> Iterator
         if forward is not None:
             forward(signum)
 
+    if threading.current_thread() is not threading.main_thread():
+        yield   # only the main thread receives signals; request_stop() still works
+        return
     previous = {sig: signal.signal(sig, handler) for sig in STOP_SIGNALS}
     try:
         yield

@@ -133,6 +133,13 @@ class StageSim:
             for topic in self._acks:
                 rp.Subscriber(topic, Time, self.on_ack, callback_args=topic, queue_size=10)
         rp.Service("reset_positions", Empty, self.on_reset)
+        rp.on_shutdown(self.wake)
+
+    def wake(self) -> None:
+        """Shutdown: end the lockstep waits now (the acks of a shut-down node never come)."""
+        self._command_event.set()
+        with self._ack_cond:
+            self._ack_cond.notify_all()
 
     def on_cmd_vel(self, msg) -> None:
         """cmd_vel callback: remember (linear.x, angular.z) and the sim time it arrived."""
