@@ -249,6 +249,6 @@ def test_shutdown_wakes_a_lockstep_wait_at_once():
     assert waiter.is_alive()          # waiting for the ack
     started = time.monotonic()
     node.rospy.shutdown = True
-    node.wake()
+    node.wake("external shutdown request")   # rospy calls on_shutdown hooks with a reason
     waiter.join(5.0)
     assert not waiter.is_alive() and time.monotonic() - started < 1.0

@@ -135,8 +135,8 @@ class StageSim:
         rp.Service("reset_positions", Empty, self.on_reset)
         rp.on_shutdown(self.wake)
 
-    def wake(self) -> None:
-        """Shutdown: end the lockstep waits now (the acks of a shut-down node never come)."""
+    def wake(self, _reason: str = "") -> None:
+        """Shutdown hook: end the lockstep waits now (a shut-down node's acks never come)."""
         self._command_event.set()
         with self._ack_cond:
             self._ack_cond.notify_all()
