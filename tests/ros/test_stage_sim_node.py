@@ -248,7 +248,7 @@ def test_shutdown_wakes_a_lockstep_wait_at_once():
     time.sleep(0.2)
     assert waiter.is_alive()          # waiting for the ack
     started = time.monotonic()
-    node.rospy.shutdown = True
-    node.wake("external shutdown request")   # rospy calls on_shutdown hooks with a reason
+    node.wake()   # rospy calls on_shutdown hooks without arguments, before is_shutdown() is true
     waiter.join(5.0)
     assert not waiter.is_alive() and time.monotonic() - started < 1.0
+    assert node.stopped()
