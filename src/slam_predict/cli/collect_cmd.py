@@ -1,4 +1,11 @@
-"""``slam-predict collect``: resumable batches of simulated explorations with GMapping."""
+"""``slam-predict collect``: resumable batches of simulated explorations with GMapping.
+
+Every input is checked before any run starts (worlds parsed, settings loaded strictly, --out
+usable, counts ≥ 1): a bad one is one error line, exit 2, nothing written. The campaign folder's
+campaign.json (:mod:`slam_predict.collect.campaign`) must agree with --seed and --settings.
+SIGINT/SIGTERM stop the batch within one control step: finished runs are kept, the runs in
+progress discarded, summary.csv written; exit 130/143.
+"""
 from __future__ import annotations
 
 import argparse
@@ -16,7 +23,8 @@ HELP = "run (or resume) simulated explorations of worlds and write run records +
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("worlds", nargs="+", metavar="WORLD",
                         help="Stage .world files, or folders of them")
-    parser.add_argument("--out", required=True, metavar="DATA", help="campaign folder")
+    parser.add_argument("--out", required=True, metavar="DATA",
+                        help="campaign folder (new, empty, or a campaign to resume)")
     parser.add_argument("--runs", default="5", metavar="N|auto",
                         help="runs per world, or 'auto' (pilot of 10, then |R| = z²s²/d²)")
     parser.add_argument("--max-runs", type=int, default=50, help="cap for --runs auto")
