@@ -84,20 +84,30 @@ def test_run_spec_options_reach_the_launch(tmp_path):
     assert "sim:=stage" in args and "odom_model:=fixed" in args and "speedup:=0.0" in args
 
 
-class _FakeLaunch:
-    """A ROSLaunchParent stand-in whose processes all exit after ``spins`` spins."""
+class _FakePM:
+    """Process monitor stand-in: all processes have exited from the ``checks``-th look on;
+    ``on_check(n)`` runs at each look."""
 
-    def __init__(self, spins=None, on_spin=None):
-        self.spins, self.on_spin, self.count = spins, on_spin, 0
+    def __init__(self, checks=None, on_check=None):
+        self.checks, self.on_check, self.count = checks, on_check, 0
+
+    @property
+    def is_shutdown(self):
+        self.count += 1
+        if self.on_check:
+            self.on_check(self.count)
+        return self.checks is not None and self.count >= self.checks
+
+
+class _FakeLaunch:
+    """ROSLaunchParent stand-in."""
+
+    def __init__(self, **pm):
         self.runner = type("Runner", (), {})()
-        self.runner.pm = type("PM", (), {"is_shutdown": False})()
+        self.runner.pm = _FakePM(**pm)
 
     def spin_once(self):
-        self.count += 1
-        if self.on_spin:
-            self.on_spin(self.count)
-        if self.spins is not None and self.count >= self.spins:
-            self.runner.pm.is_shutdown = True
+        raise AssertionError("spin_once re-takes the signal handlers: not to be called")
 
 
 def _spec(tmp_path):
@@ -106,7 +116,7 @@ def _spec(tmp_path):
 
 def test_a_run_ends_when_every_process_of_its_launch_has_exited(tmp_path):
     import time
-    launch = _FakeLaunch(spins=3)
+    launch = _FakeLaunch(checks=3)
     assert br._wait_for_run_end(launch, tmp_path / "run.json", time.monotonic(), 60.0,
                                 _spec(tmp_path)) == "ended"
 
@@ -114,7 +124,7 @@ def test_a_run_ends_when_every_process_of_its_launch_has_exited(tmp_path):
 def test_a_stop_request_ends_the_run_wait(tmp_path):
     import time
     from slam_predict.collect import interrupt
-    launch = _FakeLaunch(on_spin=lambda n: n == 2 and interrupt.request_stop())
+    launch = _FakeLaunch(on_check=lambda n: n == 2 and interrupt.request_stop())
     try:
         assert br._wait_for_run_end(launch, tmp_path / "run.json", time.monotonic(), 60.0,
                                     _spec(tmp_path)) == "stop"

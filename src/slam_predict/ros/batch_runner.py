@@ -138,10 +138,14 @@ def launch_episode(spec) -> dict:
     import json
 
     import roslaunch
+    import roslib
 
     from slam_predict.collect import interrupt
 
     check_choices(spec.options)
+    # keep this process's SIGINT/SIGTERM handlers (the batch's stop flag): a non-interactive
+    # roslaunch would take them over and kill the run's nodes itself (SIGINT, then SIGKILL)
+    roslib.set_interactive(True)
     path = spec.options.get("launch_file") or roslaunch.rlutil.resolve_launch_arguments(
         [PACKAGE, LAUNCH])[0]
     uuid = roslaunch.rlutil.get_or_generate_uuid(None, False)
@@ -190,8 +194,7 @@ def _wait_for_run_end(parent, run_json: Path, started: float, timeout: float, sp
             LOG.warning("%s run %d: nodes still running %.0f s after the record: stopping them",
                         spec.world, spec.index, END_GRACE_S)
             return "timeout"
-        parent.spin_once()
-        time.sleep(0.1)
+        time.sleep(0.1)   # no parent.spin_once(): it would re-take the signal handlers
     return "ended"
 
 
