@@ -48,6 +48,7 @@ PASS_THROUGH = ("max_sim_time", "max_wall_time", "snapshot_interval",
 RUN_TIMEOUT_MARGIN_S = 300.0
 NODE_EXIT_TIMEOUT_S = 40.0   # wall s a node gets to exit when the batch ends a run itself
 END_GRACE_S = 4 * NODE_EXIT_TIMEOUT_S + 30.0  # wall s after the record for the ordered shutdown
+PROCESS_EXIT_WAIT_S = 10.0  # wall s for processes that left the graph to exit before a kill
 
 
 def node_seeds(seed: int) -> Dict[str, int]:
@@ -156,13 +157,15 @@ def launch_episode(spec) -> dict:
     started = time.monotonic()
     run_json = Path(spec.out_dir) / "run.json"
     parent.start()
+    ended = "error"
     try:
         ended = _wait_for_run_end(parent, run_json, started, timeout, spec)
     finally:
         if not parent.runner.pm.is_shutdown:
             from slam_predict.ros.node_shutdown import end_run_graph
             end_run_graph(["/orchestrator", *run_nodes(spec.options)], NODE_EXIT_TIMEOUT_S,
-                          caller="/batch_explore")
+                          caller="/batch_explore", reason=f"batch_explore: run {ended}")
+            _wait_until(lambda: parent.runner.pm.is_shutdown, PROCESS_EXIT_WAIT_S)
         parent.shutdown()
     wall = time.monotonic() - started
     if ended == "stop":
@@ -196,6 +199,14 @@ def _wait_for_run_end(parent, run_json: Path, started: float, timeout: float, sp
             return "timeout"
         time.sleep(0.1)   # no parent.spin_once(): it would re-take the signal handlers
     return "ended"
+
+
+def _wait_until(condition, timeout_s: float, poll_s: float = 0.1) -> bool:
+    """Poll ``condition`` for up to ``timeout_s`` wall seconds; returns its last value."""
+    deadline = time.monotonic() + timeout_s
+    while not condition() and time.monotonic() < deadline:
+        time.sleep(poll_s)
+    return bool(condition())
 
 
 def _interrupted() -> bool:

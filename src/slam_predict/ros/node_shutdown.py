@@ -101,7 +101,8 @@ def node_api_request(caller: str = CALLER, reason: str = "run finished"):
     return request
 
 
-def end_run_graph(names: Sequence[str], timeout_s: float, caller: str = CALLER) -> List[str]:
+def end_run_graph(names: Sequence[str], timeout_s: float, caller: str = CALLER,
+                  reason: str = "run finished") -> List[str]:
     """:func:`shutdown_nodes` through the master and the node API."""
-    return shutdown_nodes(names, master_lookup(caller), node_api_request(caller),
+    return shutdown_nodes(names, master_lookup(caller), node_api_request(caller, reason),
                           lambda uri: node_alive(uri, caller), timeout_s)
