@@ -43,6 +43,11 @@ def bad_world(tmp_path: Path, kind: str) -> Path:
     return path
 
 
+def with_settings(body: str):
+    """Arguments (given tmp_path) collecting the tiny world with a settings file of ``body``."""
+    return lambda t: [str(TINY), "--settings", str(settings_with(t, body))]
+
+
 # (case, extra arguments given tmp_path, words the error line must hold)
 BAD_INPUTS = [
     ("empty world", lambda t: [str(bad_world(t, "empty"))], ["empty.world"]),
@@ -52,18 +57,11 @@ BAD_INPUTS = [
     ("world bitmap missing", lambda t: [str(bad_world(t, "missing_bitmap"))],
      ["missing_bitmap.world"]),
     ("one bad world of two", lambda t: [str(TINY), str(bad_world(t, "empty"))], ["empty.world"]),
-    ("negative max_snapshots", lambda t: [str(TINY), "--settings",
-                                          str(settings_with(t, "stop:\n  max_snapshots: -5\n"))],
+    ("negative max_snapshots", with_settings("stop:\n  max_snapshots: -5\n"),
      ["s.yaml", "max_snapshots"]),
-    ("confidence out of range", lambda t: [str(TINY), "--settings",
-                                           str(settings_with(t, "metric:\n  confidence: 1.5\n"))],
-     ["confidence"]),
-    ("unknown nested key", lambda t: [str(TINY), "--settings",
-                                      str(settings_with(t, "stop:\n  max_snapshot: 3\n"))],
-     ["s.yaml", "max_snapshot"]),
-    ("unknown top-level key", lambda t: [str(TINY), "--settings",
-                                         str(settings_with(t, "stpo:\n  max_snapshots: 3\n"))],
-     ["stpo"]),
+    ("confidence out of range", with_settings("metric:\n  confidence: 1.5\n"), ["confidence"]),
+    ("unknown nested key", with_settings("stop:\n  max_snapshot: 3\n"), ["s.yaml", "max_snapshot"]),
+    ("unknown top-level key", with_settings("stpo:\n  max_snapshots: 3\n"), ["stpo"]),
     ("--jobs 0", lambda t: [str(TINY), "--jobs", "0"], ["--jobs"]),
     ("--runs 0", lambda t: [str(TINY), "--runs", "0"], ["--runs"]),
     ("--max-runs 0", lambda t: [str(TINY), "--runs", "auto", "--max-runs", "0"], ["--max-runs"]),
