@@ -166,7 +166,8 @@ class _Executor:
 
     def _abandon(self, running: Dict) -> None:
         """Give up on runs that did not stop within ``STOP_WAIT_S``: kill local workers."""
-        LOG.warning("%d runs did not stop within %.0f s: killing them", len(running), STOP_WAIT_S)
+        LOG.warning("%s did not stop within %.0f s: killing them", plural(len(running), "run"),
+                    STOP_WAIT_S)
         if self.client is not None:
             self.client.cancel(list(running))
             return
@@ -224,7 +225,7 @@ class Batch:
         """
         removed = self.store.remove_leftovers()
         if removed:
-            LOG.info("removed %d interrupted run folders", removed)
+            LOG.info("removed %s", plural(removed, "interrupted run folder"))
         interrupt.reset()
         executor = _Executor(self.config.jobs, self.config.scheduler)
         total = 0
