@@ -82,3 +82,61 @@ def test_run_spec_options_reach_the_launch(tmp_path):
                    {"sim": "stage", "speedup": 0.0, "odom_model": "fixed"})
     args = br.launch_arguments(spec)
     assert "sim:=stage" in args and "odom_model:=fixed" in args and "speedup:=0.0" in args
+
+
+class _FakePM:
+    """Process monitor stand-in: all processes have exited from the ``checks``-th look on;
+    ``on_check(n)`` runs at each look."""
+
+    def __init__(self, checks=None, on_check=None):
+        self.checks, self.on_check, self.count = checks, on_check, 0
+
+    @property
+    def is_shutdown(self):
+        self.count += 1
+        if self.on_check:
+            self.on_check(self.count)
+        return self.checks is not None and self.count >= self.checks
+
+
+class _FakeLaunch:
+    """ROSLaunchParent stand-in."""
+
+    def __init__(self, **pm):
+        self.runner = type("Runner", (), {})()
+        self.runner.pm = _FakePM(**pm)
+
+    def spin_once(self):
+        raise AssertionError("spin_once re-takes the signal handlers: not to be called")
+
+
+def _spec(tmp_path):
+    return RunSpec("w.world", "w", 0, 1, str(tmp_path / "w" / "run_000"))
+
+
+def test_a_run_ends_when_every_process_of_its_launch_has_exited(tmp_path):
+    import time
+    launch = _FakeLaunch(checks=3)
+    assert br._wait_for_run_end(launch, tmp_path / "run.json", time.monotonic(), 60.0,
+                                _spec(tmp_path)) == "ended"
+
+
+def test_a_stop_request_ends_the_run_wait(tmp_path):
+    import time
+    from slam_predict.collect import interrupt
+    launch = _FakeLaunch(on_check=lambda n: n == 2 and interrupt.request_stop())
+    try:
+        assert br._wait_for_run_end(launch, tmp_path / "run.json", time.monotonic(), 60.0,
+                                    _spec(tmp_path)) == "stop"
+    finally:
+        interrupt.reset()
+
+
+def test_nodes_left_running_after_the_record_are_not_waited_for_forever(tmp_path, monkeypatch):
+    import time
+    monkeypatch.setattr(br, "END_GRACE_S", 0.3)
+    (tmp_path / "run.json").write_text("{}")
+    started = time.monotonic()
+    assert br._wait_for_run_end(_FakeLaunch(), tmp_path / "run.json", started, 60.0,
+                                _spec(tmp_path)) == "timeout"
+    assert time.monotonic() - started < 5.0

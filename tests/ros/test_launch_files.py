@@ -174,4 +174,31 @@ def test_batch_launch_resolves_and_passes_its_args():
     p = {k: v.value for k, v in cfg.params.items()}
     assert p["/batch_explore/runs"] == "auto" and p["/batch_explore/nav"] == "move_base"
     assert p["/batch_explore/sim"] == "stage" and p["/batch_explore/worlds"] == "/w"
-    assert nodes_of(cfg)["batch_explore"].required
+
+
+def test_batch_launch_ends_itself_without_a_required_node():
+    cfg = config("batch_explore.launch", "worlds:=/w", "out:=/d")
+    assert not nodes_of(cfg)["batch_explore"].required
+    assert cfg.params["/batch_explore/end_launch"].value is True
+
+
+@pytest.mark.parametrize("choices, expected", [
+    ([], ["/stage_sim", "/explore", "/move_base", "/slam_gmapping"]),
+    (REAL, ["/stageros", "/explore", "/move_base", "/slam_gmapping"]),
+    (["sim:=none", "nav:=none", "explore:=none"], ["/slam_gmapping"]),
+])
+def test_the_orchestrator_shuts_the_run_down_simulator_first(choices, expected):
+    from slam_predict.ros.batch_runner import run_nodes
+
+    cfg = config("single_run.launch", f"world:={WORLD}", "out:=/tmp/x", *choices)
+    assert cfg.params["/orchestrator/shutdown_nodes"].value.split() == expected
+    options = dict(choice.split(":=") for choice in choices)
+    assert run_nodes(options) == expected   # what the batch uses when it ends a run itself
+
+
+def test_every_launch_argument_is_documented():
+    import xml.etree.ElementTree as ET
+
+    for path in sorted((ROOT / "launch").glob("*.launch")):
+        for arg in ET.parse(path).getroot().findall("arg"):
+            assert arg.get("doc"), f"{path.name}: arg {arg.get('name')} has no doc="

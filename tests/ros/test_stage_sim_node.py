@@ -232,3 +232,23 @@ def test_lockstep_acks_parameter_parsing():
     for bad in ("[[/a, -1]]", "[[/a, soon]]", "[[1, 2]]", "[[/a, 1, 2]]"):
         with pytest.raises(InputError, match="lockstep_acks"):
             _ack_list(bad)
+
+
+def test_shutdown_wakes_a_lockstep_wait_at_once():
+    """A node asked to shut down (orchestrator's ordered end of a run) must not sit out the
+    ack timeout: its ack subscriptions are closed, so the acks never come."""
+    import threading
+    import time
+
+    acks = (("/slam_gmapping/sim_ack", None),)
+    node = make_node(speedup=0.0, lockstep=True, lockstep_acks=acks, lockstep_ack_timeout=20.0)
+    node._last_scan_t = 0.1
+    waiter = threading.Thread(target=node.wait_for_acks)
+    waiter.start()
+    time.sleep(0.2)
+    assert waiter.is_alive()          # waiting for the ack
+    started = time.monotonic()
+    node.wake()   # rospy calls on_shutdown hooks without arguments, before is_shutdown() is true
+    waiter.join(5.0)
+    assert not waiter.is_alive() and time.monotonic() - started < 1.0
+    assert node.stopped()

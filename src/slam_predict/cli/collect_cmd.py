@@ -1,7 +1,16 @@
-"""``slam-predict collect``: resumable batches of simulated explorations with GMapping."""
+"""``slam-predict collect``: resumable batches of simulated explorations with GMapping.
+
+Every input is checked before any run starts (worlds parsed, settings loaded strictly, --out
+usable, counts ≥ 1): a bad one is one error line, exit 2, nothing written. The campaign folder's
+campaign.json (:mod:`slam_predict.collect.campaign`) must agree with --seed and --settings.
+SIGINT/SIGTERM stop the batch within one control step: finished runs are kept, the runs in
+progress discarded, summary.csv written; exit 130/143.
+"""
 from __future__ import annotations
 
 import argparse
+import signal
+import sys
 from pathlib import Path
 from typing import Dict, List
 
@@ -14,7 +23,8 @@ HELP = "run (or resume) simulated explorations of worlds and write run records +
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("worlds", nargs="+", metavar="WORLD",
                         help="Stage .world files, or folders of them")
-    parser.add_argument("--out", required=True, metavar="DATA", help="campaign folder")
+    parser.add_argument("--out", required=True, metavar="DATA",
+                        help="campaign folder (new, empty, or a campaign to resume)")
     parser.add_argument("--runs", default="5", metavar="N|auto",
                         help="runs per world, or 'auto' (pilot of 10, then |R| = z²s²/d²)")
     parser.add_argument("--max-runs", type=int, default=50, help="cap for --runs auto")
@@ -26,6 +36,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="collection settings (robot, gmapping, navigation, exploration, "
                              "stopping); default config/collect.yaml")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument("--force", action="store_true",
+                        help="resume a campaign even with another --seed or other settings than "
+                             "its campaign.json records (the change is kept in its history)")
 
 
 def find_worlds(items: List[str]) -> Dict[str, str]:
@@ -59,21 +72,54 @@ def parse_runs(text: str):
     return int(text)
 
 
+def check_counts(args: argparse.Namespace) -> None:
+    """--jobs and --max-runs must be ≥ 1."""
+    for flag, value in (("--jobs", args.jobs), ("--max-runs", args.max_runs)):
+        if value < 1:
+            raise InputError(f"{flag} must be >= 1, got {value}")
+
+
+def load_worlds(worlds: Dict[str, str]) -> None:
+    """Parse every world of the batch once, before any run starts (one error line each)."""
+    from slam_predict.world.load import load_plan
+
+    for path in worlds.values():
+        try:
+            load_plan(path)
+        except InputError:
+            raise
+        except (OSError, ValueError) as exc:
+            raise InputError(f"cannot load the world: {exc}", path) from None
+
+
 def run(args: argparse.Namespace) -> int:
-    from slam_predict.collect.batch import Batch, BatchConfig
+    from slam_predict.collect.batch import Batch, BatchConfig, plural
+    from slam_predict.collect.campaign import check_out_folder, identity, open_campaign
+    from slam_predict.collect.episode import code_version
     from slam_predict.collect.settings import load_settings
     from slam_predict.collect.summary import write_summary
 
+    runs = parse_runs(args.runs)
+    check_counts(args)
     worlds = find_worlds(args.worlds)
-    load_settings(args.settings)   # bad settings: one error before any run starts
+    settings = load_settings(args.settings)
+    out = Path(args.out)
+    check_out_folder(out)
+    load_worlds(worlds)
+    open_campaign(out, identity(settings, args.seed, code_version()), force=args.force)
     options = {"settings": args.settings} if args.settings else {}
-    config = BatchConfig(runs=parse_runs(args.runs), max_runs=args.max_runs, jobs=args.jobs,
+    config = BatchConfig(runs=runs, max_runs=args.max_runs, jobs=args.jobs,
                          scheduler=args.scheduler, base_seed=args.seed,
                          progress=not args.no_progress, options=options)
-    batch = Batch(worlds, args.out, config)
+    batch = Batch(worlds, out, config)
     done = batch.run()
-    summary = write_summary(Path(args.out))
-    print(f"{done} runs done; summary: {summary}")
+    summary = write_summary(out)
+    print(f"{plural(done, 'run')} done; summary: {summary}")
     for failure in batch.failures:
         print(f"failed: {failure}")
+    if batch.stopped_by is not None:
+        name = signal.Signals(batch.stopped_by).name
+        print(f"slam-predict collect: stopped by {name}; the runs in progress were discarded",
+              file=sys.stderr)
+        return 128 + batch.stopped_by
     return 1 if batch.failures else 0

@@ -5,22 +5,32 @@ folder atomically and returns its run.json content. Finished runs are never redo
 was interrupted left only a temporary folder, which is deleted and the run redone from scratch.
 With ``runs='auto'`` the number of runs per world follows the thesis: a pilot of 10 runs, then
 |R| = ⌈z²·s²/d²⌉ re-estimated after each round until it is ≤ the runs done (``max_runs`` caps it).
+
+Runs are started lazily, at most ``jobs`` at a time, and counted as each finishes. SIGINT/SIGTERM
+set a stop flag (:mod:`slam_predict.collect.interrupt`) that the episode loop checks every control
+step: no new run starts, the runs in progress end at their next step and are discarded, local
+workers get the signal forwarded and are waited for (at most ``STOP_WAIT_S``, then killed).
 """
 from __future__ import annotations
 
 import concurrent.futures as futures
+import contextlib
 import importlib
 import logging
+import os
+import signal
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Dict, List, Optional, Sequence, Union
+from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 
 from tqdm import tqdm
 
+from slam_predict.collect import interrupt
 from slam_predict.collect.store import RunStore, run_seed
 
 LOG = logging.getLogger(__name__)
+STOP_WAIT_S = 30.0  # wall time the runs in progress get to stop after a signal
 
 
 @dataclass(frozen=True)
@@ -57,43 +67,115 @@ def resolve_callable(path: str) -> Callable:
 
 
 def _call_episode(episode: str, spec: RunSpec) -> dict:
-    """Top-level (picklable) task body: run one episode."""
-    return resolve_callable(episode)(spec)
+    """Top-level (picklable) task body: run one episode; a stop request ends it early."""
+    with interrupt.running():
+        try:
+            interrupt.check()
+            return resolve_callable(episode)(spec)
+        except interrupt.Interrupted:
+            if interrupt.parent_died():  # a worker whose batch is gone: nobody to report to
+                os._exit(128 + signal.SIGTERM)
+            raise
+
+
+Outcome = Tuple[RunSpec, Optional[dict], Optional[BaseException]]
 
 
 class _Executor:
-    """Submit/collect over a local process pool, the current process, or Dask distributed."""
+    """Runs episodes lazily, at most ``jobs`` at a time, and yields each as it finishes: in the
+    current process (``jobs`` 1), in local worker processes, or on a Dask cluster."""
 
     def __init__(self, jobs: int, scheduler: Optional[str]):
         self.client = None
         self.pool = None
+        self.slots = max(1, int(jobs))
         if scheduler:
             from dask.distributed import Client
             self.client = scheduler if not isinstance(scheduler, str) else Client(scheduler)
         elif jobs > 1:
-            self.pool = futures.ProcessPoolExecutor(max_workers=jobs)
+            self.pool = futures.ProcessPoolExecutor(
+                max_workers=jobs, initializer=interrupt.init_worker, initargs=(os.getpid(),))
 
-    def submit(self, episode: str, spec: RunSpec):
+    def forward_signal(self, signum: int) -> None:
+        """Pass a stop signal on to the local worker processes."""
+        for pid in self._worker_pids():
+            with contextlib.suppress(ProcessLookupError, PermissionError):
+                os.kill(pid, signum)
+
+    def _worker_pids(self) -> List[int]:
+        processes = getattr(self.pool, "_processes", None) or {}
+        return [int(pid) for pid in list(processes)]
+
+    def outcomes(self, episode: str, specs: Sequence[RunSpec]) -> Iterator[Outcome]:
+        """(spec, run.json, None) or (spec, None, error) per run, in the order they finish;
+        no new run starts once a stop was requested."""
+        if self.pool is None and self.client is None:
+            yield from self._in_process(episode, specs)
+        else:
+            yield from self._parallel(episode, specs)
+
+    @staticmethod
+    def _in_process(episode: str, specs: Sequence[RunSpec]) -> Iterator[Outcome]:
+        for spec in specs:
+            if interrupt.stop_signal() is not None:
+                return
+            try:
+                yield spec, _call_episode(episode, spec), None
+            except Exception as exc:  # noqa: BLE001 - reported per run
+                yield spec, None, exc
+
+    def _submit(self, episode: str, spec: RunSpec):
         if self.client is not None:
             return self.client.submit(_call_episode, episode, spec, pure=False)
-        if self.pool is not None:
-            return self.pool.submit(_call_episode, episode, spec)
-        done = futures.Future()
-        try:
-            done.set_result(_call_episode(episode, spec))
-        except BaseException as exc:  # noqa: BLE001 - reported through the future
-            done.set_exception(exc)
-        return done
+        return self.pool.submit(_call_episode, episode, spec)
 
-    def as_completed(self, items: List):
+    def _parallel(self, episode: str, specs: Sequence[RunSpec]) -> Iterator[Outcome]:
+        queue = iter(specs)
+        slots = self.slots if self.pool is not None else len(specs)
+        running: Dict = {}
+        stop_deadline = None
+        while True:
+            while len(running) < slots and interrupt.stop_signal() is None:
+                spec = next(queue, None)
+                if spec is None:
+                    break
+                running[self._submit(episode, spec)] = spec
+            if not running:
+                return
+            if interrupt.stop_signal() is not None:
+                stop_deadline = stop_deadline or time.monotonic() + STOP_WAIT_S
+                if time.monotonic() > stop_deadline:
+                    self._abandon(running)
+                    return
+            for job in self._wait_some(list(running)):
+                spec = running.pop(job)
+                try:
+                    yield spec, job.result(), None
+                except Exception as exc:  # noqa: BLE001 - reported per run
+                    yield spec, None, exc
+
+    def _wait_some(self, jobs: List, timeout: float = 0.5) -> List:
+        """The jobs that finished within ``timeout`` s (at least one, unless it expired)."""
         if self.client is not None:
-            from dask.distributed import as_completed
-            return as_completed(items)
-        return futures.as_completed(items)
+            from dask.distributed import wait
+            with contextlib.suppress(TimeoutError, futures.TimeoutError):
+                wait(jobs, timeout=timeout, return_when="FIRST_COMPLETED")
+            return [job for job in jobs if job.done()]
+        done, _ = futures.wait(jobs, timeout=timeout, return_when=futures.FIRST_COMPLETED)
+        return list(done)
+
+    def _abandon(self, running: Dict) -> None:
+        """Give up on runs that did not stop within ``STOP_WAIT_S``: kill local workers."""
+        LOG.warning("%s did not stop within %.0f s: killing them", plural(len(running), "run"),
+                    STOP_WAIT_S)
+        if self.client is not None:
+            self.client.cancel(list(running))
+            return
+        self.forward_signal(signal.SIGKILL)
 
     def close(self) -> None:
         if self.pool is not None:
-            self.pool.shutdown()
+            self.pool.shutdown(wait=True, cancel_futures=True)
         if self.client is not None and hasattr(self.client, "close") and not getattr(
                 self, "_shared_client", False):
             self.client.close()
@@ -109,6 +191,7 @@ class Batch:
         self.config = config
         self.runs_needed = runs_needed or _default_runs_needed(config)
         self.failures: List[str] = []
+        self.stopped_by: Optional[int] = None
 
     def target(self, world: str) -> int:
         """How many runs ``world`` needs now (fixed, or estimated from its records)."""
@@ -134,41 +217,57 @@ class Batch:
         return sorted(specs, key=lambda spec: spec.index)
 
     def run(self) -> int:
-        """Do every pending run (repeating rounds for 'auto'); returns the number of runs done."""
+        """Do every pending run (repeating rounds for 'auto'); returns the number of runs done.
+
+        SIGINT/SIGTERM stop the batch within one control step: finished runs are kept, the runs
+        in progress are discarded (their temporary folders removed) and :attr:`stopped_by` is
+        set to the signal number.
+        """
         removed = self.store.remove_leftovers()
         if removed:
-            LOG.info("removed %d interrupted run folders", removed)
+            LOG.info("removed %s", plural(removed, "interrupted run folder"))
+        interrupt.reset()
         executor = _Executor(self.config.jobs, self.config.scheduler)
         total = 0
         try:
-            while True:
-                specs = self.pending()
-                if not specs:
-                    return total
-                total += self._round(executor, specs)
-                if self.config.runs != "auto" or self.failures:
-                    return total
+            with interrupt.signal_handlers(forward=executor.forward_signal):
+                while interrupt.stop_signal() is None:
+                    specs = self.pending()
+                    if not specs:
+                        break
+                    total += self._round(executor, specs)
+                    if self.config.runs != "auto" or self.failures:
+                        break
         finally:
             executor.close()
+            self.stopped_by = interrupt.stop_signal()
+            if self.stopped_by is not None:
+                self.store.remove_leftovers()
+        return total
 
     def _round(self, executor: _Executor, specs: Sequence[RunSpec]) -> int:
         started = time.perf_counter()
-        jobs = {executor.submit(self.config.episode, spec): spec for spec in specs}
-        bar = tqdm(total=len(jobs), unit="run", disable=not self.config.progress,
+        bar = tqdm(total=len(specs), unit="run", disable=not self.config.progress,
                    desc="collect")
         done = 0
-        for job in executor.as_completed(list(jobs)):
-            spec = jobs[job]
-            try:
-                job.result()
+        for spec, _record, error in executor.outcomes(self.config.episode, specs):
+            if isinstance(error, interrupt.Interrupted):
+                LOG.info("%s run %d stopped before its end: discarded", spec.world, spec.index)
+                continue
+            if error is not None:  # one failed run must not stop the batch
+                LOG.error("%s run %d failed: %s", spec.world, spec.index, error)
+                self.failures.append(f"{spec.world}/{spec.index}: {error}")
+            else:
                 done += 1
-            except Exception as exc:  # noqa: BLE001 - one failed run must not stop the batch
-                LOG.error("%s run %d failed: %s", spec.world, spec.index, exc)
-                self.failures.append(f"{spec.world}/{spec.index}: {exc}")
             bar.update(1)
         bar.close()
-        LOG.info("%d runs in %.1f s", done, time.perf_counter() - started)
+        LOG.info("%s in %.1f s", plural(done, "run"), time.perf_counter() - started)
         return done
+
+
+def plural(count: int, noun: str) -> str:
+    """'1 run', '2 runs'."""
+    return f"{count} {noun}" + ("" if count == 1 else "s")
 
 
 def _default_runs_needed(config: BatchConfig) -> Callable[[List[dict], int], int]:

@@ -21,6 +21,7 @@ import numpy as np
 
 from slam_predict import __version__
 from slam_predict.atomic import atomic_dir
+from slam_predict.collect import interrupt
 from slam_predict.collect import record as rec
 from slam_predict.collect.settings import CollectSettings, load_settings
 from slam_predict.collect.stopping import SnapshotMSE, grid_to_snapshot
@@ -117,6 +118,7 @@ def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_
     wall_start = time.perf_counter()
     explorer_end: Optional[Dict] = None
     while True:
+        interrupt.check()   # SIGINT/SIGTERM or a dead batch process: discard the run
         loop.step()
         recorder.add(loop)
         if loop.explorer.done and explorer_end is None:

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Dict, Optional, Set
 
-from slam_predict.collect.stopping import StopConfig
+from slam_predict.collect.stopping import StopConfig, check_ranges
 from slam_predict.config import config_hash, from_dict, load_config, load_yaml, to_dict
 from slam_predict.errors import InputError
 
@@ -28,6 +28,11 @@ class MetricSettings:
     margin_trans: float = 0.02
     margin_rot: float = 0.002
     confidence: float = 0.99
+
+    def __post_init__(self) -> None:
+        check_ranges("metric", self, positive=("pilot", "margin_trans", "margin_rot"))
+        if not 0.0 < self.confidence < 1.0:
+            raise ValueError(f"metric.confidence must be in (0, 1), got {self.confidence}")
 
 
 @dataclass

@@ -29,9 +29,27 @@ class StopConfig:
     max_sim_time_s: float = 4 * 3600.0
     max_wall_time_s: float = 3600.0
 
+    def __post_init__(self) -> None:
+        positive = ("interval_s", "small_interval_s", "stuck_timeout_s", "max_sim_time_s",
+                    "max_wall_time_s")
+        check_ranges("stop", self, positive=positive,
+                     non_negative=("small_area_m2", "mse_threshold"))
+        if self.max_snapshots < 1:
+            raise ValueError(f"stop.max_snapshots must be >= 1, got {self.max_snapshots}")
+
     def interval_for(self, free_area_m2: float) -> float:
         """Snapshot interval (s) for a building of ``free_area_m2``."""
         return self.small_interval_s if free_area_m2 < self.small_area_m2 else self.interval_s
+
+
+def check_ranges(section: str, config, positive=(), non_negative=()) -> None:
+    """ValueError naming ``section.key`` for a value of ``config`` outside its range."""
+    for key in positive:
+        if not getattr(config, key) > 0:
+            raise ValueError(f"{section}.{key} must be > 0, got {getattr(config, key)}")
+    for key in non_negative:
+        if not getattr(config, key) >= 0:
+            raise ValueError(f"{section}.{key} must be >= 0, got {getattr(config, key)}")
 
 
 def grid_to_snapshot(grid: np.ndarray) -> np.ndarray:

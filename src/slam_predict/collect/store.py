@@ -57,11 +57,15 @@ class RunStore:
         return indices
 
     def remove_leftovers(self) -> int:
-        """Delete temporary folders of interrupted runs; returns how many were removed."""
+        """Delete temporary folders of interrupted runs (and world folders left empty); returns
+        how many runs were removed."""
         removed = 0
         for path in self.root.glob("*/.run_*.tmp"):
             shutil.rmtree(path, ignore_errors=True)
             removed += 1
+        for world in self.root.iterdir() if self.root.is_dir() else []:
+            if world.is_dir() and not any(world.iterdir()):
+                world.rmdir()  # its only run was interrupted
         return removed
 
     def records(self, world: str) -> List[Dict]:

@@ -4,9 +4,12 @@ The batch logic is the in-process one (:class:`slam_predict.collect.batch.Batch`
 ``runs: auto`` estimation, per-run seeds, resume — finished runs are never redone, an
 interrupted run's temporary folder is removed and the run redone); only the episode differs:
 :func:`launch_episode` starts ``single_run.launch`` with the roslaunch Python API
-(``ROSLaunchParent``), waits until its ``required`` orchestrator has written the record and
-exited, shuts the run's nodes down and returns run.json. ``DATA/summary.csv`` is regenerated at
-the end (:func:`slam_predict.collect.summary.write_summary`).
+(``ROSLaunchParent``), waits until its orchestrator has written the record and shut the run's
+nodes down in order (simulator first: no process is killed) and returns run.json.
+``DATA/summary.csv`` is regenerated at the end (:func:`slam_predict.collect.summary.write_summary`);
+SIGINT/SIGTERM end the batch after the run in progress is shut down and discarded. With
+``~end_launch`` the node then ends the roslaunch that started it, as Ctrl-C would, so
+batch_explore.launch finishes without a "REQUIRED process has died".
 
 Node choices (launch args ``sim``, ``slam``, ``nav``, ``explore``): ``slam_predict`` (our nodes,
 the default), the real packages ``stage`` (stage_ros/stageros), ``gmapping``
@@ -43,6 +46,9 @@ PASS_THROUGH = ("max_sim_time", "max_wall_time", "snapshot_interval",
                 "ground_truth_fixed_frame", "speedup",
                 "odom_model", "orchestrator_config")
 RUN_TIMEOUT_MARGIN_S = 300.0
+NODE_EXIT_TIMEOUT_S = 40.0   # wall s a node gets to exit when the batch ends a run itself
+END_GRACE_S = 4 * NODE_EXIT_TIMEOUT_S + 30.0  # wall s after the record for the ordered shutdown
+PROCESS_EXIT_WAIT_S = 10.0  # wall s for processes that left the graph to exit before a kill
 
 
 def node_seeds(seed: int) -> Dict[str, int]:
@@ -109,41 +115,98 @@ def launch_arguments(spec) -> List[str]:
     return [f"{k}:={v}" for k, v in args.items()]
 
 
+def run_nodes(options: Dict) -> List[str]:
+    """The nodes single_run.launch starts for these choices, in shutdown order (simulator
+    first, then explorer, navigation, SLAM; the orchestrator ends itself)."""
+    names = {"sim": {"slam_predict": "/stage_sim", "stage": "/stageros"},
+             "explore": {"slam_predict": "/explore", "explore_lite": "/explore"},
+             "nav": {"slam_predict": "/move_base", "move_base": "/move_base"},
+             "slam": {"slam_predict": "/slam_gmapping", "gmapping": "/slam_gmapping"}}
+    return [names[key][options.get(key, "slam_predict")] for key in names
+            if options.get(key, "slam_predict") in names[key]]
+
+
 def launch_episode(spec) -> dict:
     """One run through the ROS graph (the batch's episode function); returns run.json.
 
-    Raises RuntimeError when the run ended without a record (a node died, the run timed out).
+    The run ends when the orchestrator has written the record and shut the run's nodes down in
+    order (every process of the run's launch has exited). A stop request (SIGINT/SIGTERM of the
+    batch) or the run timeout shuts the nodes down in the same order and ends the launch.
+
+    Raises RuntimeError when the run ended without a record (a node died, the run timed out),
+    :class:`~slam_predict.collect.interrupt.Interrupted` when the batch was asked to stop.
     """
     import json
 
     import roslaunch
+    import roslib
+
+    from slam_predict.collect import interrupt
 
     check_choices(spec.options)
+    # keep this process's SIGINT/SIGTERM handlers (the batch's stop flag): a non-interactive
+    # roslaunch would take them over and kill the run's nodes itself (SIGINT, then SIGKILL)
+    roslib.set_interactive(True)
     path = spec.options.get("launch_file") or roslaunch.rlutil.resolve_launch_arguments(
         [PACKAGE, LAUNCH])[0]
     uuid = roslaunch.rlutil.get_or_generate_uuid(None, False)
-    parent = roslaunch.parent.ROSLaunchParent(uuid, [(path, launch_arguments(spec))],
+    arguments = launch_arguments(spec) + ["orchestrator_required:=false"]
+    parent = roslaunch.parent.ROSLaunchParent(uuid, [(path, arguments)],
                                               is_core=False, show_summary=False)
     timeout = float(spec.options.get("run_timeout") or 0) or _default_timeout(spec.options)
     started = time.monotonic()
+    run_json = Path(spec.out_dir) / "run.json"
     parent.start()
+    ended = "error"
     try:
-        while not parent.runner.pm.is_shutdown and not _interrupted():
-            if time.monotonic() - started > timeout:
-                LOG.error("%s run %d: no record after %.0f s wall: stopping it", spec.world,
-                          spec.index, timeout)
-                break
-            parent.spin_once()
-            time.sleep(0.1)
+        ended = _wait_for_run_end(parent, run_json, started, timeout, spec)
     finally:
+        if not parent.runner.pm.is_shutdown:
+            from slam_predict.ros.node_shutdown import end_run_graph
+            end_run_graph(["/orchestrator", *run_nodes(spec.options)], NODE_EXIT_TIMEOUT_S,
+                          caller="/batch_explore", reason=f"batch_explore: run {ended}")
+            _wait_until(lambda: parent.runner.pm.is_shutdown, PROCESS_EXIT_WAIT_S)
         parent.shutdown()
     wall = time.monotonic() - started
-    run_json = Path(spec.out_dir) / "run.json"
+    if ended == "stop":
+        raise interrupt.Interrupted("the batch was asked to stop")
     if not run_json.is_file():
         raise RuntimeError(f"run ended after {wall:.0f} s wall without a record in {spec.out_dir}"
                            " (see the nodes' logs in ~/.ros/log)")
     LOG.info("%s run %d: %.1f s wall including launch and shutdown", spec.world, spec.index, wall)
     return json.loads(run_json.read_text())
+
+
+def _wait_for_run_end(parent, run_json: Path, started: float, timeout: float, spec) -> str:
+    """Spin the run's launch until every process exited ('ended'), a stop request ('stop'),
+    the run timeout, or nodes left running long after the record was written ('timeout')."""
+    from slam_predict.collect import interrupt
+
+    recorded_at = None
+    while not parent.runner.pm.is_shutdown:
+        if interrupt.stop_signal() is not None or _interrupted():
+            return "stop"
+        now = time.monotonic()
+        if now - started > timeout:
+            LOG.error("%s run %d: no record after %.0f s wall: stopping it", spec.world,
+                      spec.index, timeout)
+            return "timeout"
+        if recorded_at is None and run_json.is_file():
+            recorded_at = now
+        if recorded_at is not None and now - recorded_at > END_GRACE_S:
+            LOG.warning("%s run %d: nodes still running %.0f s after the record: stopping them",
+                        spec.world, spec.index, END_GRACE_S)
+            return "timeout"
+        time.sleep(0.1)   # no parent.spin_once(): it would re-take the signal handlers
+    return "ended"
+
+
+def _wait_until(condition, timeout_s: float, poll_s: float = 0.1) -> bool:
+    """Poll ``condition`` for up to ``timeout_s`` wall seconds; returns its last value."""
+    deadline = time.monotonic() + timeout_s
+    while not condition() and time.monotonic() < deadline:
+        time.sleep(poll_s)
+    return bool(condition())
 
 
 def _interrupted() -> bool:
@@ -165,8 +228,9 @@ def _default_timeout(options: Dict) -> float:
 
 def run_batch(worlds: str, runs, out: str, options: Dict, base_seed: int = 0,
               max_runs: int = 50) -> int:
-    """Run (or resume) the batch; returns the number of failed runs."""
-    from slam_predict.collect.batch import Batch, BatchConfig
+    """Run (or resume) the batch; returns the exit code: 0, 1 when runs failed, or 128 + the
+    signal number when SIGINT/SIGTERM stopped it."""
+    from slam_predict.collect.batch import Batch, BatchConfig, plural
     from slam_predict.collect.summary import write_summary
 
     check_choices(options)
@@ -178,14 +242,35 @@ def run_batch(worlds: str, runs, out: str, options: Dict, base_seed: int = 0,
     Path(out).mkdir(parents=True, exist_ok=True)
     done = batch.run()
     path = write_summary(Path(out))
-    LOG.info("%d runs done, %d failed; summary %s", done, len(batch.failures), path)
+    LOG.info("%s done, %d failed; summary %s", plural(done, "run"), len(batch.failures), path)
     for failure in batch.failures:
         LOG.error("failed: %s", failure)
-    return len(batch.failures)
+    if batch.stopped_by is not None:
+        LOG.warning("stopped by signal %d: the run in progress was discarded", batch.stopped_by)
+        return 128 + batch.stopped_by
+    return 1 if batch.failures else 0
+
+
+def end_parent_launch() -> bool:
+    """SIGINT to the roslaunch that started this node (as Ctrl-C: it stops its nodes and
+    exits); nothing when the parent is not roslaunch (rosrun, rostest). True when sent."""
+    import os
+    import signal
+
+    parent = os.getppid()
+    try:
+        command = Path(f"/proc/{parent}/cmdline").read_bytes().split(b"\0")
+    except OSError:
+        return False
+    if not any(Path(part.decode(errors="replace")).name == "roslaunch" for part in command[:2]):
+        return False
+    os.kill(parent, signal.SIGINT)
+    return True
 
 
 def main(argv=None) -> int:
-    """Node entry point: ~worlds, ~runs, ~out, ~base_seed, ~max_runs and the run options."""
+    """Node entry point: ~worlds, ~runs, ~out, ~base_seed, ~max_runs, ~end_launch and the run
+    options."""
     import rospy
 
     from slam_predict.ros.rosout import forward_logging
@@ -199,12 +284,14 @@ def main(argv=None) -> int:
         if value not in ("", None):
             options[key] = value
     try:
-        failures = run_batch(str(get("~worlds")), get("~runs", 1), str(get("~out")), options,
-                             int(get("~base_seed", 0)), int(get("~max_runs", 50)))
+        code = run_batch(str(get("~worlds")), get("~runs", 1), str(get("~out")), options,
+                         int(get("~base_seed", 0)), int(get("~max_runs", 50)))
     except InputError as exc:
         rospy.logfatal("batch_explore: %s", exc.one_line())
-        return 2
+        code = 2
     except KeyError as exc:
         rospy.logfatal("batch_explore: parameter %s is not set", exc)
-        return 2
-    return 1 if failures else 0
+        code = 2
+    if get("~end_launch", False) and end_parent_launch():
+        rospy.loginfo("batch_explore: done; ending the launch")
+    return code

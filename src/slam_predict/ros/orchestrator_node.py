@@ -6,8 +6,8 @@ Subscribes ``/clock`` (sim time; on a real robot a 10 Hz timer drives it instead
 ``/rosout_agg`` and ``/rosout`` (explore_lite says "Exploration stopped" when no frontier is
 left); looks up tf map→base_link and odom→base_link at every sample time. The logic is
 :class:`~slam_predict.ros.orchestrator.RunMonitor`; at the end the run record is written
-atomically to ``~out`` (:mod:`slam_predict.ros.run_record`, the in-process format) and the node
-exits — launched ``required``, that ends the run's launch.
+atomically to ``~out`` (:mod:`slam_predict.ros.run_record`, the in-process format), the run's
+nodes are shut down in order and the node exits, which ends the run's launch.
 
 Params (read in :func:`main` only, :func:`~slam_predict.ros.orchestrator_config.read_setup`):
 ``~out`` (run folder, required), ``~world_file`` (Stage world or any plan; empty on a real
@@ -19,7 +19,9 @@ truth, frames, sampling), overrides ``~max_sim_time``, ``~max_wall_time``,
 config's), ``~free_area_m2`` (without a world file), ``~odometry_model``, ``~sim_node`` (where
 the simulator reports its odometry error, default ``/stage_sim``), ``~wait_for_nodes`` (nodes
 that must be registered before ``~ready`` is offered) and ``~sim``, ``~slam``, ``~nav``,
-``~explore`` (the node choices, recorded in run.json).
+``~explore`` (the node choices, recorded in run.json), ``~shutdown_nodes`` (the run's nodes,
+shut down in this order once the record is written: simulator first, see
+:mod:`slam_predict.ros.node_shutdown`; empty: none) and ``~shutdown_timeout`` (wall s each).
 
 Services: ``~ready`` (std_srvs/Empty, offered once the run's nodes are up: stage_sim waits for
 it before stepping), ``~stop`` (std_srvs/Trigger: end the run now and write the record).
@@ -40,6 +42,7 @@ from slam_predict.ros.orchestrator import RunMonitor, Sample
 from slam_predict.ros.orchestrator_config import OrchestratorConfig, RunSetup, read_setup
 
 LOG = logging.getLogger(__name__)
+SHUTDOWN_TIMEOUT_S = 40.0  # wall s a node gets to exit (stage_sim's lockstep ack wait is 30 s)
 
 
 class OrchestratorNode:
@@ -281,9 +284,25 @@ def main(argv=None) -> int:
         return 1
     except (RuntimeError, ValueError) as exc:  # a node missing; the robot never moved...
         rospy.logerr("orchestrator: no record written for %s: %s", setup.out, exc)
+        end_run(rospy)
         return 1
     rospy.loginfo("orchestrator: %s run %d: %s after %.1f s (%.1f s wall), %d poses -> %s",
                   record["world"], record["run_index"], record["stop_reason"],
                   record["sim_duration_s"], record["wall_time_s"], record["ros"]["samples"],
                   setup.out)
+    end_run(rospy)
     return 0
+
+
+def end_run(rospy_module) -> None:
+    """Shut the run's nodes (``~shutdown_nodes``, in that order: simulator first) down before
+    this node exits, so its launch ends without killing anything."""
+    from slam_predict.ros.node_shutdown import end_run_graph
+
+    names = str(rospy_module.get_param("~shutdown_nodes", "")).split()
+    timeout = float(rospy_module.get_param("~shutdown_timeout", SHUTDOWN_TIMEOUT_S))
+    if names:
+        stuck = end_run_graph(names, timeout, caller=rospy_module.get_name())
+        if stuck:
+            rospy_module.logwarn("orchestrator: still running after %.0f s: %s", timeout,
+                                 " ".join(stuck))

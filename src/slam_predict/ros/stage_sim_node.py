@@ -108,6 +108,7 @@ class StageSim:
         self._wait_for_cmd_vel = not any(lag is not None for _, lag in settings.lockstep_acks)
         self._prev_true = sim.true_pose.copy()
         self._pubs = None
+        self._stopping = False  # set by the shutdown hook
 
     # -- ROS plumbing ----------------------------------------------------------------------
     def start(self) -> None:
@@ -133,6 +134,15 @@ class StageSim:
             for topic in self._acks:
                 rp.Subscriber(topic, Time, self.on_ack, callback_args=topic, queue_size=10)
         rp.Service("reset_positions", Empty, self.on_reset)
+        rp.on_shutdown(self.wake)
+
+    def wake(self) -> None:
+        """Shutdown hook (rospy calls it before is_shutdown() turns true): end the lockstep
+        waits now, as a shut-down node's acks never come, and step no more."""
+        self._stopping = True
+        self._command_event.set()
+        with self._ack_cond:
+            self._ack_cond.notify_all()
 
     def on_cmd_vel(self, msg) -> None:
         """cmd_vel callback: remember (linear.x, angular.z) and the sim time it arrived."""
@@ -153,6 +163,10 @@ class StageSim:
             LOG.info("lockstep: %s acks again (%.1f s): waiting for it again", topic,
                      msg.data.to_sec())
 
+    def stopped(self) -> bool:
+        """True once shutdown began (hook called or rospy shut down)."""
+        return self._stopping or self.rospy.is_shutdown()
+
     def wait_for_acks(self) -> bool:
         """Block until every ack topic is within its lag of the sim time (or the timeout);
         False when it timed out. A topic that timed out is logged and not waited for until it
@@ -165,9 +179,9 @@ class StageSim:
             return [k for k, d in due.items() if k not in self._late and self._acks[k] < d - 1e-6]
 
         with self._ack_cond:
-            done = self._ack_cond.wait_for(lambda: not behind() or self.rospy.is_shutdown(),
+            done = self._ack_cond.wait_for(lambda: not behind() or self.stopped(),
                                            self.settings.lockstep_ack_timeout)
-            late = set(behind())
+            late = set() if self.stopped() else set(behind())
             self._late |= late
         for topic in sorted(late):
             LOG.warning("lockstep: no ack on %s within %g s at sim time %.1f s: stepping on "
@@ -256,7 +270,7 @@ class StageSim:
         wall_start = time.monotonic()
         period = self.sim.dt / self.settings.speedup if self.settings.speedup > 0 else 0.0
         steps = 0
-        while not self.rospy.is_shutdown() and (max_steps is None or steps < max_steps):
+        while not self.stopped() and (max_steps is None or steps < max_steps):
             if period > 0:
                 delay = wall_start + steps * period - time.monotonic()
                 if delay > 0:

@@ -1,0 +1,204 @@
+"""A campaign folder's identity, ``DATA/campaign.json``: the base seed and the configuration.
+
+Written when a campaign starts (atomically), it holds the base seed, the settings file (path and
+SHA-256 of its text), the resolved settings (every component config, defaults included) with
+their short hashes, and the code version. A resume is compared with it before any run starts:
+another ``--seed`` or settings that resolve differently is refused (:class:`CampaignMismatch`,
+naming the difference), so runs of two configurations never share one summary.csv.
+
+``--force`` accepts such a resume: the new configuration becomes the campaign's and the old one is
+appended to ``history`` with the differences, so the mix stays documented (each run.json also
+carries its own config hashes). A different code version alone is logged, not refused.
+
+Folders collected before campaign.json existed are adopted on their first resume: when every
+run.json carries the seed that ``--seed`` gives its run and the config hashes of the current
+settings, campaign.json is written from them; otherwise the resume is refused likewise.
+"""
+from __future__ import annotations
+
+import datetime
+import hashlib
+import json
+import logging
+import os
+from pathlib import Path
+from typing import Any, Dict, List, Optional
+
+from slam_predict.atomic import write_text
+from slam_predict.collect.store import RUN_JSON, RunStore, run_seed
+from slam_predict.errors import InputError
+
+LOG = logging.getLogger(__name__)
+CAMPAIGN_JSON = "campaign.json"
+SCHEMA_VERSION = 1
+MAX_LISTED = 3  # differences named in an error line
+HINT = " (use a new --out folder, or --force to continue with the new ones)"
+
+
+class CampaignMismatch(InputError):
+    """A resume whose seed or settings differ from the campaign's (exit 2)."""
+
+
+def identity(settings, base_seed: int, code_version: str) -> Dict[str, Any]:
+    """The campaign.json content describing a collection with ``settings`` and ``base_seed``."""
+    from slam_predict.collect.settings import settings_dict
+    from slam_predict.paths import portable_path
+
+    return {"schema": SCHEMA_VERSION, "base_seed": int(base_seed),
+            "settings_file": portable_path(settings.source),
+            "settings_sha256": file_sha256(settings.source),
+            "config_hashes": settings.hashes(), "settings": json_plain(settings_dict(settings)),
+            "code_version": code_version}
+
+
+def file_sha256(path: os.PathLike | str) -> str:
+    """SHA-256 (hex) of a file's bytes."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def json_plain(value: Any) -> Any:
+    """``value`` as it reads back from JSON (tuples → lists), so comparisons are like for like."""
+    return json.loads(json.dumps(value))
+
+
+def differences(old: Any, new: Any, prefix: str = "") -> List[str]:
+    """Key paths where two JSON-like trees differ, as ``'path: old -> new'``."""
+    if isinstance(old, dict) and isinstance(new, dict):
+        out: List[str] = []
+        for key in sorted(set(old) | set(new), key=str):
+            path = f"{prefix}.{key}" if prefix else str(key)
+            if key not in old:
+                out.append(f"{path}: (absent) -> {new[key]!r}")
+            elif key not in new:
+                out.append(f"{path}: {old[key]!r} -> (absent)")
+            else:
+                out.extend(differences(old[key], new[key], path))
+        return out
+    return [] if old == new else [f"{prefix}: {old!r} -> {new!r}"]
+
+
+def describe(found: List[str]) -> str:
+    """The first few differences on one line."""
+    more = f" (and {len(found) - MAX_LISTED} more)" if len(found) > MAX_LISTED else ""
+    return "; ".join(found[:MAX_LISTED]) + more
+
+
+def mismatch(recorded: Dict[str, Any], current: Dict[str, Any]) -> Optional[str]:
+    """Why a resume with ``current`` does not continue the campaign ``recorded``, or None."""
+    if recorded.get("base_seed") != current["base_seed"]:
+        return (f"the campaign was collected with --seed {recorded.get('base_seed')}, "
+                f"not --seed {current['base_seed']}")
+    found = differences(recorded.get("settings"), current["settings"])
+    if found:
+        return f"the settings differ from the campaign's: {describe(found)}"
+    return None
+
+
+def open_campaign(root: Path, current: Dict[str, Any], force: bool = False) -> Dict[str, Any]:
+    """Check a (new, resumed or legacy) campaign folder against ``current`` and write
+    campaign.json; raises :class:`CampaignMismatch` for a refused resume."""
+    path = Path(root) / CAMPAIGN_JSON
+    if not path.is_file():
+        return _adopt(Path(root), current, force)
+    recorded = read_campaign(path)
+    problem = mismatch(recorded, current)
+    if problem is None:
+        if recorded.get("code_version") != current["code_version"]:
+            LOG.info("%s: collected with code %s, resumed with %s", path,
+                     recorded.get("code_version"), current["code_version"])
+        return recorded
+    if not force:
+        raise CampaignMismatch(problem + HINT, path)
+    LOG.warning("%s: %s; continuing (--force)", path, problem)
+    history = recorded.pop("history", []) + [{**recorded, "replaced": _now(), "reason": problem}]
+    return _write(path, {**current, "history": history})
+
+
+def _adopt(root: Path, current: Dict[str, Any], force: bool) -> Dict[str, Any]:
+    """campaign.json for a new folder, or for one collected before campaign.json existed."""
+    problem, where, runs = legacy_mismatch(RunStore(root), current)
+    if problem and not force:
+        raise CampaignMismatch(problem + HINT, where)
+    extra: Dict[str, Any] = {"created": _now()}
+    if runs:
+        extra["adopted"] = {"runs": runs, **({"reason": problem} if problem else {})}
+    if problem:
+        LOG.warning("%s: %s; continuing (--force)", where, problem)
+    return _write(root / CAMPAIGN_JSON, {**current, **extra})
+
+
+def legacy_mismatch(store: RunStore, current: Dict[str, Any]):
+    """For a folder without campaign.json: (why its run records do not match ``current`` or
+    None, the run.json concerned, how many records there are)."""
+    problem, where, count = None, None, 0
+    for world in store.worlds() if store.root.is_dir() else []:
+        for index in store.completed(world):
+            run_json = store.run_dir(world, index) / RUN_JSON
+            count += 1
+            found = record_mismatch(json.loads(run_json.read_text()), world, index, current)
+            if found and problem is None:
+                problem, where = found, run_json
+    return problem, where, count
+
+
+def record_mismatch(record: Dict[str, Any], world: str, index: int,
+                    current: Dict[str, Any]) -> Optional[str]:
+    """Why one run.json was not collected with ``current``'s seed and settings, or None."""
+    seed = record.get("seed")
+    if seed is not None and int(seed) != run_seed(current["base_seed"], world, index):
+        return f"collected with another base seed than --seed {current['base_seed']}"
+    hashes = record.get("config_hashes")
+    if hashes is not None and hashes != current["config_hashes"]:
+        changed = sorted(k for k in set(hashes) | set(current["config_hashes"])
+                         if hashes.get(k) != current["config_hashes"].get(k))
+        return (f"collected with other settings than {current['settings_file']} "
+                f"({', '.join(changed)} config{'' if len(changed) == 1 else 's'} differ)")
+    return None
+
+
+def check_out_folder(root: Path) -> None:
+    """InputError unless ``root`` is (or can be made) a campaign folder: not a file, writable,
+    creatable; an existing non-empty folder must hold a campaign (nothing else is touched)."""
+    root = Path(root)
+    if root.exists() and not root.is_dir():
+        raise InputError("--out is a file, not a campaign folder", root)
+    if root.is_dir():
+        if not os.access(root, os.W_OK | os.X_OK):
+            raise InputError("--out folder is not writable", root)
+        if any(root.iterdir()) and not is_campaign(root):
+            raise InputError("--out folder is not empty and holds no campaign (no campaign.json, "
+                             "summary.csv or run folders)", root)
+        return
+    ancestor = root.parent
+    while not ancestor.exists() and ancestor != ancestor.parent:
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        raise InputError(f"cannot create --out folder: {ancestor} is a file", root)
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        raise InputError(f"cannot create --out folder: {ancestor} is not writable", root)
+
+
+def is_campaign(root: Path) -> bool:
+    """True when ``root`` holds campaign.json, summary.csv, run folders or their leftovers."""
+    return ((root / CAMPAIGN_JSON).exists() or (root / "summary.csv").exists()
+            or any(root.glob("*/run_[0-9][0-9][0-9]")) or any(root.glob("*/.run_*.tmp")))
+
+
+def read_campaign(path: Path) -> Dict[str, Any]:
+    """campaign.json's content; InputError when unreadable."""
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as exc:
+        raise InputError(f"unreadable campaign record: {exc}", path) from None
+    if not isinstance(data, dict):
+        raise InputError("campaign record is not a JSON object", path)
+    return data
+
+
+def _write(path: Path, content: Dict[str, Any]) -> Dict[str, Any]:
+    write_text(path, json.dumps(content, indent=1, sort_keys=True) + "\n")
+    return content
+
+
+def _now() -> str:
+    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
