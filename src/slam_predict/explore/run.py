@@ -17,7 +17,7 @@ from typing import Any, Dict, Optional
 import numpy as np
 
 from slam_predict.atomic import write_text
-from slam_predict.config import config_hash, from_dict, load_config, load_yaml
+from slam_predict.config import check_keys, config_hash, from_dict, load_config, load_yaml
 from slam_predict.explore.coverage import coverage, reachable_free, render_png
 from slam_predict.explore.explorer import ExploreConfig
 from slam_predict.explore.loop import ClosedLoop
@@ -62,8 +62,9 @@ def load_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
     sim = load_config(SimConfig, path("robot.yaml"), "sim") if path("robot.yaml") else SimConfig()
     closed = load_yaml(path("closed_loop.yaml")) if path("closed_loop.yaml") else {}
     source = str(path("closed_loop.yaml"))
-    perfect = from_dict(PerfectMapConfig, closed.get("perfect_map", {}), source)
-    loop = from_dict(LoopSettings, closed.get("loop", {}), source)
+    check_keys(closed, ("perfect_map", "loop"), source)
+    perfect = from_dict(PerfectMapConfig, closed.get("perfect_map"), source, "perfect_map")
+    loop = from_dict(LoopSettings, closed.get("loop"), source, "loop")
     gmapping = None
     if map_source == "gmapping" and path("gmapping.yaml"):
         from slam_predict.slam.gmapping.params import load_params
