@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import argparse
 
+from slam_predict.cli.guards import add_force_argument, check_out_dir, plural
+
 NAME = "slam"
 HELP = "run SLAM (GMapping) offline over a recorded log"
 
@@ -38,7 +40,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     run.add_argument("--config", metavar="YAML",
                      help="slam_gmapping parameters (default: slam_gmapping's defaults)")
     run.add_argument("--seed", type=_non_negative, default=0, help="random seed (default 0)")
-    run.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced)")
+    run.add_argument("--out", required=True, metavar="DIR",
+                     help="output folder (an existing non-empty one only with --force)")
+    add_force_argument(run)
     run.add_argument("--max-scans", type=_positive, metavar="K",
                      help="only the first K scans of the input")
     bag = run.add_argument_group("ROS bag input")
@@ -52,6 +56,7 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.slam.gmapping.params import GMappingParams, load_params
     from slam_predict.slam.gmapping.runner import evaluate, read_input, run as run_slam, write_run
 
+    check_out_dir(args.out, args.force)
     params = load_params(args.config) if args.config else GMappingParams()
     data = read_input(args.input, args.max_scans, scan_topic=args.scan_topic,
                       odom_topic=args.odom_topic, base_frame=args.base_frame,
@@ -60,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
     out = write_run(args.out, result, data, params, args.seed, args.config)
     stats = result.stats
     line = (f"{stats['scans_processed']}/{len(data)} scans processed, "
-            f"{stats['resamples']} resamples, CPU {stats['cpu_s']:.1f} s -> {out}")
+            f"{plural(stats['resamples'], 'resample')}, CPU {stats['cpu_s']:.1f} s -> {out}")
     errors = evaluate(result)
     if errors:
         line += (f"; error vs reference {errors['slam']['trans_mean_m']:.3f} m "
