@@ -175,6 +175,13 @@ row("worlds validate: garbage png", cmd("worlds", "validate", "{garbage_png}", "
 row("worlds validate: garbage world", cmd("worlds", "validate", "{garbage_world}"),
     r"garbage\.world:1: ")
 row("worlds validate: unknown format", cmd("worlds", "validate", "{garbage}"), r"garbage\.dat: ")
+row("worlds validate: --resolution 0", cmd("worlds", "validate", "{plan}", "--resolution", "0"),
+    r"plan\.png: --resolution must be > 0")
+row("worlds validate: --free-threshold 300", cmd("worlds", "validate", "{plan}", "--resolution",
+                                                "0.1", "--free-threshold", "300"),
+    r"free threshold must be in 1\.\.255")
+row("worlds show: --dpi 0", cmd("worlds", "show", "{plan}", "--resolution", "0.1", "--out",
+                                "{new_dir}/x.png", "--dpi", "0"), r"--dpi must be > 0, got 0")
 outputs(["worlds", "show", "{plan}", "--resolution", "0.1"], False, True)
 row("worlds convert: --out cannot be created", lambda f: [
     "worlds", "convert", f.plan, "--resolution", "0.1", "--out", f.under_file + ".world"],
@@ -263,6 +270,12 @@ row("metric evaluate: garbage gz", cmd("metric", "evaluate", "--slam", "{garbage
                                        "{tum}"), r"garbage\.log\.gz: not a gzip file")
 row("metric evaluate: unknown format", cmd("metric", "evaluate", "--slam", "{garbage}", "--gt",
                                            "{tum}"), r"garbage\.dat: cannot tell the trajectory")
+row("metric evaluate: --t-max-diff nan", cmd("metric", "evaluate", "--slam", "{tum}", "--gt",
+                                            "{tum}", "--t-max-diff", "nan"),
+    r"--t-max-diff must be ≥ 0, got nan")
+row("metric evaluate: --delta 0", cmd("metric", "evaluate", "--slam", "{tum}", "--gt", "{tum}",
+                                      "--pairs", "consecutive", "--delta", "0"),
+    r"--delta must be ≥ 1, got 0")
 row("metric relations: --pairs 0", cmd("metric", "relations", "--gt", "{tum}", "--pairs", "0",
                                        "--out", "{new_dir}"), r"--pairs must be at least 1")
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 import os
 
-from slam_predict.cli.guards import add_force_argument, check_out_file, plural
+from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_file, plural
 from slam_predict.errors import InputError
 
 NAME = "metric"
@@ -164,10 +164,8 @@ def _evaluate(args) -> int:
         raise InputError("give the reference: --gt FILE or --relations FILE")
     if args.gt and args.relations:
         raise InputError("give either --gt or --relations, not both")
-    if args.t_max_diff is not None and args.t_max_diff < 0:
-        raise InputError("--t-max-diff must be ≥ 0")
-    if args.delta < 1:
-        raise InputError("--delta must be ≥ 1")
+    check_at_least(args.t_max_diff, 0, "--t-max-diff")
+    check_at_least(args.delta, 1, "--delta")
     pairs = parse_pairs(args.pairs)
     if args.out:
         check_out_file(args.out, args.force)
