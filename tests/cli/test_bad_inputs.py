@@ -135,27 +135,22 @@ def row(case_id: str, make_argv: Row, pattern: str, *marks) -> None:
     ROWS.append(pytest.param(make_argv, pattern, id=case_id, marks=marks))
 
 
-def outputs(command: List[str], folder_rows: bool, file_rows: bool,
-            out_option: str = "--out") -> None:
-    """The output rows of a command: ``command`` is argv without the output option."""
+OUTPUT_CASES = {  # kind of output → (label, Files attribute given as --out, pattern)
+    "folder": [("non-empty folder", "full_dir", r"folder exists and is not empty; use --force"),
+               ("is a file", "existing_file", r"existing\.txt: --out must be a folder")],
+    "file": [("file exists", "existing_file", r"existing\.txt: --out file exists; use --force"),
+             ("is a folder", "full_dir", r"full: --out is a folder")],
+}
+UNCREATABLE = ("cannot be created", "under_file",
+               r"--out cannot be created: .*existing\.txt is a file")
+
+
+def outputs(command: List[str], kind: str) -> None:
+    """The --out rows of a command writing a ``kind`` ('folder' or 'file'); ``command`` is its
+    argv without --out."""
     name = " ".join(w for w in command[:2] if w.isalpha())
-    if folder_rows:
-        row(f"{name}: --out non-empty folder", lambda f: [*_expand(command, f), out_option,
-                                                         f.full_dir],
-            r"folder exists and is not empty; use --force")
-        row(f"{name}: --out is a file", lambda f: [*_expand(command, f), out_option,
-                                                  f.existing_file],
-            r"existing\.txt: --out must be a folder")
-    if file_rows:
-        row(f"{name}: --out file exists", lambda f: [*_expand(command, f), out_option,
-                                                    f.existing_file],
-            r"existing\.txt: --out file exists; use --force")
-        row(f"{name}: --out is a folder", lambda f: [*_expand(command, f), out_option,
-                                                    f.full_dir],
-            r"full: --out is a folder")
-    row(f"{name}: --out cannot be created", lambda f: [*_expand(command, f), out_option,
-                                                      f.under_file],
-        r"--out cannot be created: .*existing\.txt is a file")
+    for label, attr, pattern in OUTPUT_CASES[kind] + [UNCREATABLE]:
+        row(f"{name}: --out {label}", cmd(*command, "--out", "{" + attr + "}"), pattern)
 
 
 def _expand(command: List[str], files: Files) -> List[str]:
@@ -182,7 +177,7 @@ row("worlds validate: --free-threshold 300", cmd("worlds", "validate", "{plan}",
     r"free threshold must be in 1\.\.255")
 row("worlds show: --dpi 0", cmd("worlds", "show", "{plan}", "--resolution", "0.1", "--out",
                                 "{new_dir}/x.png", "--dpi", "0"), r"--dpi must be > 0, got 0")
-outputs(["worlds", "show", "{plan}", "--resolution", "0.1"], False, True)
+outputs(["worlds", "show", "{plan}", "--resolution", "0.1"], "file")
 row("worlds convert: --out cannot be created", lambda f: [
     "worlds", "convert", f.plan, "--resolution", "0.1", "--out", f.under_file + ".world"],
     r"--out cannot be created: .*existing\.txt is a file")
@@ -209,7 +204,7 @@ row("worlds import-thesis: missing csv", cmd("worlds", "import-thesis", "{missin
 
 # --- sim --------------------------------------------------------------------------------------
 WAYPOINTS = "waypoints: [[0.5, 0.0]]\n"
-outputs(["sim", "drive", "{world}", "--path", "{missing}"], True, False)
+outputs(["sim", "drive", "{world}", "--path", "{missing}"], "folder")
 row("sim drive: missing world", lambda f: ["sim", "drive", f.missing, "--path",
                                            f.yaml("w.yaml", WAYPOINTS), "--out", f.new_dir],
     r"nope\.dat: ")
@@ -228,7 +223,7 @@ row("sim drive: --max-time 0", lambda f: [
     "--max-time", "0"], r"--max-time must be > 0")
 
 # --- slam -------------------------------------------------------------------------------------
-outputs(["slam", "run", "{missing}"], True, False)
+outputs(["slam", "run", "{missing}"], "folder")
 row("slam run: missing log", cmd("slam", "run", "{missing}", "--out", "{new_dir}"),
     r"nope\.dat: ")
 row("slam run: garbage gz", cmd("slam", "run", "{garbage_gz}", "--out", "{new_dir}"),
@@ -245,7 +240,7 @@ row("slam run: value out of range", lambda f: [
     r"g\.yaml: 'resampleThreshold' must be in \[0, 1\], got 1\.5")
 
 # --- explore ----------------------------------------------------------------------------------
-outputs(["explore", "{world}"], True, False)
+outputs(["explore", "{world}"], "folder")
 row("explore: missing plan", cmd("explore", "{missing}", "--out", "{new_dir}"), r"nope\.dat: ")
 row("explore: unknown config key", lambda f: [
     "explore", f.world, "--out", f.new_dir, "--config-dir",
@@ -259,9 +254,9 @@ row("explore: --max-sim-time 0", cmd("explore", "{world}", "--out", "{new_dir}",
                                      "--max-sim-time", "0"), r"--max-sim-time must be > 0")
 
 # --- metric -----------------------------------------------------------------------------------
-outputs(["metric", "evaluate", "--slam", "{tum}", "--gt", "{tum}"], False, True)
-outputs(["metric", "relations", "--gt", "{tum}"], False, True)
-outputs(["metric", "adjust", "{tum}"], False, True)
+outputs(["metric", "evaluate", "--slam", "{tum}", "--gt", "{tum}"], "file")
+outputs(["metric", "relations", "--gt", "{tum}"], "file")
+outputs(["metric", "adjust", "{tum}"], "file")
 row("metric evaluate: missing", cmd("metric", "evaluate", "--slam", "{missing}", "--gt", "{tum}",
                                     "--format", "tum"), r"nope\.dat: ")
 row("metric evaluate: garbage tum", cmd("metric", "evaluate", "--slam", "{tum_garbage}", "--gt",
@@ -280,7 +275,7 @@ row("metric relations: --pairs 0", cmd("metric", "relations", "--gt", "{tum}", "
                                        "--out", "{new_dir}"), r"--pairs must be at least 1")
 
 # --- fidelity ---------------------------------------------------------------------------------
-outputs(["fidelity", "{full_dir}", "--thesis", "{missing}"], False, True)
+outputs(["fidelity", "{full_dir}", "--thesis", "{missing}"], "file")
 row("fidelity: missing table", cmd("fidelity", "{full_dir}", "--thesis", "{missing}"),
     r"nope\.dat: ")
 row("fidelity: --min-runs 0", cmd("fidelity", "{full_dir}", "--thesis", "{missing}",
