@@ -34,6 +34,7 @@ def test_shipped_files_load(root):
     ("move_base.yaml", "controller_frequncy: 3\n", "did you mean 'controller_frequency'"),
     ("closed_loop.yaml", "loops: {}\n", "unknown config key 'loops' (did you mean 'loop'?)"),
     ("closed_loop.yaml", "loop:\n  max_sim_tim: 3\n", "unknown config key 'max_sim_tim' in 'loop'"),
+    ("closed_loop.yaml", "loop:\n  max_sim_time: 0\n", "'loop.max_sim_time' must be > 0, got 0.0"),
     ("robot.yaml", "  odom:\n    gaussian: [0, 0, -1, 0]\n", "'sim.odom.gaussian' must be ≥ 0"),
     ("robot.yaml", "integrator: exact\n", "unknown config key 'integrator' (expected 'sim')"),
     ("gmapping.yaml", "occ_thresh: 1.5\n", "'occ_thresh' must be in [0, 1], got 1.5"),

@@ -12,12 +12,13 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Dict, Optional
+from typing import Any, ClassVar, Dict, Optional
 
 import numpy as np
 
 from slam_predict.atomic import write_text
-from slam_predict.config import check_keys, config_hash, from_dict, load_config, load_yaml
+from slam_predict.config import (POSITIVE, Range, check_keys, config_hash, from_dict, load_config,
+                                 load_yaml)
 from slam_predict.explore.coverage import coverage, reachable_free, render_png
 from slam_predict.explore.explorer import ExploreConfig
 from slam_predict.explore.loop import ClosedLoop
@@ -34,6 +35,7 @@ class LoopSettings:
     """The closed loop's own settings (``loop:`` in closed_loop.yaml)."""
 
     max_sim_time: float = 10800.0
+    RANGES: ClassVar[Dict[str, Range]] = {"max_sim_time": POSITIVE}
 
 
 @dataclass
