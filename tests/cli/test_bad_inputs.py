@@ -348,6 +348,17 @@ def test_bad_input_exit_2_one_line_nothing_written(tmp_path, capsys, make_argv, 
     assert snapshot(tmp_path) == before
 
 
+def test_slam_run_force_replaces_the_folder(tmp_path, capsys, shared_data):
+    log = shared_data / "carmen" / "aces-corrected.log.gz"
+    out = Path(Files(tmp_path).full_dir)   # holds thesis.tex
+    argv = ["slam", "run", str(log), "--max-scans", "3", "--out", str(out)]
+    assert main(argv) == 2 and (out / "thesis.tex").exists()
+    assert main(argv + ["--force"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == [
+        "map.pgm", "map.png", "map.yaml", "slam.log", "slam.tum", "stats.json"]
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+
+
 def test_force_replaces_a_folder_and_a_file(tmp_path, capsys):
     files = Files(tmp_path)
     assert main(["metric", "relations", "--gt", files.tum, "--pairs", "5", "--out",

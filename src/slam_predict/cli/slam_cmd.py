@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from slam_predict.cli.guards import add_force_argument, check_out_dir, plural
+from slam_predict.cli.guards import add_force_argument, check_out_dir
 
 NAME = "slam"
 HELP = "run SLAM (GMapping) offline over a recorded log"
@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
     out = write_run(args.out, result, data, params, args.seed, args.config)
     stats = result.stats
     line = (f"{stats['scans_processed']}/{len(data)} scans processed, "
-            f"{plural(stats['resamples'], 'resample')}, CPU {stats['cpu_s']:.1f} s -> {out}")
+            f"{stats['resamples']} resamples, CPU {stats['cpu_s']:.1f} s -> {out}")
     errors = evaluate(result)
     if errors:
         line += (f"; error vs reference {errors['slam']['trans_mean_m']:.3f} m "
