@@ -224,6 +224,9 @@ row("sim drive: --max-time 0", lambda f: [
 
 # --- slam -------------------------------------------------------------------------------------
 outputs(["slam", "run", "{missing}"], "folder")
+row("slam run: --force on the input's folder", lambda f: [
+    "slam", "run", f.yaml("full/in.log", "ODOM 0 0 0 0 0 0 1.0 h 1.0\n"), "--out", f.full_dir,
+    "--force"], r"full: --out holds the input .*in\.log; --force would delete it")
 row("slam run: missing log", cmd("slam", "run", "{missing}", "--out", "{new_dir}"),
     r"nope\.dat: ")
 row("slam run: garbage gz", cmd("slam", "run", "{garbage_gz}", "--out", "{new_dir}"),

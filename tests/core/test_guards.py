@@ -77,3 +77,19 @@ def test_plural():
     assert [plural(n, "run") for n in (0, 1, 2)] == ["0 runs", "1 run", "2 runs"]
     assert plural(1, "analysis", "analyses") == "1 analysis"
     assert plural(3, "analysis", "analyses") == "3 analyses"
+
+
+def test_force_never_replaces_a_folder_holding_an_input_or_the_current_folder(tmp_path,
+                                                                               monkeypatch):
+    folder = tmp_path / "run"
+    (folder / "sub").mkdir(parents=True)
+    (folder / "sub" / "in.log").write_text("x")
+    with pytest.raises(InputError, match=r"--out holds the input .*in\.log; --force would "
+                                         r"delete it"):
+        check_out_dir(folder, force=True, inputs=(None, folder / "sub" / "in.log"))
+    check_out_dir(folder, force=True, inputs=(tmp_path / "runner.log",))  # a sibling: fine
+    monkeypatch.chdir(folder / "sub")
+    with pytest.raises(InputError, match="--out holds the current folder"):
+        check_out_dir(folder, force=True)
+    with pytest.raises(InputError, match="--out holds the current folder"):
+        check_out_dir(".", force=True)

@@ -59,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.world.load import load_plan
 
     check_positive(args.max_sim_time, "--max-sim-time")
-    check_out_dir(args.out, args.force)
+    check_out_dir(args.out, args.force, inputs=(args.plan, args.config_dir))
     config_dir = args.config_dir or runner.DEFAULT_CONFIG_DIR
     if not os.path.isdir(config_dir):
         raise InputError("config folder not found", config_dir)

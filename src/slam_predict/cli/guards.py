@@ -15,11 +15,12 @@ from __future__ import annotations
 
 import argparse
 import os
-from typing import Optional, Union
+from typing import Iterable, Optional, Union
 
 from slam_predict.errors import InputError
 
 Number = Union[int, float]
+PathArg = Union[str, os.PathLike]
 FORCE_HELP = "replace an existing output (default: refuse to touch it)"
 
 
@@ -28,7 +29,7 @@ def add_force_argument(parser: argparse.ArgumentParser, help_text: str = FORCE_H
     parser.add_argument("--force", action="store_true", help=help_text)
 
 
-def check_creatable(path: Union[str, os.PathLike], option: str = "--out") -> None:
+def check_creatable(path: PathArg, option: str = "--out") -> None:
     """InputError unless ``path``'s parent folder exists and is writable, or can be created.
 
     Walks up to the nearest existing ancestor: it must be a folder (a path under a file can
@@ -46,19 +47,34 @@ def check_creatable(path: Union[str, os.PathLike], option: str = "--out") -> Non
                          path)
 
 
-def check_out_dir(path: Union[str, os.PathLike], force: bool, option: str = "--out") -> None:
+def check_out_dir(path: PathArg, force: bool, option: str = "--out",
+                  inputs: Iterable[Optional[PathArg]] = ()) -> None:
     """InputError unless ``path`` is a folder the command may create (or, with ``force``,
-    replace): an existing non-empty folder is only replaced with ``--force``."""
+    replace): an existing non-empty folder is only replaced with ``--force``, and never when
+    it holds the current folder or one of the command's ``inputs`` (None entries skipped)."""
     path = os.fspath(path)
     if os.path.lexists(path) and not os.path.isdir(path):
         raise InputError(f"{option} must be a folder; this exists and is not a folder", path)
-    if os.path.isdir(path) and os.listdir(path) and not force:
-        raise InputError(f"{option} folder exists and is not empty; use --force to replace it "
-                         "or choose another folder", path)
+    if os.path.isdir(path) and os.listdir(path):
+        if not force:
+            raise InputError(f"{option} folder exists and is not empty; use --force to replace "
+                             "it or choose another folder", path)
+        _refuse_replacing_inputs(path, option, inputs)
     check_creatable(path, option)
 
 
-def check_out_file(path: Union[str, os.PathLike], force: bool, option: str = "--out") -> None:
+def _refuse_replacing_inputs(path: str, option: str, inputs: Iterable[Optional[PathArg]]) -> None:
+    """InputError when replacing folder ``path`` would delete the current folder or an input."""
+    folder = os.path.realpath(path)
+    for item, what in [(os.getcwd(), "the current folder")] + [
+            (i, f"the input {os.fspath(i)}") for i in inputs if i is not None]:
+        real = os.path.realpath(item)
+        if real == folder or real.startswith(folder.rstrip(os.sep) + os.sep):
+            raise InputError(f"{option} holds {what}; --force would delete it: choose another "
+                             "folder", path)
+
+
+def check_out_file(path: PathArg, force: bool, option: str = "--out") -> None:
     """InputError unless ``path`` is a file the command may create (or, with ``force``,
     overwrite): an existing file is only replaced with ``--force``; a folder never."""
     path = os.fspath(path)

@@ -80,7 +80,7 @@ def _drive(args: argparse.Namespace) -> int:
     from slam_predict.sim.drive import FollowerConfig, drive, read_waypoints, write_run
     from slam_predict.world.load import load_plan
 
-    check_out_dir(args.out, args.force)
+    check_out_dir(args.out, args.force, inputs=(args.world, args.path, args.config))
     check_positive(args.max_time, "--max-time")
     world = load_plan(args.world, resolution=args.resolution)
     config = _config(args)

@@ -56,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.slam.gmapping.params import GMappingParams, load_params
     from slam_predict.slam.gmapping.runner import evaluate, read_input, run as run_slam, write_run
 
-    check_out_dir(args.out, args.force)
+    check_out_dir(args.out, args.force, inputs=(args.input, args.config))
     params = load_params(args.config) if args.config else GMappingParams()
     data = read_input(args.input, args.max_scans, scan_topic=args.scan_topic,
                       odom_topic=args.odom_topic, base_frame=args.base_frame,
