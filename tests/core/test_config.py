@@ -160,7 +160,8 @@ def _config_classes():
                "slam_predict.ros.orchestrator", "slam_predict.features.vector",
                "slam_predict.features.rooms", "slam_predict.features.traversal",
                "slam_predict.features.topology", "slam_predict.features.geometric",
-               "slam_predict.features.voronoi", "slam_predict.explore.run"]
+               "slam_predict.features.voronoi", "slam_predict.explore.run",
+               "slam_predict.collect.stopping"]
     found = {}
     for name in modules:
         for obj in vars(importlib.import_module(name)).values():

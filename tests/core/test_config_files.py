@@ -48,6 +48,16 @@ def test_bad_key_or_value_names_its_file(config_dir, name, extra, message):
     assert message in info.value.problem
 
 
+def test_collect_settings_stop_section(config_dir):
+    from slam_predict.collect.settings import load_settings as load_collect
+
+    with open(config_dir / "collect.yaml", "a") as handle:
+        handle.write("stop:\n  max_snapshots: -5\n")
+    with pytest.raises(InputError) as info:
+        load_collect(config_dir / "collect.yaml")
+    assert info.value.problem == "'stop.max_snapshots' must be ≥ 1, got -5"
+
+
 def test_nav_loader_alone(config_dir):
     (config_dir / "costmap_common.yaml").write_text("robot_radius: -0.2\n")
     with pytest.raises(InputError, match="costmap_common.yaml: 'robot_radius' must be ≥ 0"):
