@@ -93,3 +93,9 @@ def test_force_never_replaces_a_folder_holding_an_input_or_the_current_folder(tm
         check_out_dir(folder, force=True)
     with pytest.raises(InputError, match="--out holds the current folder"):
         check_out_dir(".", force=True)
+
+
+def test_the_current_folder_is_never_an_output_folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)   # empty: replacing it would still rename the current folder
+    with pytest.raises(InputError, match="--out holds the current folder"):
+        check_out_dir(".", force=False)

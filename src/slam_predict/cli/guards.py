@@ -55,12 +55,21 @@ def check_out_dir(path: PathArg, force: bool, option: str = "--out",
     path = os.fspath(path)
     if os.path.lexists(path) and not os.path.isdir(path):
         raise InputError(f"{option} must be a folder; this exists and is not a folder", path)
-    if os.path.isdir(path) and os.listdir(path):
-        if not force:
+    if os.path.isdir(path):
+        if not force and _has_entries(path, option):
             raise InputError(f"{option} folder exists and is not empty; use --force to replace "
                              "it or choose another folder", path)
         _refuse_replacing_inputs(path, option, inputs)
     check_creatable(path, option)
+
+
+def _has_entries(folder: str, option: str) -> bool:
+    try:
+        with os.scandir(folder) as entries:
+            return next(entries, None) is not None
+    except OSError as exc:
+        raise InputError(f"{option} folder cannot be read ({exc.strerror or exc})",
+                         folder) from None
 
 
 def _refuse_replacing_inputs(path: str, option: str, inputs: Iterable[Optional[PathArg]]) -> None:
