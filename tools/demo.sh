@@ -14,7 +14,7 @@ WORLD="$ROOT/worlds/office_500.world"
 
 echo "[demo] 1/4 validate and render $WORLD"
 slam-predict worlds validate "$WORLD"
-slam-predict worlds show "$WORLD" --out "$OUT/worlds/office_500.png"
+slam-predict worlds show "$WORLD" --out "$OUT/worlds/office_500.png" --force
 
 echo "[demo] 2/4 collect: simulated explorations with GMapping (tiny + office_150, resumable)"
 slam-predict collect "$ROOT/worlds/tiny.world" "$ROOT/worlds/office_150.world" \

@@ -9,7 +9,7 @@ set +u; source "$ROOT/setup.bash"; set -u
 while read -r name kind area seed; do
   [[ -z "$name" || "$name" == \#* ]] && continue
   slam-predict worlds generate --kind "$kind" --area "$area" --seed "$seed" \
-      --resolution 0.05 --name "$name" --out "$OUT"
+      --resolution 0.05 --name "$name" --out "$OUT" --force
 done <<'LIST'
 # name        kind    area  seed
 tiny          office  80    1

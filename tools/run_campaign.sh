@@ -40,7 +40,7 @@ set +u; source "$ROOT/setup.bash"; set -u
 WORLDS_DIR="$ROOT/out/thesis_worlds"
 # shellcheck disable=SC2086
 slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$WORLDS_DIR" \
-  --only $THESIS_BUILDINGS > /dev/null
+  --force --only $THESIS_BUILDINGS > /dev/null
 WORLDS=()
 for b in $THESIS_BUILDINGS; do WORLDS+=("$WORLDS_DIR/$b.world"); done
 if [ "$WITH_SHIPPED" = 1 ]; then

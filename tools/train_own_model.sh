@@ -21,7 +21,7 @@ rm -rf "$OUT/worlds"; mkdir -p "$OUT/worlds"
 awk -F, -v m="$MIN_RUNS" 'NR == 1 || $2 >= m' "$CAMPAIGN/summary.csv" > "$OUT/summary.csv"
 echo "[own model] $(($(wc -l < "$OUT/summary.csv") - 1)) buildings with >= $MIN_RUNS runs"
 slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$OUT/thesis_worlds" \
-  > /dev/null
+  --force > /dev/null
 # one folder with the campaign's worlds (symlinks), named as in summary.csv
 tail -n +2 "$OUT/summary.csv" | cut -d, -f1 | while read -r world; do
   for candidate in "$ROOT/worlds/$world" "$OUT/thesis_worlds/$world"; do

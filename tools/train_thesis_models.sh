@@ -17,7 +17,7 @@ set +u; source "$ROOT/setup.bash"; set -u
 mkdir -p "$OUT"
 
 echo "[thesis models] importing the thesis buildings into $OUT/worlds"
-slam-predict worlds import-thesis "$THESIS/environments.csv" --out "$OUT/worlds"
+slam-predict worlds import-thesis "$THESIS/environments.csv" --out "$OUT/worlds" --force
 
 echo "[thesis models] computing features (realistic dataset)"
 slam-predict learn dataset --errors "$THESIS/stats_realistic.csv" --worlds "$OUT/worlds" \

@@ -1,14 +1,21 @@
 """Strict, typed configuration: dataclasses loaded from YAML, unknown keys rejected.
 
 Every config class is a plain (frozen or not) dataclass with defaults. ``from_dict`` checks the
-keys (with a did-you-mean hint), converts nested dataclasses, tuples and numbers, and
-``to_dict`` gives the inverse, so ``from_dict(cls, to_dict(x)) == x``.
+keys (with a did-you-mean hint) and the value ranges a class declares in ``RANGES``, converts
+nested dataclasses, tuples and numbers, and ``to_dict`` gives the inverse, so
+``from_dict(cls, to_dict(x)) == x``. Every error is one line naming the file and the key path
+(``sim.odom.gaussian``).
+
+A class declares its numeric ranges as ``RANGES: ClassVar[Dict[str, Range]] = {"particles":
+AT_LEAST_ONE, ...}``; a tuple field's range applies to each element, ``None`` is always allowed
+(it means "not set").
 """
 from __future__ import annotations
 
 import dataclasses
 import hashlib
 import json
+import math
 import os
 import typing
 from typing import Any, Dict, Mapping, Optional, Type, TypeVar
@@ -20,21 +27,101 @@ from slam_predict.errors import InputError, did_you_mean
 T = TypeVar("T")
 
 
-def from_dict(cls: Type[T], data: Optional[Mapping[str, Any]], source: str = "<config>") -> T:
-    """Build dataclass ``cls`` from ``data``; raise InputError naming ``source`` on bad keys."""
+@dataclasses.dataclass(frozen=True)
+class Range:
+    """Allowed values of a number: ``low`` ≤ v ≤ ``high`` (None = unbounded); ``open_low`` /
+    ``open_high`` make a bound strict (v > low, v < high)."""
+
+    low: Optional[float] = None
+    high: Optional[float] = None
+    open_low: bool = False
+    open_high: bool = False
+
+    def contains(self, value: float) -> bool:
+        """Whether ``value`` lies in the range (NaN never does)."""
+        if math.isnan(value):
+            return False
+        if self.low is not None and (value <= self.low if self.open_low else value < self.low):
+            return False
+        if self.high is not None and (value >= self.high if self.open_high
+                                      else value > self.high):
+            return False
+        return True
+
+    def describe(self) -> str:
+        """The range in words: '≥ 0', '> 0', 'in [0, 1]', 'in (0, 1)', '≤ 1'."""
+        if self.low is not None and self.high is not None:
+            return (f"in {'(' if self.open_low else '['}{self.low:g}, "
+                    f"{self.high:g}{')' if self.open_high else ']'}")
+        if self.low is not None:
+            return f"{'>' if self.open_low else '≥'} {self.low:g}"
+        if self.high is not None:
+            return f"{'<' if self.open_high else '≤'} {self.high:g}"
+        return "any number"
+
+
+NON_NEGATIVE = Range(0.0)
+POSITIVE = Range(0.0, open_low=True)
+AT_LEAST_ONE = Range(1.0)
+PROBABILITY = Range(0.0, 1.0)
+TWO_OR_MORE = Range(2.0)
+FRACTION = Range(0.0, 1.0, open_low=True, open_high=True)
+
+
+def from_dict(cls: Type[T], data: Optional[Mapping[str, Any]], source: str = "<config>",
+              key_path: str = "") -> T:
+    """Build dataclass ``cls`` from ``data``; raise InputError naming ``source`` and the key
+    on unknown keys, wrong types and values outside ``cls.RANGES``.
+
+    ``key_path`` is where ``data`` sits in its file (e.g. ``sim`` for the ``sim:`` section),
+    used in the messages.
+    """
+    if data is not None and not isinstance(data, Mapping):
+        raise InputError(f"'{key_path or cls.__name__}' must be a mapping, got {data!r}", source)
     data = dict(data or {})
     fields = {f.name: f for f in dataclasses.fields(cls)}
     hints = typing.get_type_hints(cls)
+    ranges = getattr(cls, "RANGES", {})
     kwargs: Dict[str, Any] = {}
     for key, value in data.items():
         if key not in fields:
-            raise InputError(f"unknown config key '{key}' for {cls.__name__}"
-                             + did_you_mean(key, fields), source)
-        kwargs[key] = _convert(hints[key], value, f"{source}:{key}", source)
+            where = f" in '{key_path}'" if key_path else ""
+            raise InputError(f"unknown config key '{key}'{where}" + did_you_mean(key, fields),
+                             source)
+        path = _join(key_path, key)
+        kwargs[key] = _convert(hints[key], value, path, source)
+        if key in ranges:
+            _check_range(kwargs[key], ranges[key], path, source)
     try:
         return cls(**kwargs)
     except (TypeError, ValueError) as exc:
-        raise InputError(f"invalid {cls.__name__}: {exc}", source) from None
+        name = f"'{key_path}' ({cls.__name__})" if key_path else cls.__name__
+        raise InputError(f"invalid {name}: {exc}", source) from None
+
+
+def check_keys(data: Mapping[str, Any], allowed, source: str, key_path: str = "") -> None:
+    """InputError (with a did-you-mean) when ``data`` has a key not in ``allowed``: for the
+    top level of a file that holds named sections, e.g. ``{'sim'}`` in config/robot.yaml."""
+    allowed = list(allowed)
+    for key in data:
+        if key not in allowed:
+            where = f" in '{key_path}'" if key_path else ""
+            hint = did_you_mean(str(key), allowed) or " (expected {})".format(
+                ", ".join(f"'{a}'" for a in allowed))
+            raise InputError(f"unknown config key '{key}'{where}{hint}", source)
+
+
+def _join(prefix: str, key: Any) -> str:
+    return f"{prefix}.{key}" if prefix else str(key)
+
+
+def _check_range(value: Any, allowed: Range, where: str, source: str) -> None:
+    """InputError when a number (or any number in a tuple) lies outside ``allowed``."""
+    values = value if isinstance(value, tuple) else (value,)
+    for item in values:
+        if isinstance(item, (int, float)) and not isinstance(item, bool) \
+                and not allowed.contains(item):
+            raise InputError(f"'{where}' must be {allowed.describe()}, got {item!r}", source)
 
 
 def _convert(hint: Any, value: Any, where: str, source: str) -> Any:
@@ -49,15 +136,17 @@ def _convert(hint: Any, value: Any, where: str, source: str) -> Any:
     if dataclasses.is_dataclass(hint):
         if not isinstance(value, Mapping):
             raise InputError(f"'{where}' must be a mapping", source)
-        return from_dict(hint, value, source)
+        return from_dict(hint, value, source, where)
     if origin is tuple:
         if not isinstance(value, (list, tuple)):
             raise InputError(f"'{where}' must be a list", source)
         if len(args) == 2 and args[1] is Ellipsis:
-            return tuple(_convert(args[0], v, where, source) for v in value)
+            return tuple(_convert(args[0], v, f"{where}[{i}]", source)
+                         for i, v in enumerate(value))
         if len(args) != len(value):
             raise InputError(f"'{where}' needs {len(args)} values, got {len(value)}", source)
-        return tuple(_convert(a, v, where, source) for a, v in zip(args, value))
+        return tuple(_convert(a, v, f"{where}[{i}]", source)
+                     for i, (a, v) in enumerate(zip(args, value)))
     if hint is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise InputError(f"'{where}' must be a number, got {value!r}", source)
@@ -104,11 +193,15 @@ def load_yaml(path: os.PathLike | str) -> Dict[str, Any]:
 
 
 def load_config(cls: Type[T], path: os.PathLike | str, section: Optional[str] = None) -> T:
-    """Load dataclass ``cls`` from a YAML file (optionally from one top-level ``section``)."""
+    """Load dataclass ``cls`` from a YAML file (optionally from its one top-level ``section``;
+    any other top-level key is then an error)."""
     data = load_yaml(path)
     if section is not None:
-        data = data.get(section, {})
-    return from_dict(cls, data, os.fspath(path))
+        check_keys(data, [section], os.fspath(path))
+        data = data.get(section)
+        if data is not None and not isinstance(data, Mapping):
+            raise InputError(f"'{section}' must be a mapping", path)
+    return from_dict(cls, data, os.fspath(path), section or "")
 
 
 def config_hash(obj: Any) -> str:

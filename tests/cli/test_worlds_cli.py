@@ -138,7 +138,13 @@ CASES = {
                                   "--out", t / "x.txt"], r"--out must name a \.world file"),
     "convert overwrites input": (lambda t: ["convert", plan_png(t / "p.png"), "--resolution",
                                             0.1, "--out", t / "p.world"],
-                                 r"p\.png: the bitmap written beside --out would overwrite this"),
+                                 r"p\.png: the bitmap written beside --out file exists; use "
+                                 r"--force"),
+    "convert overwrites input, forced": (lambda t: ["convert", plan_png(t / "p.png"),
+                                                    "--resolution", 0.1, "--out", t / "p.world",
+                                                    "--force"],
+                                         r"p\.png: the bitmap written beside --out would "
+                                         r"overwrite this"),
     "show format": (lambda t: ["show", plan_png(t / "p.png"), "--resolution", 0.1,
                                "--out", t / "x.gif"], r"picture format '\.gif' not supported"),
 }

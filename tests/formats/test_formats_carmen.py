@@ -196,7 +196,7 @@ def test_missing_and_corrupt_files(tmp_path):
         read_log(tmp_path / "nope.log")
     bad = tmp_path / "bad.log.gz"
     bad.write_bytes(gzip.compress(b"ODOM 0 0 0 0 0 0 1 h 1\n")[:15])
-    with pytest.raises(InputError, match="cannot read"):
+    with pytest.raises(InputError, match="truncated gzip file"):
         read_log(bad)
 
 

@@ -34,9 +34,9 @@ def test_robot_yaml_loads_the_thesis_settings(root):
     ({"odom": {"model": "uniform"}}, "odom model must be one of"),
     ({"laser": {"range_max": "far"}}, "must be a number"),
     ({"scan_timing": "late"}, "scan_timing must be one of"),
-    ({"laser": {"samples": 0}}, "laser samples must be >= 1"),
-    ({"laser": {"range_max": 0.0}}, "laser range_max must be > 0"),
-    ({"robot": {"max_vel_x": -1.0}}, "robot max_vel_x must be >= 0"),
+    ({"laser": {"samples": 0}}, "'laser.samples' must be ≥ 1, got 0"),
+    ({"laser": {"range_max": 0.0}}, "'laser.range_max' must be > 0, got 0.0"),
+    ({"robot": {"max_vel_x": -1.0}}, "'robot.max_vel_x' must be ≥ 0, got -1.0"),
 ])
 def test_bad_config_is_one_line_input_error(data, message):
     with pytest.raises(InputError) as info:

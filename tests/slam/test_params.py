@@ -40,7 +40,7 @@ def test_unknown_key_is_rejected_with_a_hint():
 def test_wrong_type_and_bad_values_are_input_errors():
     with pytest.raises(InputError, match="particles"):
         params_from_dict({"particles": "many"}, "x.yaml")
-    with pytest.raises(InputError, match="particles must be"):
+    with pytest.raises(InputError, match="'particles' must be ≥ 1, got 0"):
         params_from_dict({"particles": 0}, "x.yaml")
     with pytest.raises(InputError, match="not gmapping"):
         params_from_dict({"type": "karto"}, "x.yaml")

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import argparse
 
+from slam_predict.cli.guards import add_force_argument, check_out_dir, check_positive, plural
+
 NAME = "explore"
 HELP = "explore a floor plan in closed loop (simulator, map source, move_base, frontiers)"
 
@@ -32,6 +34,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=_non_negative_int, default=0,
                         help="random seed (default 0)")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    add_force_argument(parser)
     parser.add_argument("--resolution", type=float, metavar="R", help="m/px of an image plan")
     parser.add_argument("--start", type=float, nargs="+", metavar="V",
                         help="start pose X Y [YAW] (m, m, degrees); default: the world's, else "
@@ -50,14 +53,13 @@ def run(args: argparse.Namespace) -> int:
     import dataclasses
     import os
 
+    from slam_predict.atomic import atomic_dir
     from slam_predict.errors import InputError
     from slam_predict.explore import run as runner
     from slam_predict.world.load import load_plan
 
-    if args.max_sim_time is not None and not args.max_sim_time > 0:
-        raise InputError(f"--max-sim-time must be > 0, got {args.max_sim_time}")
-    if os.path.exists(args.out) and not os.path.isdir(args.out):
-        raise InputError("output exists and is not a folder", args.out)
+    check_positive(args.max_sim_time, "--max-sim-time")
+    check_out_dir(args.out, args.force, inputs=(args.plan, args.config_dir))
     config_dir = args.config_dir or runner.DEFAULT_CONFIG_DIR
     if not os.path.isdir(config_dir):
         raise InputError("config folder not found", config_dir)
@@ -68,9 +70,11 @@ def run(args: argparse.Namespace) -> int:
                       snap_start=args.snap_start)
     summary, loop = runner.explore_world(world, args.seed, settings, args.map_source,
                                          args.max_sim_time)
-    out = runner.write_outputs(args.out, summary, loop)
+    with atomic_dir(args.out) as tmp:
+        runner.write_outputs(tmp, summary, loop)
+    out = args.out
     print(f"{world.name}: coverage {summary['coverage']:.1%} of {summary['reachable_free_m2']} m² "
           f"in {summary['sim_time_s'] / 60:.1f} min sim ({summary['wall_time_s']:.0f} s wall), "
-          f"{summary['distance_m']:.0f} m, {summary['stalls']} stalls, "
+          f"{summary['distance_m']:.0f} m, {plural(summary['stalls'], 'stall')}, "
           f"stop: {summary['stop_reason']} -> {out}")
     return 0

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import argparse
 
+from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_file
+
 NAME = "fidelity"
 HELP = ("compare campaigns' per-building errors with the seed study's table (Spearman rank "
         "correlation, median ratio ours/theirs)")
@@ -18,6 +20,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", metavar="MD", help="also write the markdown tables to MD")
     parser.add_argument("--plot", metavar="PNG",
                         help="also write the ratios ours/theirs against free area to PNG")
+    add_force_argument(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -25,10 +28,10 @@ def run(args: argparse.Namespace) -> int:
 
     from slam_predict.atomic import write_text
     from slam_predict.collect.fidelity import compare_campaign, markdown_report, read_thesis_table
-    from slam_predict.errors import InputError
 
-    if args.min_runs < 1:
-        raise InputError(f"--min-runs must be at least 1, got {args.min_runs}")
+    check_at_least(args.min_runs, 1, "--min-runs")
+    if args.out:
+        check_out_file(args.out, args.force)
     thesis = read_thesis_table(Path(args.thesis))
     comparisons = [compare_campaign(Path(c), thesis, args.min_runs) for c in args.campaigns]
     text = markdown_report(comparisons, Path(args.thesis).name)

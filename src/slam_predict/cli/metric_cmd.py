@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import os
 
+from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_file, plural
 from slam_predict.errors import InputError
 
 NAME = "metric"
@@ -44,6 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                     help="std of per-relation errors: 1 = sample std (default), 0 = population")
     ev.add_argument("--json", action="store_true", help="print the result as JSON")
     ev.add_argument("--out", metavar="FILE", help="also write the JSON result to FILE")
+    add_force_argument(ev)
     ev.set_defaults(_action=_evaluate)
 
     rel = sub.add_parser("relations", help="sample random forward relations from a ground truth")
@@ -53,12 +55,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     rel.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     rel.add_argument("--no-dedupe", action="store_true")
     rel.add_argument("--out", required=True, metavar="FILE", help="relations file to write")
+    add_force_argument(rel)
     rel.set_defaults(_action=_relations)
 
     adj = sub.add_parser("adjust", help="drop a truncated last line of a CARMEN/TUM log (thesis)")
     adj.add_argument("log", help="CARMEN or TUM file")
     adj.add_argument("--out", metavar="FILE", help="write here instead of rewriting LOG")
     adj.add_argument("--kind", choices=("auto", "carmen", "tum"), default="auto")
+    add_force_argument(adj, "overwrite an existing --out FILE (default: refuse)")
     adj.set_defaults(_action=_adjust)
 
 
@@ -160,11 +164,11 @@ def _evaluate(args) -> int:
         raise InputError("give the reference: --gt FILE or --relations FILE")
     if args.gt and args.relations:
         raise InputError("give either --gt or --relations, not both")
-    if args.t_max_diff is not None and args.t_max_diff < 0:
-        raise InputError("--t-max-diff must be ≥ 0")
-    if args.delta < 1:
-        raise InputError("--delta must be ≥ 1")
+    check_at_least(args.t_max_diff, 0, "--t-max-diff")
+    check_at_least(args.delta, 1, "--delta")
     pairs = parse_pairs(args.pairs)
+    if args.out:
+        check_out_file(args.out, args.force)
     est = load_trajectory(args.slam, args.format, args.slam_topic, args.slam_field)
     if args.relations:
         relations = read_relations(args.relations)
@@ -200,6 +204,7 @@ def _relations(args) -> int:
 
     if args.pairs < 1:
         raise InputError(f"--pairs must be at least 1, got {args.pairs}")
+    check_out_file(args.out, args.force)
     ref = load_trajectory(args.gt, args.format, args.gt_topic, args.gt_field)
     if len(ref.t) < 2:
         raise InputError("need at least 2 poses to sample relations", args.gt)
@@ -207,13 +212,15 @@ def _relations(args) -> int:
                                  dedupe=not args.no_dedupe)
     write_relations(args.out, relations,
                     header=[f"{args.pairs} random forward relations of {args.gt}, seed {args.seed}"])
-    print(f"wrote {len(relations)} relations to {args.out}")
+    print(f"wrote {plural(len(relations), 'relation')} to {args.out}")
     return 0
 
 
 def _adjust(args) -> int:
     from slam_predict.metric.association import drop_truncated_last_line
 
+    if args.out:
+        check_out_file(args.out, args.force)
     removed = drop_truncated_last_line(args.log, args.out, args.kind)
     target = args.out or args.log
     print(f"{target}: {'dropped a truncated last line' if removed else 'no truncated last line'}")

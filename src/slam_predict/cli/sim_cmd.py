@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import argparse
 
+from slam_predict.cli.guards import add_force_argument, check_out_dir, check_positive
+
 NAME = "sim"
 HELP = "run the Stage-equivalent simulator alone (scripted drives)"
 ODOM_MODELS = ("uniform_per_run", "fixed", "none", "gaussian_per_step")
@@ -25,6 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     drive.add_argument("--path", required=True, metavar="WAYPOINTS",
                        help="YAML file 'waypoints: [[x, y], ...]' (world frame, m)")
     drive.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    add_force_argument(drive)
     drive.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     drive.add_argument("--odom-model", choices=ODOM_MODELS,
                        help="odometry error model (default: the config's)")
@@ -77,10 +80,10 @@ def _drive(args: argparse.Namespace) -> int:
     from slam_predict.sim.drive import FollowerConfig, drive, read_waypoints, write_run
     from slam_predict.world.load import load_plan
 
+    check_out_dir(args.out, args.force, inputs=(args.world, args.path, args.config))
+    check_positive(args.max_time, "--max-time")
     world = load_plan(args.world, resolution=args.resolution)
     config = _config(args)
-    if args.max_time is not None and not args.max_time > 0:
-        raise InputError(f"--max-time must be > 0, got {args.max_time}")
     waypoints = read_waypoints(args.path, world)
     try:
         sim = Simulator(world, config, np.random.default_rng(args.seed))

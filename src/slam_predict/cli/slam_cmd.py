@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import argparse
 
+from slam_predict.cli.guards import add_force_argument, check_out_dir
+
 NAME = "slam"
 HELP = "run SLAM (GMapping) offline over a recorded log"
 
@@ -45,7 +47,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                           "ones, else slam_gmapping's defaults)")
     run.add_argument("--seed", type=_non_negative,
                      help="random seed (default: a collected run's SLAM generator, else 0)")
-    run.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced)")
+    run.add_argument("--out", required=True, metavar="DIR", help="output folder (an existing non-empty one only with --force)")
+    add_force_argument(run)
     run.add_argument("--max-scans", type=_positive, metavar="K",
                      help="only the first K scans of the input")
     bag = run.add_argument_group("ROS bag input")
@@ -60,6 +63,7 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.slam.gmapping.runner import (evaluate, read_input, recorded_run,
                                                    run as run_slam, write_run)
 
+    check_out_dir(args.out, args.force, inputs=(args.input, args.config))
     recorded = recorded_run(args.input)
     params = GMappingParams()
     if args.config:

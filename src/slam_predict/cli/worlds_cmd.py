@@ -17,6 +17,7 @@ import importlib
 import math
 import sys
 
+from slam_predict.cli.guards import add_force_argument, check_out_file, check_positive
 from slam_predict.errors import InputError
 
 NAME = "worlds"
@@ -64,6 +65,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_plan_arguments(show)
     show.add_argument("--out", required=True, metavar="PNG", help="picture to write")
     show.add_argument("--dpi", type=int, default=150, help="resolution of the picture")
+    add_force_argument(show)
     show.set_defaults(worlds_run=run_show)
 
     convert = sub.add_parser("convert", help="write a plan as a Stage world (.world + .png)",
@@ -71,6 +73,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                          "beside it; Stage and slam_predict load it alike.")
     add_plan_arguments(convert)
     convert.add_argument("--out", required=True, metavar="X.world", help="world file to write")
+    add_force_argument(convert, "replace existing X.world / X.png (default: refuse)")
     convert.set_defaults(worlds_run=run_convert)
 
     validate = sub.add_parser("validate", help="load a plan and print a one-line summary",
@@ -126,6 +129,8 @@ def _refuse_overwriting_inputs(out: str, world, what: str) -> None:
 def run_show(args: argparse.Namespace) -> int:
     from slam_predict.world.render import render_world
 
+    check_positive(args.dpi, "--dpi")
+    check_out_file(args.out, args.force)
     world = load_plan_from_args(args)
     _refuse_overwriting_inputs(args.out, world, "--out")
     render_world(world, args.out, dpi=args.dpi)
@@ -138,6 +143,9 @@ def run_convert(args: argparse.Namespace) -> int:
 
     if not str(args.out).endswith(".world"):
         raise InputError("--out must name a .world file", args.out)
+    check_out_file(args.out, args.force)
+    check_out_file(str(args.out)[:-len(".world")] + ".png", args.force,
+                   "the bitmap written beside --out")
     world = load_plan_from_args(args)
     _refuse_overwriting_inputs(args.out, world, "--out")
     _refuse_overwriting_inputs(str(args.out)[:-len(".world")] + ".png", world,

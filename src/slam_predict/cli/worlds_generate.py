@@ -12,6 +12,8 @@ import argparse
 import json
 import os
 
+from slam_predict.cli.guards import (add_force_argument, check_out_dir, check_out_file,
+                                     check_positive, plural)
 from slam_predict.errors import InputError
 
 INDEX_NAME = "thesis_worlds.csv"
@@ -32,6 +34,7 @@ def add_generate(subparsers) -> None:
     parser.add_argument("--name", help="world name (default KIND_AREA_sSEED)")
     parser.add_argument("--resolution", type=float, default=0.05, metavar="M_PER_PX",
                         help="bitmap resolution (default 0.05)")
+    add_force_argument(parser, "overwrite NAME.world/.png/.json in DIR (default: refuse)")
     parser.set_defaults(worlds_run=run_generate)
 
 
@@ -54,12 +57,9 @@ def add_import_thesis(subparsers) -> None:
                         help="layout XML wall thickness (default 0.15)")
     parser.add_argument("--door-width", type=float, default=0.9, metavar="M",
                         help="layout XML door width (default 0.9)")
+    add_force_argument(parser, "write into a non-empty DIR, overwriting files of the same "
+                               "names (default: refuse)")
     parser.set_defaults(worlds_run=run_import_thesis)
-
-
-def _check_out_dir(out: str) -> None:
-    if os.path.exists(out) and not os.path.isdir(out):
-        raise InputError("--out must be a folder, not a file", out)
 
 
 def _safe_name(name: str) -> str:
@@ -73,21 +73,19 @@ def run_generate(args: argparse.Namespace) -> int:
     from slam_predict.world.generator import generate, metadata
     from slam_predict.world.stagefile import write_world
 
-    _check_out_dir(args.out)
-    name = _safe_name(args.name) if args.name is not None else None
+    name = _safe_name(args.name) if args.name is not None else \
+        f"{args.kind}_{int(round(args.area))}_s{args.seed}"
+    check_out_dir(args.out, force=True)   # files are added to DIR: only those named NAME.*
+    for suffix in (".world", ".png", ".json"):
+        check_out_file(os.path.join(args.out, name + suffix), args.force)
     world = generate(args.kind, args.area, args.seed, args.resolution, name=name)
     path = write_world(world, os.path.join(args.out, world.name + ".world"))
     record = metadata(world)
     write_text(path.with_suffix(".json"), json.dumps(record, indent=1) + "\n")
     print(f"wrote {path} (+ .png, .json): {record['shape']} {args.kind}, "
           f"free area {record['area_m2']:.1f} m² (requested {args.area:g}), "
-          f"{len(world.rooms)} rooms, {len(world.doors)} doors")
+          f"{plural(len(world.rooms), 'room')}, {plural(len(world.doors), 'door')}")
     return 0
-
-
-def _check_positive(value: float, option: str) -> None:
-    if not value > 0:
-        raise InputError(f"{option} must be > 0 (got {value:g})")
 
 
 def run_import_thesis(args: argparse.Namespace) -> int:
@@ -100,11 +98,11 @@ def run_import_thesis(args: argparse.Namespace) -> int:
     from slam_predict.world.stagefile import write_world
     from slam_predict.world.thesis import read_environments, thesis_world
 
-    _check_out_dir(args.out)
+    check_out_dir(args.out, args.force)
     for value, option in ((args.resolution, "--resolution"),
                           (args.wall_thickness, "--wall-thickness"),
                           (args.door_width, "--door-width")):
-        _check_positive(value, option)
+        check_positive(value, option)
     envs = read_environments(args.csv, args.plans)
     if args.only:
         names = [e.env for e in envs]
@@ -134,6 +132,6 @@ def run_import_thesis(args: argparse.Namespace) -> int:
     writer.writerows(rows)
     write_text(os.path.join(args.out, INDEX_NAME), text.getvalue())
     total = sum(r["free_area_m2"] for r in rows)
-    print(f"wrote {len(rows)} worlds and {INDEX_NAME} into {args.out} "
+    print(f"wrote {plural(len(rows), 'world')} and {INDEX_NAME} into {args.out} "
           f"(free area total {total:.0f} m²)")
     return 0

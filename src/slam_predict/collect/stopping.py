@@ -9,10 +9,11 @@ the run stops when the mean squared error between two consecutive snapshots is b
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import List, Optional
+from typing import ClassVar, Dict, List, Optional
 
 import numpy as np
 
+from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
 from slam_predict.formats.mapserver import FREE, OCCUPIED, UNKNOWN, occupancy_to_image
 
 
@@ -28,6 +29,10 @@ class StopConfig:
     stuck_timeout_s: float = 300.0
     max_sim_time_s: float = 4 * 3600.0
     max_wall_time_s: float = 3600.0
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "interval_s": POSITIVE, "small_interval_s": POSITIVE, "small_area_m2": NON_NEGATIVE,
+        "mse_threshold": NON_NEGATIVE, "max_snapshots": AT_LEAST_ONE, "stuck_timeout_s": POSITIVE,
+        "max_sim_time_s": POSITIVE, "max_wall_time_s": POSITIVE}
 
     def __post_init__(self) -> None:
         positive = ("interval_s", "small_interval_s", "stuck_timeout_s", "max_sim_time_s",

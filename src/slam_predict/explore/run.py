@@ -12,12 +12,13 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Dict, Optional
+from typing import Any, ClassVar, Dict, Optional
 
 import numpy as np
 
 from slam_predict.atomic import write_text
-from slam_predict.config import config_hash, from_dict, load_config, load_yaml
+from slam_predict.config import (POSITIVE, Range, check_keys, config_hash, from_dict, load_config,
+                                 load_yaml)
 from slam_predict.explore.coverage import coverage, reachable_free, render_png
 from slam_predict.explore.explorer import ExploreConfig
 from slam_predict.explore.loop import ClosedLoop
@@ -34,6 +35,7 @@ class LoopSettings:
     """The closed loop's own settings (``loop:`` in closed_loop.yaml)."""
 
     max_sim_time: float = 10800.0
+    RANGES: ClassVar[Dict[str, Range]] = {"max_sim_time": POSITIVE}
 
 
 @dataclass
@@ -62,8 +64,9 @@ def load_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
     sim = load_config(SimConfig, path("robot.yaml"), "sim") if path("robot.yaml") else SimConfig()
     closed = load_yaml(path("closed_loop.yaml")) if path("closed_loop.yaml") else {}
     source = str(path("closed_loop.yaml"))
-    perfect = from_dict(PerfectMapConfig, closed.get("perfect_map", {}), source)
-    loop = from_dict(LoopSettings, closed.get("loop", {}), source)
+    check_keys(closed, ("perfect_map", "loop"), source)
+    perfect = from_dict(PerfectMapConfig, closed.get("perfect_map"), source, "perfect_map")
+    loop = from_dict(LoopSettings, closed.get("loop"), source, "loop")
     gmapping = None
     if map_source == "gmapping" and path("gmapping.yaml"):
         from slam_predict.slam.gmapping.params import load_params

@@ -14,11 +14,12 @@ The seed's code squared the per-space averages (``mean()**2``); here they are pl
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, Tuple
+from typing import ClassVar, Dict, Tuple
 
 import cv2
 import numpy as np
 
+from slam_predict.config import NON_NEGATIVE, Range
 from slam_predict.features.rooms import Rooms
 
 
@@ -28,6 +29,8 @@ class GeometryConfig:
 
     outline_tolerance_m: float = 0.1
     min_wall_m: float = 0.5
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "outline_tolerance_m": NON_NEGATIVE, "min_wall_m": NON_NEGATIVE}
 
 
 @dataclass

@@ -36,12 +36,13 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from typing import List, Optional
+from typing import ClassVar, Dict, List, Optional
 
 import cv2
 import numpy as np
 from scipy import ndimage
 
+from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
 from slam_predict.features import graph_kernels, voronoi
 from slam_predict.features.skeleton_graph import pixel_edges, to_csr
 from slam_predict.world.bitmap import resample_square
@@ -64,6 +65,10 @@ class RoomsConfig:
     widening_ratio: float = 0.25
     min_room_area_m2: float = 1.0
     segmentation_resolution_m: float = 0.2
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "max_door_width_m": POSITIVE, "critical_radius_m": POSITIVE, "side_search_m": NON_NEGATIVE,
+        "min_widening_m": NON_NEGATIVE, "widening_ratio": NON_NEGATIVE,
+        "min_room_area_m2": NON_NEGATIVE, "segmentation_resolution_m": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:

@@ -11,12 +11,13 @@ The graph metrics are taken on the largest connected component, as the seed did.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, List, Tuple
+from typing import ClassVar, Dict, List, Tuple
 
 import cv2
 import networkx as nx
 import numpy as np
 
+from slam_predict.config import NON_NEGATIVE, Range
 from slam_predict.features import graph_metrics
 from slam_predict.features.rooms import Rooms, shared_borders
 from slam_predict.features.skeleton_graph import largest_component
@@ -27,6 +28,7 @@ class TopologyConfig:
     """Minimum passage width (m) for two spaces to count as connected."""
 
     min_passage_m: float = 0.3
+    RANGES: ClassVar[Dict[str, Range]] = {"min_passage_m": NON_NEGATIVE}
 
 
 @dataclass

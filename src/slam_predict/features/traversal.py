@@ -29,11 +29,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Optional
+from typing import ClassVar, Dict, Optional
 
 import cv2
 import numpy as np
 
+from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
 from slam_predict.features import kernels
 from slam_predict.features.voronoi import VoronoiGraph
 
@@ -49,6 +50,9 @@ class TraversalConfig:
     min_rotation_distance_m: float = 0.5
     smoothing_tolerance_m: float = 0.5
     mode: str = "documented"
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "laser_range_m": POSITIVE, "laser_fov_deg": Range(0.0, 360.0, open_low=True),
+        "min_rotation_distance_m": NON_NEGATIVE, "smoothing_tolerance_m": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:

@@ -34,12 +34,12 @@ import math
 import time
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Dict, List, Optional, Tuple
+from typing import ClassVar, Dict, List, Optional, Tuple
 
 import numpy as np
 from scipy import ndimage
 
-from slam_predict.config import config_hash
+from slam_predict.config import NON_NEGATIVE, Range, config_hash
 from slam_predict.features import geometric, graph_metrics
 from slam_predict.features import rooms as rooms_mod
 from slam_predict.features import topology as topology_mod
@@ -70,6 +70,7 @@ class FeaturesConfig:
     voronoi: voronoi_mod.VoronoiConfig = field(default_factory=voronoi_mod.VoronoiConfig)
     traversal: traversal_mod.TraversalConfig = field(
         default_factory=traversal_mod.TraversalConfig)
+    RANGES: ClassVar[Dict[str, Range]] = {"working_resolution_m": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:

@@ -34,12 +34,13 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
-from typing import Optional
+from typing import ClassVar, Dict, Optional
 
 import cv2
 import networkx as nx
 import numpy as np
 
+from slam_predict.config import NON_NEGATIVE, Range
 from slam_predict.features import raster_kernels
 from slam_predict.features.skeleton_graph import (largest_component, pixel_edges,
                                                   simplify_chains, sparsify, to_csr)
@@ -56,6 +57,9 @@ class VoronoiConfig:
     align_check_m: float = 0.25
     straight_tolerance_m: float = 0.1
     thesis_compatible: bool = False
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "dilation_m": NON_NEGATIVE, "min_site_separation_m": NON_NEGATIVE,
+        "align_check_m": NON_NEGATIVE, "straight_tolerance_m": NON_NEGATIVE}
 
 
 @dataclass

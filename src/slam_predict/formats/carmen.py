@@ -22,9 +22,11 @@ it); the logger timestamp then equals the IPC timestamp.
 from __future__ import annotations
 
 import gzip
+import io
 import logging
 import math
 import os
+import zlib
 from typing import Dict, Iterable, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -146,20 +148,56 @@ def line_status(tokens: List[str]) -> str:
     return "ok"
 
 
-def _open_text(path: str):
-    with open(path, "rb") as fh:
-        magic = fh.read(2)
-    if magic == b"\x1f\x8b":
-        return gzip.open(path, "rt", encoding="utf-8")
-    return open(path, "rt", encoding="utf-8")
+GZIP_MAGIC = b"\x1f\x8b"
+
+
+def read_log_bytes(path: str) -> bytes:
+    """The content of a CARMEN log, gunzipped when it starts with the gzip magic.
+
+    InputError (one line, naming the file) for a ``.gz`` name without gzip data, corrupt gzip
+    data and a truncated gzip file (naming the line where the data stops).
+    """
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read()
+    except OSError as exc:
+        raise InputError(f"cannot read CARMEN log ({exc.strerror or exc})", path) from None
+    if raw[:2] == GZIP_MAGIC:
+        return _gunzip(raw, path)
+    if path.lower().endswith(".gz"):
+        raise InputError("not a gzip file (the name ends in .gz but the content is not gzip "
+                         "data)", path)
+    return raw
+
+
+def _gunzip(raw: bytes, path: str) -> bytes:
+    """All gzip members of ``raw``, decompressed; InputError when corrupt or truncated."""
+    parts: List[bytes] = []
+    while raw:
+        member = zlib.decompressobj(wbits=16 + zlib.MAX_WBITS)
+        try:
+            parts.append(member.decompress(raw))
+        except zlib.error as exc:
+            raise InputError(f"not a gzip file or corrupt gzip data ({exc})", path) from None
+        if not member.eof:
+            data = b"".join(parts)
+            line = data.count(b"\n") + 1
+            raise InputError(f"truncated gzip file: the data stops inside line {line}",
+                             path, line)
+        raw = member.unused_data
+    return b"".join(parts)
 
 
 def _read_lines(path: str) -> List[str]:
+    """The log's lines (universal newlines, ends kept); InputError for non-UTF-8 content."""
+    data = read_log_bytes(path)
     try:
-        with _open_text(path) as fh:
-            return fh.readlines()
-    except (OSError, EOFError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read CARMEN log: {exc}", path)
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        raise InputError(f"not a CARMEN text log: byte 0x{data[exc.start]:02x} is not UTF-8 "
+                         "text", path, line) from None
+    return io.StringIO(text, newline=None).readlines()
 
 
 def read_log(path: os.PathLike | str, max_range: Optional[float] = None) -> CarmenLog:

@@ -3,8 +3,10 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, ClassVar, Dict, Optional, Tuple
 
+from slam_predict.config import (AT_LEAST_ONE, FRACTION, NON_NEGATIVE, POSITIVE, PROBABILITY,
+                                 TWO_OR_MORE, Range)
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.estimators import THESIS_ALPHAS, THESIS_L1_RATIOS
 
@@ -19,6 +21,9 @@ class FRegressionConfig:
     subset_fraction: float = 0.8
     cv: int = 5
     max_k: Optional[int] = None
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "n_subsets": AT_LEAST_ONE, "subset_fraction": Range(0.0, 1.0, open_low=True),
+        "cv": TWO_OR_MORE, "max_k": AT_LEAST_ONE}
 
 
 @dataclass
@@ -29,6 +34,8 @@ class ElasticNetConfig:
     alphas: Tuple[float, ...] = THESIS_ALPHAS
     cv: int = 5
     scale_target: bool = True
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "l1_ratios": PROBABILITY, "alphas": NON_NEGATIVE, "cv": TWO_OR_MORE}
 
 
 @dataclass
@@ -38,6 +45,9 @@ class ForestConfig:
     n_estimators: int = 100
     min_samples_leaf: int = 2
     max_features: float = 0.5
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "n_estimators": AT_LEAST_ONE, "min_samples_leaf": AT_LEAST_ONE,
+        "max_features": Range(0.0, 1.0, open_low=True)}
 
 
 @dataclass
@@ -48,6 +58,9 @@ class BoostingConfig:
     learning_rate: float = 0.1
     max_depth: int = 2
     subsample: float = 0.8
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "n_estimators": AT_LEAST_ONE, "learning_rate": POSITIVE, "max_depth": AT_LEAST_ONE,
+        "subsample": Range(0.0, 1.0, open_low=True)}
 
 
 @dataclass
@@ -59,6 +72,8 @@ class ConformalConfig:
     cv: int = 5
     calibration_fraction: float = 0.25
     conformity: str = "absolute"
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "confidence": FRACTION, "cv": TWO_OR_MORE, "calibration_fraction": FRACTION}
 
 
 @dataclass
@@ -70,6 +85,8 @@ class EvaluationConfig:
     test_fraction: float = 0.2
     leave_one_out: bool = True
     loo_models: str = "best"  # "best": best + best single per component; "all": every kind
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "n_splits": AT_LEAST_ONE, "first_seed": NON_NEGATIVE, "test_fraction": FRACTION}
 
 
 @dataclass
@@ -84,6 +101,7 @@ class LearningConfig:
     gradient_boosting: BoostingConfig = field(default_factory=BoostingConfig)
     conformal: ConformalConfig = field(default_factory=ConformalConfig)
     evaluation: EvaluationConfig = field(default_factory=EvaluationConfig)
+    RANGES: ClassVar[Dict[str, Range]] = {"seed": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         for kind in self.models:

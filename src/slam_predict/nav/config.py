@@ -26,9 +26,10 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, ClassVar, Dict, Optional, Tuple
 
-from slam_predict.config import from_dict, load_yaml
+from slam_predict.config import (AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range, check_keys, from_dict,
+                                 load_yaml)
 from slam_predict.errors import InputError
 
 GLOBAL_PLANNERS = ("navfn/NavfnROS", "global_planner/GlobalPlanner")
@@ -76,6 +77,14 @@ class CostmapConfig:
     inflation_radius: float = 0.55
     cost_scaling_factor: float = 10.0
     inflate_unknown: bool = False
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "update_frequency": NON_NEGATIVE, "publish_frequency": NON_NEGATIVE,
+        "transform_tolerance": NON_NEGATIVE, "width": NON_NEGATIVE, "height": NON_NEGATIVE,
+        "resolution": POSITIVE, "robot_radius": NON_NEGATIVE,
+        "lethal_cost_threshold": Range(0.0, 255.0), "unknown_cost_value": Range(-1.0, 255.0),
+        "obstacle_range": NON_NEGATIVE, "raytrace_range": NON_NEGATIVE,
+        "max_obstacle_height": NON_NEGATIVE, "inflation_radius": NON_NEGATIVE,
+        "cost_scaling_factor": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if not self.resolution > 0:
@@ -98,6 +107,9 @@ class NavfnConfig:
     planner_window_x: float = 0.0
     planner_window_y: float = 0.0
     visualize_potential: bool = False
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "default_tolerance": NON_NEGATIVE, "planner_window_x": NON_NEGATIVE,
+        "planner_window_y": NON_NEGATIVE}
 
 
 @dataclass
@@ -116,6 +128,9 @@ class GlobalPlannerConfig:
     cost_factor: float = 3.0
     outline_map: bool = True
     visualize_potential: bool = False
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "default_tolerance": NON_NEGATIVE, "lethal_cost": Range(1.0, 255.0),
+        "neutral_cost": Range(0.0, 253.0), "cost_factor": NON_NEGATIVE}
 
 
 @dataclass
@@ -181,6 +196,18 @@ class TrajectoryPlannerConfig:
     prune_plan: bool = True
     trans_stopped_velocity: float = 0.01
     rot_stopped_velocity: float = 0.01
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "acc_lim_x": NON_NEGATIVE, "acc_lim_y": NON_NEGATIVE, "acc_lim_theta": NON_NEGATIVE,
+        "max_vel_x": NON_NEGATIVE, "min_vel_x": NON_NEGATIVE,
+        "min_in_place_vel_theta": NON_NEGATIVE, "sim_time": POSITIVE, "sim_granularity": POSITIVE,
+        "angular_sim_granularity": POSITIVE, "vx_samples": AT_LEAST_ONE,
+        "vtheta_samples": AT_LEAST_ONE, "path_distance_bias": NON_NEGATIVE,
+        "goal_distance_bias": NON_NEGATIVE, "occdist_scale": NON_NEGATIVE,
+        "heading_lookahead": NON_NEGATIVE, "oscillation_reset_dist": NON_NEGATIVE,
+        "escape_reset_dist": NON_NEGATIVE, "escape_reset_theta": NON_NEGATIVE,
+        "escape_footprint_margin": NON_NEGATIVE, "heading_scoring_timestep": NON_NEGATIVE,
+        "xy_goal_tolerance": NON_NEGATIVE, "yaw_goal_tolerance": NON_NEGATIVE,
+        "trans_stopped_velocity": NON_NEGATIVE, "rot_stopped_velocity": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.holonomic_robot:
@@ -206,6 +233,7 @@ class RecoveryBehaviorConfig:
     layer_names: Tuple[str, ...] = ("obstacles",)
     affected_maps: str = "both"
     invert_area_to_clear: bool = False
+    RANGES: ClassVar[Dict[str, Range]] = {"reset_distance": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.type not in RECOVERY_TYPES:
@@ -254,6 +282,11 @@ class MoveBaseConfig:
     NavfnROS: NavfnConfig = field(default_factory=NavfnConfig)
     GlobalPlanner: GlobalPlannerConfig = field(default_factory=GlobalPlannerConfig)
     TrajectoryPlannerROS: TrajectoryPlannerConfig = field(default_factory=TrajectoryPlannerConfig)
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "controller_frequency": POSITIVE, "planner_frequency": NON_NEGATIVE,
+        "controller_patience": NON_NEGATIVE, "planner_patience": NON_NEGATIVE,
+        "max_planning_retries": Range(-1.0), "oscillation_timeout": NON_NEGATIVE,
+        "oscillation_distance": NON_NEGATIVE, "conservative_reset_dist": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.base_global_planner not in GLOBAL_PLANNERS:
@@ -284,14 +317,21 @@ def merge_nav_files(config_dir: os.PathLike | str) -> Dict[str, Any]:
     """
     config_dir = os.fspath(config_dir)
 
-    def read(name: str) -> Dict[str, Any]:
+    def read(name: str, cls: type = MoveBaseConfig, section: str = "") -> Dict[str, Any]:
+        """The file's mapping (its ``section`` when given), checked alone so that an unknown
+        key or a bad value is reported in the file that holds it."""
         path = os.path.join(config_dir, name)
-        return load_yaml(path) if os.path.exists(path) else {}
+        data = load_yaml(path) if os.path.exists(path) else {}
+        if section:
+            check_keys(data, [section], path)
+            data = data.get(section) or {}
+        from_dict(cls, data, path, section)
+        return data
 
     tree: Dict[str, Any] = dict(read("move_base.yaml"))
-    common = read("costmap_common.yaml")
+    common = read("costmap_common.yaml", CostmapConfig)
     for name in ("global_costmap", "local_costmap"):
-        own = read(f"{name}.yaml").get(name, {})
+        own = read(f"{name}.yaml", CostmapConfig, name)
         tree[name] = {**common, **tree.get(name, {}), **own}
     planner = read("base_local_planner.yaml")
     for key, value in planner.items():

@@ -21,10 +21,11 @@ from __future__ import annotations
 import bisect
 import threading
 from dataclasses import dataclass
-from typing import Callable, List, Optional, Tuple
+from typing import Callable, ClassVar, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from slam_predict.config import POSITIVE, Range
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.geometry import compose
 from slam_predict.ros.orchestrator import Unavailable
@@ -43,6 +44,7 @@ class GroundTruthConfig:
     offset: Tuple[float, float, float] = (0.0, 0.0, 0.0)
     tolerance: float = 0.05
     keep_s: float = 60.0
+    RANGES: ClassVar[Dict[str, Range]] = {"tolerance": POSITIVE, "keep_s": POSITIVE}
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:

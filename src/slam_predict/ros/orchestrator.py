@@ -30,10 +30,11 @@ import time
 from collections import deque
 from dataclasses import dataclass, field
 from types import SimpleNamespace
-from typing import Callable, Deque, Dict, List, Optional
+from typing import Callable, ClassVar, Deque, Dict, List, Optional
 
 import numpy as np
 
+from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
 from slam_predict.collect import record as rec
 from slam_predict.collect.stopping import SnapshotMSE, StopConfig, grid_to_snapshot
 
@@ -67,6 +68,8 @@ class MonitorSettings:
 
     sample_period_s: float = 0.1
     max_sample_delay_s: float = 10.0
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "sample_period_s": POSITIVE, "max_sample_delay_s": NON_NEGATIVE}
 
 
 @dataclass

@@ -9,8 +9,9 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Optional
+from typing import ClassVar, Dict, Optional
 
+from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
 from slam_predict.ros.ground_truth import GroundTruthConfig
 from slam_predict.ros.orchestrator import MonitorSettings
 
@@ -46,6 +47,9 @@ class OrchestratorConfig:
     map_odom_hold_s: float = 1.0
     finish_timeout_s: float = 30.0
     startup_timeout_s: float = 120.0
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "map_odom_hold_s": NON_NEGATIVE, "finish_timeout_s": POSITIVE,
+        "startup_timeout_s": POSITIVE}
 
 
 def load_orchestrator_config(path, overrides: dict) -> OrchestratorConfig:

@@ -8,8 +8,11 @@ Load from YAML with ``load_config(SimConfig, "config/robot.yaml", "sim")``.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
-from typing import Optional, Tuple
+from typing import ClassVar, Dict, Optional, Tuple
+
+from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
 
 INTEGRATORS = ("exact", "stage")
 SCAN_TIMINGS = ("after_move", "before_move")
@@ -33,6 +36,7 @@ class OdomConfig:
     model: str = "uniform_per_run"
     error: Optional[Tuple[float, float, float]] = None
     gaussian: Tuple[float, float, float, float] = (0.005, 0.005, 0.01, 0.002)
+    RANGES: ClassVar[Dict[str, Range]] = {"gaussian": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.model not in ODOM_MODELS:
@@ -54,6 +58,9 @@ class RobotOverrides:
     max_vel_theta: Optional[float] = None
     max_acc_x: Optional[float] = None
     max_acc_theta: Optional[float] = None
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "footprint_side": NON_NEGATIVE, "max_vel_x": NON_NEGATIVE, "max_vel_theta": NON_NEGATIVE,
+        "max_acc_x": NON_NEGATIVE, "max_acc_theta": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         for name in ("footprint_side", "max_vel_x", "max_vel_theta", "max_acc_x",
@@ -74,6 +81,10 @@ class LaserOverrides:
     rate_hz: Optional[float] = None
     pose: Optional[Tuple[float, float, float]] = None
     noise_std: Optional[float] = None
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "fov": Range(0.0, 2 * math.pi, open_low=True), "samples": AT_LEAST_ONE,
+        "range_min": NON_NEGATIVE, "range_max": POSITIVE, "rate_hz": POSITIVE,
+        "noise_std": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.samples is not None and self.samples < 1:
@@ -110,6 +121,7 @@ class SimConfig:
     odom: OdomConfig = field(default_factory=OdomConfig)
     robot: RobotOverrides = field(default_factory=RobotOverrides)
     laser: LaserOverrides = field(default_factory=LaserOverrides)
+    RANGES: ClassVar[Dict[str, Range]] = {"interval_sim": POSITIVE}
 
     def __post_init__(self) -> None:
         if self.integrator not in INTEGRATORS:

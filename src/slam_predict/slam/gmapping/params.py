@@ -14,9 +14,10 @@ import dataclasses
 import math
 import os
 from dataclasses import dataclass
-from typing import Any, Mapping, Optional, Tuple
+from typing import Any, ClassVar, Dict, Mapping, Optional, Tuple
 
-from slam_predict.config import from_dict, load_yaml, to_dict
+from slam_predict.config import (AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, PROBABILITY, Range,
+                                 from_dict, load_yaml, to_dict)
 from slam_predict.errors import InputError
 
 _Str = str  # the field ``str`` (a motion-noise parameter) shadows the builtin in the class body
@@ -79,6 +80,17 @@ class GMappingParams:
     lasamplestep: float = 0.005
     # --- ours
     reproduce_freecell_bug: bool = True
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "throttle_scans": AT_LEAST_ONE, "transform_publish_period": NON_NEGATIVE,
+        "tf_delay": NON_NEGATIVE, "map_update_interval": NON_NEGATIVE, "maxRange": POSITIVE,
+        "maxUrange": POSITIVE, "minimumScore": NON_NEGATIVE, "sigma": POSITIVE,
+        "kernelSize": NON_NEGATIVE, "lstep": NON_NEGATIVE, "astep": NON_NEGATIVE,
+        "iterations": NON_NEGATIVE, "lsigma": POSITIVE, "ogain": POSITIVE, "lskip": NON_NEGATIVE,
+        "srr": NON_NEGATIVE, "srt": NON_NEGATIVE, "str": NON_NEGATIVE, "stt": NON_NEGATIVE,
+        "linearUpdate": NON_NEGATIVE, "angularUpdate": NON_NEGATIVE,
+        "resampleThreshold": PROBABILITY, "particles": AT_LEAST_ONE, "delta": POSITIVE,
+        "occ_thresh": PROBABILITY, "llsamplerange": NON_NEGATIVE, "llsamplestep": NON_NEGATIVE,
+        "lasamplerange": NON_NEGATIVE, "lasamplestep": NON_NEGATIVE}
 
     def __post_init__(self):
         if self.particles < 1:
