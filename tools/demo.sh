@@ -22,7 +22,7 @@ slam-predict collect "$ROOT/worlds/tiny.world" "$ROOT/worlds/office_150.world" \
 cat "$OUT/data/summary.csv"
 
 echo "[demo] 3/4 features of office_500"
-slam-predict features "$WORLD" --json --overlay "$OUT/features/office_500_overlay.png" \
+slam-predict features "$WORLD" --json --force --overlay "$OUT/features/office_500_overlay.png" \
   > "$OUT/features/office_500.json"
 
 echo "[demo] 4/4 predict GMapping's error in office_500 (shipped model)"
@@ -30,6 +30,6 @@ slam-predict predict "$WORLD" | tee "$OUT/predict.txt"
 slam-predict predict "$WORLD" --json > "$OUT/predict.json"
 
 echo "[demo] report of the demo campaign, with the shipped models' predictions for its worlds"
-slam-predict report "$OUT/data" --models "$ROOT/models" --out "$OUT/report.html" \
+slam-predict report "$OUT/data" --models "$ROOT/models" --out "$OUT/report.html" --force \
   --title "slam_predict demo campaign"
 echo "[demo] done: outputs in $OUT"

@@ -35,8 +35,8 @@ tail -n +2 "$OUT/summary.csv" | cut -d, -f1 | while read -r world; do
   [ -f "$OUT/worlds/$world.world" ] || { echo "train_own_model: no world file for $world" >&2; exit 2; }
 done
 slam-predict learn dataset --errors "$OUT/summary.csv" --worlds "$OUT/worlds" --setting realistic \
-  --out "$OUT/own-realistic.csv" --jobs "$JOBS"
+  --out "$OUT/own-realistic.csv" --jobs "$JOBS" --force
 slam-predict learn train "$OUT/own-realistic.csv" --name own-realistic --models-dir "$MODELS" \
-  --evaluation-out "$OUT/eval" --jobs "$JOBS" \
+  --evaluation-out "$OUT/eval" --jobs "$JOBS" --force \
   --description "GMapping errors collected by slam_predict itself (data/campaigns/realistic: in-process Stage-like simulator + our GMapping + move_base-like navigation + nearest-frontier exploration, realistic setting, >= $MIN_RUNS runs per building) on seed-study buildings <= 1,000 m2 and shipped generated worlds"
 echo "[own model] models/own-realistic written; evaluation in $OUT/eval"

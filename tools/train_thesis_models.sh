@@ -22,15 +22,15 @@ slam-predict worlds import-thesis "$THESIS/environments.csv" --out "$OUT/worlds"
 echo "[thesis models] computing features (realistic dataset)"
 slam-predict learn dataset --errors "$THESIS/stats_realistic.csv" --worlds "$OUT/worlds" \
   --setting realistic --save-features "$OUT/features.csv" --out "$OUT/thesis-realistic.csv" \
-  --jobs "$JOBS"
+  --jobs "$JOBS" --force
 echo "[thesis models] optimistic dataset (same features)"
 slam-predict learn dataset --errors "$THESIS/stats_optimistic.csv" --features "$OUT/features.csv" \
-  --setting optimistic --out "$OUT/thesis-optimistic.csv"
+  --setting optimistic --out "$OUT/thesis-optimistic.csv" --force
 
 for setting in realistic optimistic; do
   echo "[thesis models] evaluating and training thesis-$setting"
   slam-predict learn train "$OUT/thesis-$setting.csv" --name "thesis-$setting" \
-    --models-dir "$MODELS" --evaluation-out "$OUT/eval-$setting" --jobs "$JOBS" \
+    --models-dir "$MODELS" --evaluation-out "$OUT/eval-$setting" --jobs "$JOBS" --force \
     --description "GMapping errors of the seed thesis (Castelli 2017, $setting setting, about 36 runs per building) on the 44 thesis buildings with a plan; features computed by slam_predict on the worlds of 'worlds import-thesis'"
 done
 echo "[thesis models] models in $MODELS, evaluations in $OUT/eval-*"

@@ -284,7 +284,7 @@ row("fidelity: missing table", cmd("fidelity", "{full_dir}", "--thesis", "{missi
 row("fidelity: --min-runs 0", cmd("fidelity", "{full_dir}", "--thesis", "{missing}",
                                   "--min-runs", "0"), r"--min-runs must be ≥ 1, got 0")
 
-# --- features, learn, predict, report (inputs; their output guards: see PENDING) --------------
+# --- features, learn, predict, report (inputs and output guards) --------------
 row("features: missing plan", cmd("features", "{missing}"), r"nope\.dat: ")
 row("features: garbage png", cmd("features", "{garbage_png}", "--resolution", "0.1"),
     r"garbage\.png: ")
@@ -308,7 +308,7 @@ row("learn evaluate: missing dataset", cmd("learn", "evaluate", "{missing}", "--
 row("learn evaluate: value out of range", lambda f: [
     "learn", "evaluate", f.missing, "--out", f.new_dir, "--config",
     f.yaml("l.yaml", "learning:\n  conformal:\n    confidence: 1.5\n")],
-    r"l\.yaml: 'conformal\.confidence' must be in \(0, 1\), got 1\.5")
+    r"l\.yaml: 'learning\.conformal\.confidence' must be in \(0, 1\), got 1\.5")
 row("predict: missing plan", cmd("predict", "{missing}"), r"nope\.dat: ")
 row("predict: garbage png", cmd("predict", "{garbage_png}", "--resolution", "0.1"),
     r"garbage\.png: ")
@@ -317,15 +317,14 @@ row("report: missing campaign", cmd("report", "{missing}", "--out", "{new_dir}/r
 
 # Output guards of the commands owned elsewhere (features_cmd, learn_cmd, report_cmd): they
 # hold once the lead has added the check_out_* calls at merge; strict xfail flags that moment.
-PENDING = pytest.mark.xfail(strict=True, reason="output guard added at merge (inputs19 report)")
 row("report: --out file exists", cmd("report", "{full_dir}", "--out", "{existing_file}"),
-    r"existing\.txt: --out file exists; use --force", PENDING)
+    r"existing\.txt: --out file exists; use --force")
 row("learn evaluate: --out non-empty", cmd("learn", "evaluate", "{missing}", "--out",
                                           "{full_dir}"),
-    r"full: --out folder exists and is not empty", PENDING)
+    r"full: --out folder exists and is not empty")
 row("features: --overlay exists", cmd("features", "{plan}", "--resolution", "0.1", "--overlay",
                                       "{existing_file}"),
-    r"existing\.txt: --overlay file exists; use --force", PENDING)
+    r"existing\.txt: --overlay file exists; use --force")
 
 
 def snapshot(folder: Path) -> Dict[str, str]:

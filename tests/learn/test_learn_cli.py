@@ -80,12 +80,12 @@ def test_bad_inputs_are_one_line_errors(inputs, capsys):
     (inputs / "top.yaml").write_text("learning:\n  models: [single]\nlearnign: {}\n")
     err = run_error(["learn", "evaluate", str(inputs / "summary.csv"), "--out",
                      str(inputs / "ev"), "--config", str(inputs / "top.yaml")], capsys)
-    assert "unknown top-level key 'learnign'" in err and "did you mean 'learning'" in err
+    assert "unknown config key 'learnign'" in err and "did you mean 'learning'" in err
     (inputs / "ftop.yaml").write_text("features:\n  mode: documented\nfeatures2: {}\n")
     err = run_error(["learn", "dataset", "--errors", str(inputs / "summary.csv"), "--setting",
                      "realistic", "--worlds", str(inputs), "--feature-config",
                      str(inputs / "ftop.yaml"), "--out", str(inputs / "x.csv")], capsys)
-    assert "ftop.yaml: unknown top-level key 'features2'" in err
+    assert "ftop.yaml: unknown config key 'features2'" in err
     assert not (inputs / "ev").exists() and not (inputs / "x.csv").exists()
 
 

@@ -53,7 +53,7 @@ def test_real_features_of_a_shipped_world(campaign_dir, model_dir, tmp_path, cap
     ("models_missing", "models folder not found"),
     ("models_empty", "no model folder (with card.json) found"),
     ("out_is_folder", "--out is a folder"),
-    ("out_below_file", "cannot write the report"),
+    ("out_below_file", "cannot be created"),
 ])
 def test_bad_inputs(campaign_dir, tmp_path, capsys, case, message):
     data, out, extra = campaign_dir, tmp_path / "report.html", []

@@ -15,6 +15,7 @@ import os
 import sys
 
 from slam_predict.cli import plan_checks
+from slam_predict.cli.guards import check_out_file
 from slam_predict.cli.worlds_cmd import add_plan_arguments
 from slam_predict.errors import InputError
 
@@ -49,11 +50,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def _config(args: argparse.Namespace):
     import dataclasses
 
-    from slam_predict.config import from_dict
     from slam_predict.features.vector import FeaturesConfig
-    from slam_predict.learn.config import yaml_section
+    from slam_predict.learn.config import load_section
 
-    config = (from_dict(FeaturesConfig, yaml_section(args.config, "features"), args.config)
+    config = (load_section(FeaturesConfig, args.config, "features")
               if args.config else FeaturesConfig())
     if args.mode:
         config = dataclasses.replace(config, mode=args.mode)
@@ -118,6 +118,9 @@ def run(args: argparse.Namespace) -> int:
         return _list(REGISTRY)
     if not args.plan:
         raise InputError("PLAN is required (or use --list)")
+    for option, path in (("--overlay", args.overlay), ("--path", args.path)):
+        if path:
+            check_out_file(path, args.force, option)
     config = _config(args)
     world = plan_checks.load_checked(_world, args)
     plan_checks.show_progress()

@@ -13,6 +13,8 @@ import argparse
 import logging
 import os
 
+from slam_predict.cli.guards import (add_force_argument, check_at_least, check_out_dir,
+                                     check_out_file)
 from slam_predict.errors import InputError
 
 NAME = "learn"
@@ -30,6 +32,7 @@ def _common(parser: argparse.ArgumentParser) -> None:
                         help="model kinds (single fregression elasticnet random_forest "
                              "gradient_boosting)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    add_force_argument(parser)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -49,6 +52,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                     help="with --worlds: also write the feature table (reusable by --features)")
     ds.add_argument("--out", required=True, metavar="CSV", help="dataset file to write")
     ds.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    add_force_argument(ds)
     ev = sub.add_parser("evaluate", help="repeated splits + leave-one-out → tables and plots")
     ev.add_argument("dataset", metavar="DATASET", help="dataset CSV from 'learn dataset'")
     ev.add_argument("--out", required=True, metavar="DIR", help="output folder")
@@ -75,11 +79,11 @@ def default_config_path() -> str:
 
 def load_learning_config(args: argparse.Namespace):
     from slam_predict.config import from_dict, to_dict
-    from slam_predict.learn.config import LearningConfig, yaml_section
+    from slam_predict.learn.config import LearningConfig, load_section
 
     path = args.config or default_config_path()
-    data = yaml_section(path, "learning") if (args.config or os.path.isfile(path)) else {}
-    config = from_dict(LearningConfig, data, path)
+    config = (load_section(LearningConfig, path, "learning")
+              if (args.config or os.path.isfile(path)) else LearningConfig())
     changes = to_dict(config)
     if args.splits is not None:
         if args.splits < 1:
@@ -103,6 +107,11 @@ def _feature_config(path):
 def run_dataset(args: argparse.Namespace) -> int:
     from slam_predict.learn import dataset as ds
 
+    check_at_least(args.jobs, 1, "--jobs")
+    check_out_file(args.out, args.force)
+    check_out_file(ds.meta_path(args.out), args.force, "the JSON beside --out")
+    if args.save_features:
+        check_out_file(args.save_features, args.force, "--save-features")
     errors = ds.read_error_table(args.errors, args.setting or "")
     if args.slam_config_hash:
         for row in errors:
@@ -150,6 +159,8 @@ def run_evaluate(args: argparse.Namespace) -> int:
     from slam_predict.learn.results import run_evaluation, write_evaluation
     from slam_predict.learn.tables import best_table
 
+    check_at_least(args.jobs, 1, "--jobs")
+    check_out_dir(args.out, args.force, inputs=(args.dataset, args.config))
     config = load_learning_config(args)
     data = _read(args.dataset, args.reference_features)
     outcome = run_evaluation(data, config, n_jobs=args.jobs)
@@ -165,6 +176,12 @@ def run_train(args: argparse.Namespace) -> int:
     from slam_predict.learn.dataset import read_meta
     from slam_predict.learn.train import check_trainable, train_store
 
+    check_at_least(args.jobs, 1, "--jobs")
+    check_out_dir(os.path.join(args.models_dir or default_models_dir(), args.name), args.force,
+                  "--name", inputs=(args.dataset, args.config))
+    if args.evaluation_out:
+        check_out_dir(args.evaluation_out, args.force, "--evaluation-out",
+                      inputs=(args.dataset, args.config))
     config = load_learning_config(args)
     data = _read(args.dataset)
     check_trainable(data)

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import argparse
 
+from slam_predict.cli.guards import add_force_argument, check_out_file
+
 NAME = "report"
 HELP = "write one self-contained HTML report of a collection campaign (and model predictions)"
 
@@ -27,17 +29,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a model folder or a folder of them (e.g. models/): adds the model "
                              "cards and their predictions for the campaign's worlds")
     parser.add_argument("--title", help="page title (default: from DATA's name)")
+    add_force_argument(parser)
 
 
 def run(args: argparse.Namespace) -> int:
-    import os
-
     from slam_predict.atomic import write_text
     from slam_predict.errors import InputError
     from slam_predict.report.build import build_report
 
-    if os.path.isdir(args.out):
-        raise InputError("--out is a folder; give the HTML file to write", args.out)
+    check_out_file(args.out, args.force)
     text = build_report(args.data, args.models, args.title)
     try:
         write_text(args.out, text)

@@ -125,18 +125,32 @@ def yaml_section(path: os.PathLike | str, section: str) -> Dict[str, Any]:
     key is refused, not ignored); a file without it is taken as the section itself (the
     dataclass loader then refuses unknown keys at every level).
     """
-    from slam_predict.config import load_yaml
+    return _section_and_path(path, section)[0]
+
+
+def load_section(cls, path: os.PathLike | str, section: str):
+    """Dataclass ``cls`` from the ``section`` of a YAML file (see :func:`yaml_section`), with
+    error messages naming keys by their full path in the file."""
+    from slam_predict.config import from_dict
+
+    data, key_path = _section_and_path(path, section)
+    return from_dict(cls, data, str(path), key_path=key_path)
+
+
+def _section_and_path(path: os.PathLike | str, section: str) -> Tuple[Dict[str, Any], str]:
+    """The section's mapping and its key path in the file ('' when the file is the section)."""
+    from slam_predict.config import check_keys, load_yaml
 
     data = load_yaml(path)
     if section not in data:
-        return data
-    extra = [key for key in data if key != section]
-    if extra:
-        raise InputError(f"unknown top-level key '{extra[0]}' (this file holds only "
-                         f"'{section}')" + did_you_mean(str(extra[0]), [section]), path)
+        misspelt = [key for key in data if did_you_mean(str(key), [section])]
+        if misspelt:   # 'featres:' is the section misspelt, not a flat file
+            check_keys({misspelt[0]: None}, [section], str(path))
+        return data, ""
+    check_keys(data, [section], str(path))
     value = data[section]
     if value is None:
-        return {}
+        return {}, section
     if not isinstance(value, dict):
         raise InputError(f"'{section}' must be a mapping", path)
-    return value
+    return value, section
