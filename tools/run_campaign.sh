@@ -3,17 +3,22 @@
 #
 #   tools/run_campaign.sh NAME [--jobs K] [--runs N]
 #
-# NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60
+# NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
+#       fidelity_sizes
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
 #   fidelity_*: the same 8 seed-study buildings under config/fidelity/<variant>.yaml.
+#   fidelity_sizes (issue #16): the 8 + 10 seed-study buildings of 1,100-6,200 m2 of free floor,
+#              config/fidelity/sizes.yaml; runs are added breadth-first (run 1 of every building,
+#              then run 2, ...) so that a campaign cut by the end of a working period is usable.
 # Records go to data/campaigns/NAME/ (run.json and summary.csv are committed, the rest is not);
 # finished runs are never redone, so the command can be repeated in every working period.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 NAME="${1:?usage: tools/run_campaign.sh NAME [--jobs K] [--runs N]}"; shift
 JOBS=2; RUNS=5
+[ "$NAME" = fidelity_sizes ] && RUNS=3   # issue #16: >= 3 runs per building
 while [ $# -gt 0 ]; do
   case "$1" in
     --jobs) JOBS="$2"; shift 2 ;;
@@ -23,13 +28,18 @@ while [ $# -gt 0 ]; do
 done
 THESIS_BUILDINGS="Borchen4_updated Lamuniere1_updated scuola_secondaria_i_grado_mera__updated
   Franch1_updated Sabadell3_updated Liselotte1_updated Sabadell1_updated Vipiteno2_updated"
+LARGE_BUILDINGS="Ursy1_updated 324-Elm-Furn-Plan_updated office_h battle_creekhs_2_updated
+  floor-1024x523_updated south_mountain_school_2_updated lab_intel Neulengbach1_updated NLB
+  FALAELEM1_updated"
 SHIPPED="office_150 school_300 office_500 office_800"
+WITH_LARGE=0
 case "$NAME" in
   realistic) SETTINGS="$ROOT/config/collect.yaml"; WITH_SHIPPED=1 ;;
   fidelity_fixed_80) SETTINGS="$ROOT/config/fidelity/fixed_80.yaml"; WITH_SHIPPED=0 ;;
   fidelity_uniform_per_run_60) SETTINGS="$ROOT/config/fidelity/uniform_per_run_60.yaml"; WITH_SHIPPED=0 ;;
   fidelity_fixed_60) SETTINGS="$ROOT/config/fidelity/fixed_60.yaml"; WITH_SHIPPED=0 ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60)" >&2; exit 2 ;;
+  fidelity_sizes) SETTINGS="$ROOT/config/fidelity/sizes.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
@@ -38,13 +48,21 @@ fi
 [ -f "$ROOT/setup.bash" ] || bash "$ROOT/tools/setup.sh"
 set +u; source "$ROOT/setup.bash"; set -u
 WORLDS_DIR="$ROOT/out/thesis_worlds"
+BUILDINGS="$THESIS_BUILDINGS"
+[ "$WITH_LARGE" = 1 ] && BUILDINGS="$THESIS_BUILDINGS $LARGE_BUILDINGS"
 # shellcheck disable=SC2086
 slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$WORLDS_DIR" \
-  --force --only $THESIS_BUILDINGS > /dev/null
+  --force --only $BUILDINGS > /dev/null
 WORLDS=()
-for b in $THESIS_BUILDINGS; do WORLDS+=("$WORLDS_DIR/$b.world"); done
+for b in $BUILDINGS; do WORLDS+=("$WORLDS_DIR/$b.world"); done
 if [ "$WITH_SHIPPED" = 1 ]; then
   for w in $SHIPPED; do WORLDS+=("$ROOT/worlds/$w.world"); done
+fi
+if [ "$WITH_LARGE" = 1 ]; then   # breadth-first: every building's run k before any run k+1
+  for ((k = 1; k < RUNS; k++)); do
+    slam-predict collect "${WORLDS[@]}" --runs "$k" --jobs "$JOBS" \
+      --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
+  done
 fi
 exec slam-predict collect "${WORLDS[@]}" --runs "$RUNS" --jobs "$JOBS" \
   --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
