@@ -15,12 +15,14 @@ the ratio of means (ours ÷ real) with a 95 % bootstrap interval (seeds resample
 each side), resamples and CPU s. Acceptance (issue #16): ratio within [0.85, 1.15] per log.
 
 Usage: bench/bench_gmapping_diff.py --upstream DIR [--logs intel aces|PATH.log.gz ...]
-           [--seeds 1-10] [--jobs 1] [--angle-mode node|exact] [--config YAML] [--out DIR]
+           [--seeds 1-10] [--jobs 1] [--set KEY=VALUE ...] [--config YAML] [--out DIR]
 ``--upstream`` (or env SLAM_PREDICT_GMAPPING_UPSTREAM) is an export of
 github.com/ros-perception/openslam_gmapping; it is built once into ``<out>/build`` with
 ``bench/gmapping_diff/build.sh``. Named logs (intel, aces, csail, freiburg-101) use
 ``../shared/baselines/gmapping_real_<log>.yaml``; any other CARMEN log uses ``--config``
-(default: slam_gmapping's defaults). Finished runs are cached in ``<out>/<log>/`` and reused.
+(default: slam_gmapping's defaults). ``--set`` overrides parameters on both sides; the real side's
+beam angles follow ``range_sensor_angles`` (true: the node's RangeSensor angles, false: the scan's
+own). Finished runs are cached in ``<out>/<variant>/<log>/`` and reused.
 """
 from __future__ import annotations
 
@@ -35,6 +37,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("SLAM_PREDICT_SHARED", ROOT.parent / "shared"))
@@ -74,13 +77,15 @@ def log_source(name: str, config: str | None):
     return path, (Path(config) if config else None), short
 
 
-def load(log: str, config: str | None):
-    from slam_predict.slam.gmapping.params import GMappingParams, load_params
+def load(log: str, config: str | None, overrides: dict):
+    from slam_predict.config import load_yaml
+    from slam_predict.slam.gmapping.params import params_from_dict
     from slam_predict.slam.gmapping.runner import read_input
 
     path, cfg, short = log_source(log, config)
-    params = load_params(cfg) if cfg else GMappingParams()
-    return read_input(path), params, short
+    values = dict(load_yaml(cfg) or {}) if cfg else {}
+    values.update(overrides)
+    return read_input(path), params_from_dict(values, str(cfg or "--set")), short
 
 
 def error_of(data, indices, poses) -> dict:
@@ -101,12 +106,13 @@ def run_ours(data, params, seed: int) -> dict:
             "cpu_s": time.process_time() - cpu0}
 
 
-def run_real(data, params, seed: int, driver: Path, folder: Path, angle_mode: str) -> dict:
+def run_real(data, params, seed: int, driver: Path, folder: Path) -> dict:
     from slam_predict.formats.prepared_scans import read_driver_output, write_prepared_scans
     from slam_predict.slam.gmapping.params import with_ranges
 
     scans = folder / f"prepared_{seed}.txt"
     traj = folder / f"real_{seed}.traj"
+    angle_mode = "node" if params.range_sensor_angles else "exact"
     write_prepared_scans(scans, data.times, data.odometry, data.ranges, data.laser,
                          with_ranges(params, data.laser.range_max), seed, angle_mode)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -123,7 +129,7 @@ def run_real(data, params, seed: int, driver: Path, folder: Path, angle_mode: st
 def run_job(job) -> dict:
     """One (log, seed, side) run, cached as JSON in <out>/<log>/<side>_<seed>.json."""
     log, seed, side, args = job
-    data, params, short = load(log, args["config"])
+    data, params, short = load(log, args["config"], args["set"])
     folder = Path(args["out"]) / short
     folder.mkdir(parents=True, exist_ok=True)
     cache = folder / f"{side}_{seed}.json"
@@ -132,7 +138,7 @@ def run_job(job) -> dict:
     if side == "ours":
         record = run_ours(data, params, seed)
     else:
-        record = run_real(data, params, seed, Path(args["driver"]), folder, args["angle_mode"])
+        record = run_real(data, params, seed, Path(args["driver"]), folder)
     record["error"] = error_of(data, np.array(record["indices"]), np.array(record["poses"]))
     record.update({"log": short, "seed": seed, "side": side, "scans": len(data)})
     cache.write_text(json.dumps(record) + "\n")
@@ -189,8 +195,8 @@ def main() -> int:
     parser.add_argument("--logs", nargs="+", default=list(LOGS))
     parser.add_argument("--seeds", type=seeds_arg, default=list(range(1, 4)))
     parser.add_argument("--jobs", type=int, default=1)
-    parser.add_argument("--angle-mode", choices=("node", "exact"), default="node",
-                        help="real side's beam angles: node = slam_gmapping's RangeSensor")
+    parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
+                        help="GMapping parameter overrides for both sides (YAML values)")
     parser.add_argument("--config", help="slam_gmapping YAML for logs given as paths")
     parser.add_argument("--sides", nargs="+", default=["ours", "real"])
     parser.add_argument("--out", default=str(ROOT / "out" / "bench_gmapping_diff"))
@@ -201,8 +207,10 @@ def main() -> int:
         return 2
     out = Path(args.out)
     driver = build_driver(Path(args.upstream), out / "build")
-    shared = {"config": args.config, "out": str(out / args.angle_mode), "driver": str(driver),
-              "angle_mode": args.angle_mode}
+    overrides = {k: yaml.safe_load(v) for k, v in (item.split("=", 1) for item in args.set)}
+    variant = "_".join(sorted(args.set)) or "default"
+    shared = {"config": args.config, "out": str(out / variant), "driver": str(driver),
+              "set": overrides}
     jobs = [(log, seed, side, shared) for log in args.logs for seed in args.seeds
             for side in args.sides]
     if args.jobs > 1:
@@ -211,7 +219,7 @@ def main() -> int:
     else:
         records = [run_job(job) for job in jobs]
     commit = (out / "build" / "upstream_commit").read_text().strip()
-    print(f"real openslam_gmapping {commit}, beam angles: {args.angle_mode}")
+    print(f"real openslam_gmapping {commit}; overrides: {variant}")
     print(table(records))
     return 0
 
