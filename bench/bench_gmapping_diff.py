@@ -10,9 +10,10 @@ robot-pose convention). Both trajectories are evaluated by the same code on thei
 scans against the log's reference poses: ``metric.evaluate_against_reference``, 5,000 random
 forward pairs, pair seed 0.
 
-Prints per log: seeds, scans processed (ours / real), error mean / median / min–max of each side,
-the ratio of means (ours ÷ real) with a 95 % bootstrap interval (seeds resampled independently on
-each side), resamples and CPU s. Acceptance (issue #16): ratio within [0.85, 1.15] per log.
+Prints per log: seeds, scans processed (ours / real; flagged when the processed scans differ),
+error mean / median / min–max of each side, the ratio of means (ours ÷ real) with a 95 %
+bootstrap interval (seeds resampled independently on each side), resamples, mean Neff after scan
+matching, and CPU s (ours in-process, real = the driver's CPU time). Acceptance (issue #16): ratio within [0.85, 1.15] per log.
 
 Usage: bench/bench_gmapping_diff.py --upstream DIR [--logs intel aces|PATH.log.gz ...]
            [--seeds 1-10] [--jobs 1] [--set KEY=VALUE ...] [--config YAML] [--out DIR]
@@ -158,16 +159,20 @@ def summary_row(log: str, runs: list) -> str:
     real = [r for r in runs if r["side"] == "real"]
     e = {side: np.array([r["error"]["trans_mean_m"] for r in rs])
          for side, rs in (("ours", ours), ("real", real))}
-    processed = "/".join(str(sorted({len(r["indices"]) for r in rs})) for rs in (ours, real))
+    processed = "/".join(",".join(str(n) for n in sorted({len(r["indices"]) for r in rs}))
+                         for rs in (ours, real))
+    same = all(a["indices"] == b["indices"] for a, b in zip(ours, real))
     ratio = e["ours"].mean() / e["real"].mean()
     lo, hi = bootstrap_ratio(e["ours"], e["real"])
-    cells = [log, str(len(ours)), processed]
+    cells = [log, str(len(ours)), processed + ("" if same else " (scans differ)")]
     for side in ("ours", "real"):
         v = e[side]
         cells += [f"{v.mean():.3f}", f"{np.median(v):.3f}", f"{v.min():.3f}–{v.max():.3f}"]
     cells += [f"{ratio:.2f}", f"{lo:.2f}–{hi:.2f}",
               f"{np.mean([r['resamples'] for r in ours]):.0f}/"
               f"{np.mean([r['resamples'] for r in real]):.0f}",
+              f"{np.mean([np.mean(r['neff']) for r in ours]):.1f}/"
+              f"{np.mean([np.mean(r['neff']) for r in real]):.1f}",
               f"{np.mean([r['cpu_s'] for r in ours]):.1f}/{np.mean([r['cpu_s'] for r in real]):.1f}"]
     return "| " + " | ".join(cells) + " |"
 
@@ -175,8 +180,8 @@ def summary_row(log: str, runs: list) -> str:
 def table(records: list) -> str:
     head = ("| log | seeds | scans processed ours/real | ours mean (m) | median | min–max "
             "| real mean (m) | median | min–max | ratio | 95 % CI | resamples ours/real "
-            "| CPU s ours/real |")
-    lines = [head, "|" + "---|" * 13]
+            "| Neff mean ours/real | CPU s ours/real |")
+    lines = [head, "|" + "---|" * 14]
     by_log: dict = {}
     for r in records:
         by_log.setdefault(r["log"], []).append(r)
@@ -198,7 +203,6 @@ def main() -> int:
     parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
                         help="GMapping parameter overrides for both sides (YAML values)")
     parser.add_argument("--config", help="slam_gmapping YAML for logs given as paths")
-    parser.add_argument("--sides", nargs="+", default=["ours", "real"])
     parser.add_argument("--out", default=str(ROOT / "out" / "bench_gmapping_diff"))
     args = parser.parse_args()
     if not args.upstream or not Path(args.upstream, "gridfastslam").is_dir():
@@ -212,7 +216,7 @@ def main() -> int:
     shared = {"config": args.config, "out": str(out / variant), "driver": str(driver),
               "set": overrides}
     jobs = [(log, seed, side, shared) for log in args.logs for seed in args.seeds
-            for side in args.sides]
+            for side in ("ours", "real")]
     if args.jobs > 1:
         with ProcessPoolExecutor(max_workers=args.jobs) as pool:
             records = list(pool.map(run_job, jobs))
