@@ -107,6 +107,23 @@ def run_ours(data, params, seed: int) -> dict:
             "cpu_s": time.process_time() - cpu0}
 
 
+def run_ours_replay(data, params, seed: int) -> dict:
+    """Our port fed with the real library's random stream (drand48 seeded as the node does)."""
+    sys.path.insert(0, str(ROOT / "bench" / "gmapping_diff"))
+    from drand48_rng import Drand48Generator
+
+    from slam_predict.slam.gmapping.filter import GMapping
+
+    cpu0 = time.process_time()
+    slam = GMapping(params, data.laser, Drand48Generator(seed))
+    indices = [k for k in range(len(data))
+               if slam.update(data.odometry[k], data.ranges[k], data.times[k]) is not None]
+    numbers, _, poses = slam.trajectory()
+    return {"indices": np.asarray(indices)[numbers].tolist(), "poses": poses.tolist(),
+            "neff": list(slam.filter.neff_history), "resamples": slam.filter.resamples,
+            "cpu_s": time.process_time() - cpu0}
+
+
 def run_real(data, params, seed: int, driver: Path, folder: Path) -> dict:
     from slam_predict.formats.prepared_scans import read_driver_output, write_prepared_scans
     from slam_predict.slam.gmapping.params import with_ranges
@@ -137,7 +154,7 @@ def run_job(job) -> dict:
     if cache.exists():
         return json.loads(cache.read_text())
     if side == "ours":
-        record = run_ours(data, params, seed)
+        record = (run_ours_replay if args["replay"] else run_ours)(data, params, seed)
     else:
         record = run_real(data, params, seed, Path(args["driver"]), folder)
     record["error"] = error_of(data, np.array(record["indices"]), np.array(record["poses"]))
@@ -203,6 +220,8 @@ def main() -> int:
     parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
                         help="GMapping parameter overrides for both sides (YAML values)")
     parser.add_argument("--config", help="slam_gmapping YAML for logs given as paths")
+    parser.add_argument("--replay-rng", action="store_true",
+                        help="ours draws the real library's drand48 stream (same noise)")
     parser.add_argument("--out", default=str(ROOT / "out" / "bench_gmapping_diff"))
     args = parser.parse_args()
     if not args.upstream or not Path(args.upstream, "gridfastslam").is_dir():
@@ -212,9 +231,9 @@ def main() -> int:
     out = Path(args.out)
     driver = build_driver(Path(args.upstream), out / "build")
     overrides = {k: yaml.safe_load(v) for k, v in (item.split("=", 1) for item in args.set)}
-    variant = "_".join(sorted(args.set)) or "default"
+    variant = "_".join(sorted(args.set) + (["replay"] if args.replay_rng else [])) or "default"
     shared = {"config": args.config, "out": str(out / variant), "driver": str(driver),
-              "set": overrides}
+              "set": overrides, "replay": args.replay_rng}
     jobs = [(log, seed, side, shared) for log in args.logs for seed in args.seeds
             for side in ("ours", "real")]
     if args.jobs > 1:
