@@ -68,6 +68,20 @@ def centred_laser(laser: LaserGeometry):
     return pose, angles - centre
 
 
+def range_sensor_angles(angles) -> np.ndarray:
+    """The beam angles the slam_gmapping node gives the filter (rad, centred laser frame).
+
+    The node builds GMapping's RangeSensor from the beam count N and |angle_increment|, whose
+    constructor sets beam i to −N·inc/2 + i·inc: from −N·inc/2 to +(N/2 − 1)·inc, i.e. half a
+    beam clockwise of the scan's own angles, which are symmetric about the centred frame (−(N−1)·inc/2
+    … +(N−1)·inc/2; its published map uses those). Uniform spacing is assumed, as in a LaserScan.
+    """
+    angles = np.asarray(angles, dtype=float)
+    n = len(angles)
+    increment = abs(angles[-1] - angles[0]) / (n - 1) if n > 1 else 0.0
+    return -0.5 * increment * n + increment * np.arange(n)
+
+
 def pose_entropy(log_weights: np.ndarray) -> float:
     """slam_gmapping computePoseEntropy: −Σ p log p with p = weight_i / Σ weight (raw log
     weights, as the node does); 0 when undefined."""
@@ -216,8 +230,10 @@ class GMapping(SlamBackend):
     """The ``gmapping`` SLAM back-end: slam_gmapping's use of the filter, plus the published map.
 
     ``laser`` gives the beam angles and the laser pose in the base frame; as slam_gmapping, the
-    filter runs on a laser frame whose yaw is the centre of the scan (the beam angles are made
-    symmetric), which is undone in every pose returned here.
+    filter runs on a laser frame whose yaw is the centre of the scan, which is undone in every
+    pose returned here. The published map uses the scan's angles made symmetric about that frame;
+    the filter uses :func:`range_sensor_angles` (half a beam off) unless
+    ``params.range_sensor_angles`` is False.
     """
 
     name = "gmapping"
@@ -229,9 +245,10 @@ class GMapping(SlamBackend):
 
         self.laser_in_base, angles = centred_laser(laser)
         self.params = with_ranges(params, laser.range_max)
-        self.filter = GridSlamProcessor(self.params, angles,
+        matched = range_sensor_angles(angles) if self.params.range_sensor_angles else angles
+        self.filter = GridSlamProcessor(self.params, matched,
                                         rng if rng is not None else np.random.default_rng())
-        self.builder = MapBuilder(self.params, self.filter.angles)
+        self.builder = MapBuilder(self.params, angles)
         self.published = IncrementalMap(self.builder)
         self._map_to_odom = np.zeros(3)
         self._odom = np.zeros(3)

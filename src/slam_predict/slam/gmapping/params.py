@@ -5,8 +5,10 @@ file carries over unchanged, e.g. ``../shared/baselines/gmapping_real_<log>.yaml
 s. ``maxRange``/``maxUrange`` may be left unset (None): the node derives them from the first scan
 (``range_max − 0.01`` and ``maxRange``), see :func:`resolve_ranges`.
 
-One option is ours: ``reproduce_freecell_bug`` (default True, i.e. behave exactly like upstream
-openslam_gmapping; False uses the intended "cell before the hit must be free" test).
+Two options are ours: ``reproduce_freecell_bug`` (default True, i.e. behave exactly like upstream
+openslam_gmapping; False uses the intended "cell before the hit must be free" test) and
+``range_sensor_angles`` (default True: the scan matcher's beam angles are those of the RangeSensor
+slam_gmapping builds, −N·inc/2 + i·inc, half a beam off the scan's own; False: the scan's angles).
 """
 from __future__ import annotations
 
@@ -80,6 +82,7 @@ class GMappingParams:
     lasamplestep: float = 0.005
     # --- ours
     reproduce_freecell_bug: bool = True
+    range_sensor_angles: bool = True          # filter beams as the node's RangeSensor sets them
     RANGES: ClassVar[Dict[str, Range]] = {
         "throttle_scans": AT_LEAST_ONE, "transform_publish_period": NON_NEGATIVE,
         "tf_delay": NON_NEGATIVE, "map_update_interval": NON_NEGATIVE, "maxRange": POSITIVE,

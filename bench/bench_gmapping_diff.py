@@ -1,0 +1,251 @@
+"""Differential check: our GMapping port against the real openslam_gmapping, same input, side by side.
+
+For every log and seed, the log is read once with our runner's reader
+(``slam_predict.slam.gmapping.runner.read_input``); that very input object (odometry, ranges,
+beam angles, laser offset, maxRange derivation) is run through our port
+(``runner.run``, in-process) and exported as "prepared scans"
+(``slam_predict.formats.prepared_scans``) for the real library, driven by
+``bench/gmapping_diff/driver.cpp`` as the slam_gmapping node drives it (same centred laser, same
+robot-pose convention). Both trajectories are evaluated by the same code on their processed
+scans against the log's reference poses: ``metric.evaluate_against_reference``, 5,000 random
+forward pairs, pair seed 0.
+
+Prints per log: seeds, scans processed (ours / real; flagged when the processed scans differ),
+error mean / median / min–max of each side, the ratio of means (ours ÷ real) with a 95 %
+bootstrap interval (seeds resampled independently on each side), resamples, mean Neff after scan
+matching, and CPU s (ours in-process, real = the driver's CPU time). Acceptance (issue #16): ratio within [0.85, 1.15] per log.
+
+Usage: bench/bench_gmapping_diff.py --upstream DIR [--logs intel aces|PATH.log.gz ...]
+           [--seeds 1-10] [--jobs 1] [--set KEY=VALUE ...] [--config YAML] [--out DIR]
+``--upstream`` (or env SLAM_PREDICT_GMAPPING_UPSTREAM) is an export of
+github.com/ros-perception/openslam_gmapping; it is built once into ``<out>/build`` with
+``bench/gmapping_diff/build.sh``. Named logs (intel, aces, csail, freiburg-101) use
+``../shared/baselines/gmapping_real_<log>.yaml``; any other CARMEN log uses ``--config``
+(default: slam_gmapping's defaults). ``--set`` overrides parameters on both sides; the real side's
+beam angles follow ``range_sensor_angles`` (true: the node's RangeSensor angles, false: the scan's
+own). Finished runs are cached in ``<out>/<variant>/<log>/`` and reused.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = Path(os.environ.get("SLAM_PREDICT_SHARED", ROOT.parent / "shared"))
+LOGS = ("intel", "aces", "csail", "freiburg-101")
+BUILD_SCRIPT = ROOT / "bench" / "gmapping_diff" / "build.sh"
+DRIVER_SOURCE = ROOT / "bench" / "gmapping_diff" / "driver.cpp"
+HOW_TO_GET = ("the real openslam_gmapping is needed: export it, e.g.\n"
+              "  git clone https://github.com/ros-perception/openslam_gmapping /work/ext/"
+              "openslam_gmapping\n"
+              "then pass --upstream /work/ext/openslam_gmapping "
+              "(or set SLAM_PREDICT_GMAPPING_UPSTREAM)")
+
+
+def seeds_arg(text: str):
+    if "-" in text:
+        lo, hi = text.split("-")
+        return list(range(int(lo), int(hi) + 1))
+    return [int(v) for v in text.split(",")]
+
+
+def build_driver(upstream: Path, build: Path) -> Path:
+    """Build (or reuse) the driver; rebuilt when driver.cpp is newer than the binary."""
+    binary = build / "gmapping_diff_driver"
+    if not binary.exists() or DRIVER_SOURCE.stat().st_mtime > binary.stat().st_mtime:
+        subprocess.run(["bash", str(BUILD_SCRIPT), str(upstream), str(build)], check=True,
+                       stdout=subprocess.DEVNULL)
+    return binary
+
+
+def log_source(name: str, config: str | None):
+    """(log path, config path or None, short name) for a named shared log or a CARMEN path."""
+    if name in LOGS:
+        return (SHARED / "data" / "slam_inputs" / f"{name}.log.gz",
+                SHARED / "baselines" / f"gmapping_real_{name}.yaml", name)
+    path = Path(name)
+    short = path.name.split(".")[0]
+    return path, (Path(config) if config else None), short
+
+
+def load(log: str, config: str | None, overrides: dict):
+    from slam_predict.config import load_yaml
+    from slam_predict.slam.gmapping.params import params_from_dict
+    from slam_predict.slam.gmapping.runner import read_input
+
+    path, cfg, short = log_source(log, config)
+    values = dict(load_yaml(cfg) or {}) if cfg else {}
+    values.update(overrides)
+    return read_input(path), params_from_dict(values, str(cfg or "--set")), short
+
+
+def error_of(data, indices, poses) -> dict:
+    from slam_predict.metric import evaluate_against_reference
+
+    summary = evaluate_against_reference(poses, data.reference[indices], 5000, 0).summary()
+    return {"trans_mean_m": float(summary["trans_mean"]),
+            "rot_mean_deg": float(summary["rot_mean_deg"])}
+
+
+def run_ours(data, params, seed: int) -> dict:
+    from slam_predict.slam.gmapping import runner
+
+    cpu0 = time.process_time()
+    result = runner.run(data, params, seed)
+    return {"indices": result.indices.tolist(), "poses": result.poses.tolist(),
+            "neff": result.stats["neff_history"], "resamples": result.stats["resamples"],
+            "cpu_s": time.process_time() - cpu0}
+
+
+def run_ours_replay(data, params, seed: int) -> dict:
+    """Our port fed with the real library's random stream (drand48 seeded as the node does)."""
+    sys.path.insert(0, str(ROOT / "bench" / "gmapping_diff"))
+    from drand48_rng import Drand48Generator
+
+    from slam_predict.slam.gmapping.filter import GMapping
+
+    cpu0 = time.process_time()
+    slam = GMapping(params, data.laser, Drand48Generator(seed))
+    indices = [k for k in range(len(data))
+               if slam.update(data.odometry[k], data.ranges[k], data.times[k]) is not None]
+    numbers, _, poses = slam.trajectory()
+    return {"indices": np.asarray(indices)[numbers].tolist(), "poses": poses.tolist(),
+            "neff": list(slam.filter.neff_history), "resamples": slam.filter.resamples,
+            "cpu_s": time.process_time() - cpu0}
+
+
+def run_real(data, params, seed: int, driver: Path, folder: Path) -> dict:
+    from slam_predict.formats.prepared_scans import read_driver_output, write_prepared_scans
+    from slam_predict.slam.gmapping.params import with_ranges
+
+    scans = folder / f"prepared_{seed}.txt"
+    traj = folder / f"real_{seed}.traj"
+    angle_mode = "node" if params.range_sensor_angles else "exact"
+    write_prepared_scans(scans, data.times, data.odometry, data.ranges, data.laser,
+                         with_ranges(params, data.laser.range_max), seed, angle_mode)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run([str(driver), str(scans), str(traj)], check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    out = read_driver_output(traj)
+    scans.unlink()
+    return {"indices": out.indices.tolist(), "poses": out.poses.tolist(), "neff": out.neff,
+            "resamples": out.resamples,
+            "cpu_s": (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)}
+
+
+def run_job(job) -> dict:
+    """One (log, seed, side) run, cached as JSON in <out>/<log>/<side>_<seed>.json."""
+    log, seed, side, args = job
+    data, params, short = load(log, args["config"], args["set"])
+    folder = Path(args["out"]) / short
+    folder.mkdir(parents=True, exist_ok=True)
+    cache = folder / f"{side}_{seed}.json"
+    if cache.exists():
+        return json.loads(cache.read_text())
+    if side == "ours":
+        record = (run_ours_replay if args["replay"] else run_ours)(data, params, seed)
+    else:
+        record = run_real(data, params, seed, Path(args["driver"]), folder)
+    record["error"] = error_of(data, np.array(record["indices"]), np.array(record["poses"]))
+    record.update({"log": short, "seed": seed, "side": side, "scans": len(data)})
+    cache.write_text(json.dumps(record) + "\n")
+    return record
+
+
+def bootstrap_ratio(ours: np.ndarray, real: np.ndarray, n: int = 10000, seed: int = 0):
+    """95 % percentile interval of mean(ours)/mean(real), each side's seeds resampled."""
+    rng = np.random.default_rng(seed)
+    a = ours[rng.integers(0, len(ours), (n, len(ours)))].mean(axis=1)
+    b = real[rng.integers(0, len(real), (n, len(real)))].mean(axis=1)
+    return tuple(np.percentile(a / b, [2.5, 97.5]))
+
+
+def summary_row(log: str, runs: list) -> str:
+    ours = [r for r in runs if r["side"] == "ours"]
+    real = [r for r in runs if r["side"] == "real"]
+    e = {side: np.array([r["error"]["trans_mean_m"] for r in rs])
+         for side, rs in (("ours", ours), ("real", real))}
+    processed = "/".join(",".join(str(n) for n in sorted({len(r["indices"]) for r in rs}))
+                         for rs in (ours, real))
+    same = all(a["indices"] == b["indices"] for a, b in zip(ours, real))
+    ratio = e["ours"].mean() / e["real"].mean()
+    lo, hi = bootstrap_ratio(e["ours"], e["real"])
+    cells = [log, str(len(ours)), processed + ("" if same else " (scans differ)")]
+    for side in ("ours", "real"):
+        v = e[side]
+        cells += [f"{v.mean():.3f}", f"{np.median(v):.3f}", f"{v.min():.3f}–{v.max():.3f}"]
+    cells += [f"{ratio:.2f}", f"{lo:.2f}–{hi:.2f}",
+              f"{np.mean([r['resamples'] for r in ours]):.0f}/"
+              f"{np.mean([r['resamples'] for r in real]):.0f}",
+              f"{np.mean([np.mean(r['neff']) for r in ours]):.1f}/"
+              f"{np.mean([np.mean(r['neff']) for r in real]):.1f}",
+              f"{np.mean([r['cpu_s'] for r in ours]):.1f}/{np.mean([r['cpu_s'] for r in real]):.1f}"]
+    return "| " + " | ".join(cells) + " |"
+
+
+def table(records: list) -> str:
+    head = ("| log | seeds | scans processed ours/real | ours mean (m) | median | min–max "
+            "| real mean (m) | median | min–max | ratio | 95 % CI | resamples ours/real "
+            "| Neff mean ours/real | CPU s ours/real |")
+    lines = [head, "|" + "---|" * 14]
+    by_log: dict = {}
+    for r in records:
+        by_log.setdefault(r["log"], []).append(r)
+    lines += [summary_row(log, runs) for log, runs in by_log.items()]
+    lines.append("")
+    for log, runs in by_log.items():
+        for side in ("ours", "real"):
+            errs = " ".join(f"{r['error']['trans_mean_m']:.3f}" for r in runs if r["side"] == side)
+            lines.append(f"{log} {side}: {errs}")
+    return "\n".join(lines)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--upstream", default=os.environ.get("SLAM_PREDICT_GMAPPING_UPSTREAM"))
+    parser.add_argument("--logs", nargs="+", default=list(LOGS))
+    parser.add_argument("--seeds", type=seeds_arg, default=list(range(1, 4)))
+    parser.add_argument("--jobs", type=int, default=1)
+    parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
+                        help="GMapping parameter overrides for both sides (YAML values)")
+    parser.add_argument("--config", help="slam_gmapping YAML for logs given as paths")
+    parser.add_argument("--replay-rng", action="store_true",
+                        help="ours draws the real library's drand48 stream (same noise)")
+    parser.add_argument("--out", default=str(ROOT / "out" / "bench_gmapping_diff"))
+    args = parser.parse_args()
+    if not args.upstream or not Path(args.upstream, "gridfastslam").is_dir():
+        print(f"{args.upstream or '--upstream'}: not given or not an openslam_gmapping tree; "
+              + HOW_TO_GET, file=sys.stderr)
+        return 2
+    out = Path(args.out)
+    driver = build_driver(Path(args.upstream), out / "build")
+    overrides = {k: yaml.safe_load(v) for k, v in (item.split("=", 1) for item in args.set)}
+    variant = "_".join(sorted(args.set) + (["replay"] if args.replay_rng else [])) or "default"
+    shared = {"config": args.config, "out": str(out / variant), "driver": str(driver),
+              "set": overrides, "replay": args.replay_rng}
+    jobs = [(log, seed, side, shared) for log in args.logs for seed in args.seeds
+            for side in ("ours", "real")]
+    if args.jobs > 1:
+        with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+            records = list(pool.map(run_job, jobs))
+    else:
+        records = [run_job(job) for job in jobs]
+    commit = (out / "build" / "upstream_commit").read_text().strip()
+    print(f"real openslam_gmapping {commit}; overrides: {variant}")
+    print(table(records))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
