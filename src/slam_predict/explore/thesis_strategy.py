@@ -268,8 +268,11 @@ class ThesisExplorer:
     def _publish_frontiers(self, robot_pose) -> None:
         """Clusters as :class:`Frontier` objects (members as cells, nearest member as goal)."""
         out = []
-        for cluster in self.store.clusters:
-            cells = np.array([self.store.points[m] for m in cluster.members], float)
+        for cluster in self.store.clusters:   # not updated after a failure: skip gone points
+            cells = np.array([self.store.points[m] for m in cluster.members
+                              if m in self.store.points], float).reshape(-1, 2)
+            if len(cells) == 0:
+                continue
             dist = np.hypot(cells[:, 0] - robot_pose[0], cells[:, 1] - robot_pose[1])
             out.append(Frontier(cells, len(cells), cells.mean(axis=0), cells[0],
                                 float(dist.min())))
