@@ -116,10 +116,10 @@ def test_explorer_costmap_of_a_room_has_frontier_cells_only_far_from_walls():
     data[20:80, 20] = 100
     data[20, 20:80] = 100                       # two walls; the other sides open to unknown
     grid = OccupancyGrid(data, 0.05, (-3.0, -3.0))
-    cm = explorer_costmap(grid, 0.1, 0.15, 2.25, 7.5)
+    cm = explorer_costmap(grid, 0.1, 0.2, 2.25, 7.5)
     assert cm.resolution == pytest.approx(0.1)
     cells = frontier_cells(cm)
     assert len(cells) > 10
     wall_x, wall_y = -3.0 + 20 * 0.05, -3.0 + 20 * 0.05
-    assert np.min(cells[:, 0] - wall_x) > 0.88 and np.min(cells[:, 1] - wall_y) > 0.88
+    assert np.min(cells[:, 0] - wall_x) > 0.93 and np.min(cells[:, 1] - wall_y) > 0.93
     assert np.max(cells[:, 0]) < -3.0 + 80 * 0.05 and np.max(cells[:, 1]) < -3.0 + 80 * 0.05

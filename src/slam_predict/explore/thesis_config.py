@@ -18,7 +18,7 @@ class ThesisExploreConfig:
     auction_wait: float = 3.0              # s: the single-robot auction's wait for bids
     auction_jitter: float = 2.0            # s: plus a uniform random wait up to this
     costmap_resolution: float = 0.1        # m: the explorer's global costmap
-    inscribed_radius: float = 0.15         # m: its 0.3 m square footprint
+    inscribed_radius: float = 0.2          # m: the thesis' 0.4 m square costmap footprint
     inflation_radius: float = 2.25         # m
     cost_scaling_factor: float = 7.5       # 1/m
     max_goal_range: float = 0.2            # m: MAX_GOAL_RANGE (per axis)

@@ -1,9 +1,10 @@
 """The aau ``explorer``'s own costmap and its per-cell tests (the thesis explorer).
 
 The aau explorer searches frontiers on its own global costmap (costmap_2d cost values, 0.1 m
-cells, footprint 0.3 m square, inflation radius 2.25 m, cost_scaling_factor 7.5: the
-package's pioneer3at_*costmap*.yaml). :func:`explorer_costmap` builds that costmap from the
-SLAM map: cells are coarsened to ``resolution`` (a coarse cell is lethal if any of its cells is
+cells, inflation radius 2.25 m, cost_scaling_factor 7.5: the package's
+pioneer3at_*costmap*.yaml; the thesis' 0.4 m footprint, which one stored version of the
+package has, gives an inscribed radius of 0.2 m). :func:`explorer_costmap` builds that costmap
+from the SLAM map: cells are coarsened to ``resolution`` (a coarse cell is lethal if any of its cells is
 occupied, else free if any is free, else unknown), lethal cells are inflated as costmap_2d's
 inflation layer does (cost 253 within the inscribed radius, 252·exp(−k·(d − r_inscribed))
 truncated to an integer out to the inflation radius; unknown cells stay 255 except within the
@@ -14,7 +15,7 @@ Per-cell rules (``ExplorationPlanner``):
 * :func:`frontier_cells` (``isFrontier``): a cell of cost exactly 0 (FREE_SPACE) with at least
   one unknown (255) and no lethal (254) cell among its 16 neighbours (the 8 adjacent cells and
   the 8 cells two steps away along the same 8 directions). With the thesis' inflation a cost-0
-  cell is ≥ 0.89 m from every obstacle.
+  cell is > 0.94 m from every obstacle (r_inscribed + ln(252)/7.5).
 * :func:`seen_mask` (``clearSeenFrontiers``): a stored frontier point is "seen" when the cells
   1..6 steps from it along the 4 axes hold no unknown cell, or a lethal one, or no cost-0 one
   (cells beyond the costmap count as lethal).

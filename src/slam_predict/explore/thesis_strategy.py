@@ -104,6 +104,7 @@ class ThesisExplorer:
         if self.home is None:
             self.home = np.array(robot_pose[:2], dtype=float)
             self.store.visited.append((float(self.home[0]), float(self.home[1])))
+            self.store.add_cells(self.home[None, :])     # the package stores it as a frontier too
             self._select_at = t + self.tc.start_delay + self.tc.selection_pause
             self._refresh(grid, robot_pose)
             return
