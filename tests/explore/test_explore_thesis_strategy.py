@@ -15,25 +15,7 @@ from slam_predict.explore.explorer import ABORTED, SUCCEEDED, ExploreConfig, Exp
 from slam_predict.explore.thesis_strategy import ThesisExplorer
 from slam_predict.slam import OccupancyGrid
 from slam_predict.world.load import load_plan
-
-
-class Client:
-    def __init__(self):
-        self.sent, self.cancelled, self._status = [], [], None
-
-    def send_goal(self, target, t):
-        self.sent.append((t, target))
-        self._status = 1
-
-    def cancel(self, t):
-        self.cancelled.append(t)
-        self._status = 2
-
-    def status(self):
-        return self._status
-
-    def plan_length(self):
-        return None
+from test_explore_explorer import FakeClient
 
 
 def room_grid(open_right=True):
@@ -52,7 +34,7 @@ POSE = np.array([3.0, 4.0, 0.0])
 def make(**thesis):
     cfg = ExploreConfig(strategy="thesis")
     cfg = dataclasses.replace(cfg, thesis=dataclasses.replace(cfg.thesis, **thesis))
-    client = Client()
+    client = FakeClient()
     return Explorer(cfg, client, np.random.default_rng(0)), client
 
 
@@ -130,10 +112,29 @@ def test_an_aborted_goal_is_unreachable_and_the_next_is_random():
     assert explorer.goal.kind == "random"
 
 
+def test_only_invalid_points_turn_in_place_then_finish():
+    """A closed room: the home point, stored as a frontier and never cleared as seen while it
+    is the only point (the package's > 1 rule), is an invalid goal: turns, then home."""
+    explorer, client = make(max_idle_turns=2)
+    grid = room_grid(open_right=False)
+    t = run_until(explorer, 0.0, 17.0, grid)
+    for turn in range(2):
+        assert explorer.goal.kind == "turn"
+        assert client.sent[-1][1] == (3.0, 4.0, pytest.approx(45.0 - 14 * math.pi))
+        client._status = SUCCEEDED
+        t = run_until(explorer, t, t + 2.5, grid)
+    assert explorer.goal.kind == "home"
+    client._status = SUCCEEDED
+    run_until(explorer, t, t + 1.0, grid)
+    assert explorer.done and explorer.log.stop_reason == "only_invalid_frontiers"
+
+
 def test_nothing_left_drives_home_then_stops():
     explorer, client = make()
     grid = room_grid(open_right=False)
-    run_until(explorer, 0.0, 17.0, grid)
+    run_until(explorer, 0.0, 0.0, grid)
+    explorer.store.points.clear()                                # no stored point at all
+    run_until(explorer, 0.1, 17.0, grid)
     (t, target), = client.sent
     assert explorer.goal.kind == "home" and target == (3.0, 4.0, 0.0)
     t = 17.1
@@ -144,7 +145,9 @@ def test_nothing_left_drives_home_then_stops():
     assert explorer.done and explorer.log.stop_reason == "no_frontiers"
     assert len(client.sent) == 5
     explorer, client = make(return_home=False)
-    run_until(explorer, 0.0, 17.0, grid)
+    run_until(explorer, 0.0, 0.0, grid)
+    explorer.store.points.clear()
+    run_until(explorer, 0.1, 17.0, grid)
     assert explorer.done and client.sent == []
 
 
