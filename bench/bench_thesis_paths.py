@@ -15,7 +15,7 @@ stay unknown as in the seed study's maps (runs labelled ``<strategy>+gscans``).
 
 Usage: bench/bench_thesis_paths.py WORLDS_DIR ENV [ENV ...] [--strategy thesis nearest]
        [--seed N] [--out DIR] [--resume] [--max-sim-time S] [--gmapping-scans]
-       [--report-only]
+       [--thesis KEY=VALUE ...] [--report-only]
 """
 from __future__ import annotations
 
@@ -62,9 +62,10 @@ def done_runs(path: Path) -> dict:
 
 
 def run_one(worlds_dir: Path, env: str, strategy: str, seed: int, max_sim_time: float,
-            gmapping_scans: bool) -> dict:
+            gmapping_scans: bool, overrides: dict, label: str) -> dict:
     settings = runner.load_settings(runner.DEFAULT_CONFIG_DIR, "perfect")
-    settings.explore = dataclasses.replace(settings.explore, strategy=strategy)
+    thesis = dataclasses.replace(settings.explore.thesis, **overrides)
+    settings.explore = dataclasses.replace(settings.explore, strategy=strategy, thesis=thesis)
     if gmapping_scans:   # the perfect map integrates only the scans GMapping would process
         g = load_params(Path(runner.DEFAULT_CONFIG_DIR) / "gmapping.yaml")
         settings.perfect = dataclasses.replace(settings.perfect, linearUpdate=g.linearUpdate,
@@ -73,8 +74,7 @@ def run_one(worlds_dir: Path, env: str, strategy: str, seed: int, max_sim_time: 
     world = load_plan(str(worlds_dir / f"{env}.world"))
     summary, loop = runner.explore_world(world, seed, settings, "perfect", max_sim_time)
     goals = loop.explorer.log.counts()
-    return {"env": env, "strategy": strategy + ("+gscans" if gmapping_scans else ""),
-            "seed": seed, "distance_m": summary["distance_m"],
+    return {"env": env, "strategy": label, "seed": seed, "distance_m": summary["distance_m"],
             "sim_time_s": summary["sim_time_s"], "coverage": summary["coverage"],
             "stop_reason": summary["stop_reason"], "stalls": summary["stalls"],
             "wall_time_s": summary["wall_time_s"], "goals": goals}
@@ -124,6 +124,8 @@ def main(argv=None) -> int:
     parser.add_argument("--resume", action="store_true")
     parser.add_argument("--max-sim-time", type=float, default=10800.0)
     parser.add_argument("--report-only", action="store_true")
+    parser.add_argument("--thesis", nargs="+", default=[], metavar="KEY=VALUE",
+                        help="override thesis parameters (numbers), e.g. inflation_radius=0.55")
     parser.add_argument("--gmapping-scans", action="store_true",
                         help="perfect map from GMapping's processed scans only (linearUpdate, "
                              "angularUpdate, temporalUpdate of config/gmapping.yaml)")
@@ -131,21 +133,24 @@ def main(argv=None) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     jsonl = args.out / "runs.jsonl"
     runs = done_runs(jsonl) if (args.resume or args.report_only) else {}
+    overrides = {k: float(v) for k, v in (item.split("=", 1) for item in args.thesis)}
+    suffix = ("+gscans" if args.gmapping_scans else "") + "".join(
+        f"[{item}]" for item in args.thesis)
     if not args.report_only:
         for env in args.envs:
             for strategy in args.strategy:
                 for seed in args.seed:
-                    label = strategy + ("+gscans" if args.gmapping_scans else "")
+                    label = strategy + suffix
                     if (env, label, seed) in runs:
                         continue
                     row = run_one(args.worlds_dir, env, strategy, seed, args.max_sim_time,
-                                  args.gmapping_scans)
+                                  args.gmapping_scans, overrides, label)
                     runs[(env, label, seed)] = row
                     with open(jsonl, "a") as fh:
                         fh.write(json.dumps(row) + "\n")
                     print(json.dumps(row), flush=True)
     rows = [r for r in runs.values() if r["env"] in args.envs]
-    labels = [s + ("+gscans" if args.gmapping_scans else "") for s in args.strategy]
+    labels = [s + suffix for s in args.strategy]
     report(rows, labels, theirs(SHARED_DATA / "thesis" / "stats_realistic.csv"),
            free_areas(args.worlds_dir))
     return 0
