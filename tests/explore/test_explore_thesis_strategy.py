@@ -177,3 +177,23 @@ def test_tiny_world_closed_loop_explores_and_returns_home(root):
     ends = [g["t_end"] for g in loop.explorer.log.goals]
     assert sent[0] >= 17.0 - 1e-6
     assert all(s - e >= 2.0 - 1e-6 for s, e in zip(sent[1:], ends[:-1]))
+
+
+def test_turns_count_toward_the_end_only_when_no_point_is_valid():
+    explorer, client = make(max_idle_turns=3)
+    run_until(explorer, 0.0, 0.0, room_grid())
+    explorer.store.points.clear()
+    explorer.store.add_cells(np.array([[1.0, 1.0], [5.0, 5.0]]))
+    explorer.store.unreachable = [(1.0, 1.0)]           # one invalid, one valid point
+    for k in range(8):                                  # e.g. unlucky random draws
+        explorer.goal = None
+        explorer._turn(float(k), POSE)
+    assert not explorer.done and explorer.goal.kind == "turn"
+    explorer.store.unreachable.append((5.0, 5.0))       # now none is valid
+    for k in range(3):
+        explorer.goal = None
+        explorer._turn(10.0 + k, POSE)
+        assert explorer.goal.kind == "turn"
+    explorer.goal = None
+    explorer._turn(20.0, POSE)
+    assert explorer.goal.kind == "home"                 # finishing: drive home first

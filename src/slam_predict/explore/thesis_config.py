@@ -31,7 +31,7 @@ class ThesisExploreConfig:
     turn_yaw: float = 45.0                 # rad: turn_robot's goal yaw (45, used as radians)
     return_home: bool = True               # drive back to the start when no goal is left
     home_attempts: int = 5
-    max_idle_turns: int = 10               # extension: stop after this many turns in a row
+    max_idle_turns: int = 10               # extension: turns in a row with no valid point
 
     def __post_init__(self) -> None:
         if self.costmap_resolution <= 0 or self.max_goal_range <= 0:

@@ -23,8 +23,8 @@ with none, one more search on the same map (an auction round, pause ``auction_wa
 U(0, ``auction_jitter``) s; nearest valid point after a failure); still nothing: exploration
 has finished: drive back to the start point (``home_attempts`` goals at most, each with the
 time limit) and stop with ``no_frontiers``. The first round starts after ``start_delay``.
-Extension: after ``max_idle_turns`` turns in a row the explorer finishes the same way
-(``only_invalid_frontiers``; the package turns forever).
+Extension: after ``max_idle_turns`` turns in a row with no valid stored point at all the
+explorer finishes the same way (``only_invalid_frontiers``; the package turns forever).
 """
 from __future__ import annotations
 
@@ -188,7 +188,10 @@ class ThesisExplorer:
         self._queue(t, kind, (float(target[0]), float(target[1]), 0.0), point, delay)
 
     def _turn(self, t: float, robot_pose) -> None:
-        self._idle_turns += 1
+        # a random draw may miss the valid points: only turns with none left count
+        _, points = self.store.array()
+        stuck = not any(self.store.is_valid(p) for p in points)
+        self._idle_turns = self._idle_turns + 1 if stuck else 0
         if self._idle_turns > self.tc.max_idle_turns:
             self._finish_reason = "only_invalid_frontiers"
             return self._go_home(t)
