@@ -5,8 +5,8 @@ Strategies (``strategy``):
 * ``thesis``: the modified aau ``explorer`` the seed study ran
   (:mod:`slam_predict.explore.thesis_strategy`, its own rules and the ``thesis`` parameters;
   the rules below do not apply to it).
-* ``nearest`` (the thesis' rules as stated in its text): the frontier nearest the robot by Euclidean distance (to its
-  nearest cell); frontiers within ``tie_tolerance`` of the nearest tie and one is drawn with the
+* ``nearest`` (the thesis' rules as stated in its text): the frontier nearest the robot by
+  Euclidean distance (to its nearest cell); frontiers within ``tie_tolerance`` of the nearest tie and one is drawn with the
   seeded generator. The goal point is the frontier cell nearest its centroid among those at
   least ``goal_clearance`` from walls (:func:`~slam_predict.explore.frontiers.clear_goal`). The
   goal is kept while its frontier lasts (some frontier cell within ``goal_frontier_radius`` of
