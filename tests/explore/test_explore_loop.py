@@ -2,6 +2,7 @@
 command limits, stalls, determinism; CI runs tiny and office_500, the sweep is slow."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -14,7 +15,11 @@ from slam_predict.world.load import load_plan
 
 @pytest.fixture(scope="module")
 def settings(root):
-    return runner.load_settings(root / "config")
+    """The project's settings with the ``nearest`` strategy (these acceptance checks are
+    its; the default ``thesis`` strategy has tests/explore/test_explore_thesis_strategy.py)."""
+    settings = runner.load_settings(root / "config")
+    settings.explore = dataclasses.replace(settings.explore, strategy="nearest")
+    return settings
 
 
 def check_run(summary, loop, settings, min_coverage=0.95):

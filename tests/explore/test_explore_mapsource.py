@@ -115,3 +115,37 @@ def test_range_rules_follow_gmapping():
     assert (grid.data == 100).sum() == 0                      # no hit marked
     beam2 = (grid.data != -1).sum()
     assert beam2 == len(seen)                                 # the 35 m beam was dropped
+
+
+def slow_processed(poses, times, lin, ang, per):
+    """slam_gmapping's scan selection written out: motion summed since the last processed."""
+    out, dist, turn, last_t = [], 0.0, 0.0, None
+    for k, (pose, t) in enumerate(zip(poses, times)):
+        if k:
+            dist += math.hypot(*(pose[:2] - poses[k - 1][:2]))
+            turn += abs(math.remainder(pose[2] - poses[k - 1][2], 2 * math.pi))
+        if k == 0 or dist >= lin or turn >= ang or (per > 0 and t - last_t > per):
+            out.append(k)
+            dist, turn, last_t = 0.0, 0.0, t
+    return out
+
+
+def test_gmapping_update_rule_selects_the_scans_slam_gmapping_processes():
+    world = two_rooms()
+    angles = np.array([0.0, 1.0])
+    laser = LaserGeometry(angles, (0.0, 0.0, 0.0), 30.0)
+    rng = np.random.default_rng(0)
+    steps = np.cumsum(rng.uniform(0.0, 0.15, size=(200, 3)) * [1, 0.3, 0.4], axis=0)
+    poses = steps - [3.0, 0.0, 0.0]
+    times = np.cumsum(0.1 + (rng.random(200) < 0.05) * 4.0)    # a few 4 s gaps (temporal)
+    cfg = PerfectMapConfig(margin=0.5, linearUpdate=1.0, angularUpdate=0.25,
+                           temporalUpdate=5.0)
+    source = PerfectMap(world, laser, lambda: np.array([-3.0, 0.0, 0.0]), cfg)
+    got = [k for k, (pose, t) in enumerate(zip(poses, times))
+           if source.update(pose, np.array([1.0, 1.0]), float(t)) is not None]
+    want = slow_processed(poses, times, 1.0, 0.25, 5.0)
+    assert got == want and 5 < len(got) < 150
+    every = PerfectMap(world, laser, lambda: np.array([-3.0, 0.0, 0.0]),
+                       PerfectMapConfig(margin=0.5))
+    assert all(every.update(p, np.array([1.0, 1.0]), float(t)) is not None
+               for p, t in zip(poses, times))

@@ -43,7 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="move a start pose in or too close to a wall to the nearest free cell")
     parser.add_argument("--max-sim-time", type=float, metavar="S",
                         help="stop after S s of sim time (default: closed_loop.yaml, 10800)")
-    parser.add_argument("--strategy", choices=("nearest", "explore_lite"),
+    parser.add_argument("--strategy", choices=("thesis", "nearest", "explore_lite"),
                         help="frontier choice (default: explore.yaml)")
     parser.add_argument("--config-dir", metavar="DIR",
                         help="folder with the YAML settings (default: the project's config/)")

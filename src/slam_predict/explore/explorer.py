@@ -2,8 +2,11 @@
 
 Strategies (``strategy``):
 
-* ``nearest`` (the thesis): the frontier nearest the robot by Euclidean distance (to its
-  nearest cell); frontiers within ``tie_tolerance`` of the nearest tie and one is drawn with the
+* ``thesis``: the modified aau ``explorer`` the seed study ran
+  (:mod:`slam_predict.explore.thesis_strategy`, its own rules and the ``thesis`` parameters;
+  the rules below do not apply to it).
+* ``nearest`` (the thesis' rules as stated in its text): the frontier nearest the robot by
+  Euclidean distance (to its nearest cell); frontiers within ``tie_tolerance`` of the nearest tie and one is drawn with the
   seeded generator. The goal point is the frontier cell nearest its centroid among those at
   least ``goal_clearance`` from walls (:func:`~slam_predict.explore.frontiers.clear_goal`). The
   goal is kept while its frontier lasts (some frontier cell within ``goal_frontier_radius`` of
@@ -51,9 +54,10 @@ from typing import Any, Dict, List, Optional, Protocol, Tuple
 import numpy as np
 
 from slam_predict.explore.frontiers import Frontier, clear_goal, find_frontiers
+from slam_predict.explore.thesis_config import ThesisExploreConfig
 
 LOG = logging.getLogger(__name__)
-STRATEGIES = ("nearest", "explore_lite")
+STRATEGIES = ("thesis", "nearest", "explore_lite")
 
 SUCCEEDED, ABORTED, PREEMPTED = 3, 4, 2  # actionlib_msgs/GoalStatus
 
@@ -86,6 +90,7 @@ class ExploreConfig:
     goal_clearance: float = 0.5
     blacklist_retries: int = 0
     min_unknown_width: float = 0.0
+    thesis: ThesisExploreConfig = field(default_factory=ThesisExploreConfig)
 
     def __post_init__(self) -> None:
         if self.strategy not in STRATEGIES:
@@ -144,7 +149,15 @@ class ExploreLog:
 
 
 class Explorer:
-    """Frontier exploration driven by :meth:`step`; see the module docstring."""
+    """Frontier exploration driven by :meth:`step`; see the module docstring. With
+    ``strategy: thesis`` the instance is a
+    :class:`~slam_predict.explore.thesis_strategy.ThesisExplorer` (same interface)."""
+
+    def __new__(cls, cfg: ExploreConfig, client: GoalClient, rng: np.random.Generator):
+        if cls is Explorer and cfg.strategy == "thesis":
+            from slam_predict.explore.thesis_strategy import ThesisExplorer
+            return ThesisExplorer(cfg, client, rng)
+        return super().__new__(cls)
 
     def __init__(self, cfg: ExploreConfig, client: GoalClient, rng: np.random.Generator):
         self.cfg = cfg

@@ -9,6 +9,11 @@ than ``maxUrange`` are cut there and mark no hit, beams beyond ``maxRange`` or n
 dropped); a cell is unknown (−1) until visited, occupied (100) when hits/visits > occ_thresh,
 else free (0). The map frame is the world frame; the grid covers the world's bitmap plus
 ``margin`` at ``delta`` m/cell.
+
+Like GMapping, the source can process only some scans (``linearUpdate`` m / ``angularUpdate`` rad
+of odometry motion, or ``temporalUpdate`` s, since the last processed scan; the first scan is
+always processed; all 0, the default: every scan): a room glimpsed through a door between two
+processed scans stays unknown, as in GMapping's map.
 """
 from __future__ import annotations
 
@@ -34,12 +39,17 @@ class PerfectMapConfig:
     occ_thresh: float = 0.25
     margin: float = 1.0
     map_update_interval: float = 5.0
+    linearUpdate: float = 0.0
+    angularUpdate: float = 0.0
+    temporalUpdate: float = 0.0
 
     def __post_init__(self) -> None:
         if not (self.delta > 0 and self.maxUrange > 0 and 0 < self.occ_thresh < 1):
             raise ValueError("delta and maxUrange must be > 0 and occ_thresh in (0, 1)")
         if self.maxRange is not None and not self.maxRange > 0:
             raise ValueError("maxRange must be > 0")
+        if min(self.linearUpdate, self.angularUpdate, self.temporalUpdate) < 0:
+            raise ValueError("linearUpdate, angularUpdate and temporalUpdate must be >= 0")
 
 
 class PerfectMap(SlamBackend):
@@ -77,14 +87,34 @@ class PerfectMap(SlamBackend):
         self._map_to_odom = np.zeros(3)
         self._grid: Optional[OccupancyGrid] = None
         self.scans = 0
+        self._last: Optional[tuple] = None   # (last odom pose, t processed, m, rad since)
 
     @property
     def world_T_map(self) -> np.ndarray:
         """The map frame's pose in the world frame (identity: the map frame is the world's)."""
         return np.zeros(3)
 
-    def update(self, odom_pose, scan_ranges, t: float) -> np.ndarray:
-        """Integrate one scan taken at the true pose ``truth()``; returns that pose."""
+    def _due(self, odom_pose: np.ndarray, t: float) -> bool:
+        """GMapping's rule: is this scan processed? Motion accumulates from scan to scan (path
+        length m, absolute turn rad) since the last processed scan."""
+        cfg = self.config
+        if self._last is not None:
+            prev, t_last, dist, turn = self._last
+            dist += math.hypot(odom_pose[0] - prev[0], odom_pose[1] - prev[1])
+            turn += abs(math.remainder(odom_pose[2] - prev[2], 2 * math.pi))
+            self._last = (odom_pose.copy(), t_last, dist, turn)
+            if cfg.linearUpdate or cfg.angularUpdate or cfg.temporalUpdate:
+                if not (dist >= cfg.linearUpdate or turn >= cfg.angularUpdate
+                        or (cfg.temporalUpdate > 0 and t - t_last > cfg.temporalUpdate)):
+                    return False
+        self._last = (odom_pose.copy(), t, 0.0, 0.0)
+        return True
+
+    def update(self, odom_pose, scan_ranges, t: float) -> Optional[np.ndarray]:
+        """Integrate one scan taken at the true pose ``truth()``; returns that pose, or None
+        when the scan is skipped (GMapping's update rule)."""
+        if not self._due(np.asarray(odom_pose, dtype=float), t):
+            return None
         true_pose = np.asarray(self.truth(), dtype=float)
         laser = compose(true_pose, np.asarray(self.laser.pose_in_base, dtype=float))
         ranges = np.asarray(scan_ranges, dtype=float)
