@@ -162,6 +162,18 @@ def test_config_is_strict():
     assert cfg.thesis.selection_pause == 1.5
 
 
+@pytest.mark.parametrize("data, where", [
+    ({"tie_tolerance": -0.1}, "'tie_tolerance' must be ≥ 0"),
+    ({"max_goal_attempts": 0}, "'max_goal_attempts' must be ≥ 1"),
+    ({"goal_timeout_factor": 0.0}, "'goal_timeout_factor' must be > 0"),
+    ({"thesis": {"inflation_radius": -2.0}}, "'thesis.inflation_radius' must be ≥ 0"),
+])
+def test_config_value_ranges_name_the_key_path(data, where):
+    with pytest.raises(InputError, match=where):
+        from_dict(ExploreConfig, data, "explore.yaml")
+    assert from_dict(ExploreConfig, {"thesis": {"turn_yaw": -3.0}}).thesis.turn_yaw == -3.0
+
+
 def test_tiny_world_closed_loop_explores_and_returns_home(root):
     settings = runner.load_settings(root / "config")
     assert settings.explore.strategy == "thesis"                 # the default

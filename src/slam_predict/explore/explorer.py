@@ -49,10 +49,11 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional, Protocol, Tuple
+from typing import Any, ClassVar, Dict, List, Optional, Protocol, Tuple
 
 import numpy as np
 
+from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
 from slam_predict.explore.frontiers import Frontier, clear_goal, find_frontiers
 from slam_predict.explore.thesis_config import ThesisExploreConfig
 
@@ -91,6 +92,13 @@ class ExploreConfig:
     blacklist_retries: int = 0
     min_unknown_width: float = 0.0
     thesis: ThesisExploreConfig = field(default_factory=ThesisExploreConfig)
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "planner_frequency": POSITIVE, "max_vel_x": POSITIVE, "goal_timeout_factor": POSITIVE,
+        "max_goal_attempts": AT_LEAST_ONE, **{name: NON_NEGATIVE for name in (
+            "progress_timeout", "potential_scale", "orientation_scale", "gain_scale",
+            "transform_tolerance", "min_frontier_size", "goal_timeout_offset", "tie_tolerance",
+            "blacklist_radius", "goal_frontier_radius", "near_frontier_distance",
+            "goal_clearance", "blacklist_retries", "min_unknown_width")}}
 
     def __post_init__(self) -> None:
         if self.strategy not in STRATEGIES:

@@ -19,10 +19,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Callable, ClassVar, Dict, Optional
 
 import numpy as np
 
+from slam_predict.config import FRACTION, NON_NEGATIVE, POSITIVE, Range
 from slam_predict.geometry import compose, inverse
 from slam_predict.nav import kernels
 from slam_predict.slam import LaserGeometry, OccupancyGrid, SlamBackend
@@ -42,6 +43,11 @@ class PerfectMapConfig:
     linearUpdate: float = 0.0
     angularUpdate: float = 0.0
     temporalUpdate: float = 0.0
+    RANGES: ClassVar[Dict[str, Range]] = {
+        "delta": POSITIVE, "maxUrange": POSITIVE, "maxRange": POSITIVE, "occ_thresh": FRACTION,
+        "margin": NON_NEGATIVE, "map_update_interval": NON_NEGATIVE,
+        "linearUpdate": NON_NEGATIVE, "angularUpdate": NON_NEGATIVE,
+        "temporalUpdate": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if not (self.delta > 0 and self.maxUrange > 0 and 0 < self.occ_thresh < 1):

@@ -4,6 +4,9 @@ names follow the package where it has one). Units: s, m, cells, costmap cost val
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar, Dict
+
+from slam_predict.config import NON_NEGATIVE, Range
 
 
 @dataclass
@@ -32,6 +35,13 @@ class ThesisExploreConfig:
     return_home: bool = True               # drive back to the start when no goal is left
     home_attempts: int = 5
     max_idle_turns: int = 10               # extension: turns in a row with no valid point
+    # every number but turn_yaw (a yaw, any sign) is >= 0; __post_init__ adds the > 0 / >= 1 rules
+    RANGES: ClassVar[Dict[str, Range]] = {name: NON_NEGATIVE for name in (
+        "start_delay", "selection_pause", "wait_for_planner_result", "poll_period",
+        "max_time_before_goal_abortion", "auction_wait", "auction_jitter", "costmap_resolution",
+        "inscribed_radius", "inflation_radius", "cost_scaling_factor", "max_goal_range",
+        "cluster_join_dist", "cluster_merge_dist", "seen_check_cells", "backoff_search_cells",
+        "backoff_inner_cells", "acceptable_goal_cost", "home_attempts", "max_idle_turns")}
 
     def __post_init__(self) -> None:
         if self.costmap_resolution <= 0 or self.max_goal_range <= 0:
