@@ -15,8 +15,9 @@ TINY = ROOT / "worlds" / "tiny.world"
 STOP_WITHIN_S = 20.0   # generous: the machine running the tests may be loaded
 
 
-def short_settings(folder: Path, max_sim_time_s: float = 6.0) -> Path:
-    """A collect.yaml that ends every run after ``max_sim_time_s`` of sim time."""
+def short_settings(folder: Path, max_sim_time_s: float = 25.0) -> Path:
+    """A collect.yaml that ends every run after ``max_sim_time_s`` of sim time (the thesis
+    explorer starts moving after 17 s: its 15 s start delay and 2 s selection pause)."""
     path = folder / "short.yaml"
     path.write_text(f"extends: {ROOT / 'config' / 'collect.yaml'}\n"
                     f"stop:\n  max_sim_time_s: {max_sim_time_s}\n")
