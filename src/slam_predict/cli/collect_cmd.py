@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 from typing import Dict, List
 
+from slam_predict.cli.guards import check_at_least, check_creatable
 from slam_predict.errors import InputError
 
 NAME = "collect"
@@ -72,13 +73,6 @@ def parse_runs(text: str):
     return int(text)
 
 
-def check_counts(args: argparse.Namespace) -> None:
-    """--jobs and --max-runs must be ≥ 1."""
-    for flag, value in (("--jobs", args.jobs), ("--max-runs", args.max_runs)):
-        if value < 1:
-            raise InputError(f"{flag} must be >= 1, got {value}")
-
-
 def load_worlds(worlds: Dict[str, str]) -> None:
     """Parse every world of the batch once, before any run starts (one error line each)."""
     from slam_predict.world.load import load_plan
@@ -93,18 +87,21 @@ def load_worlds(worlds: Dict[str, str]) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from slam_predict.collect.batch import Batch, BatchConfig, plural
+    from slam_predict.collect.batch import Batch, BatchConfig
+    from slam_predict.words import plural
     from slam_predict.collect.campaign import check_out_folder, identity, open_campaign
     from slam_predict.collect.episode import code_version
     from slam_predict.collect.settings import load_settings
     from slam_predict.collect.summary import write_summary
 
     runs = parse_runs(args.runs)
-    check_counts(args)
+    check_at_least(args.jobs, 1, "--jobs")
+    check_at_least(args.max_runs, 1, "--max-runs")
     worlds = find_worlds(args.worlds)
     settings = load_settings(args.settings)
     out = Path(args.out)
     check_out_folder(out)
+    check_creatable(out)
     load_worlds(worlds)
     open_campaign(out, identity(settings, args.seed, code_version()), force=args.force)
     options = {"settings": args.settings} if args.settings else {}

@@ -18,6 +18,7 @@ import os
 from typing import Iterable, Optional, Union
 
 from slam_predict.errors import InputError
+from slam_predict.words import plural  # noqa: F401  (re-exported for the commands)
 
 Number = Union[int, float]
 PathArg = Union[str, os.PathLike]
@@ -105,9 +106,3 @@ def check_positive(value: Optional[Number], option: str) -> None:
     """InputError when ``value`` (None = not given) is not > 0 (NaN included)."""
     if value is not None and not value > 0:
         raise InputError(f"{option} must be > 0, got {value:g}")
-
-
-def plural(count: int, noun: str, plural_form: Optional[str] = None) -> str:
-    """``'1 run'``, ``'2 runs'``: ``count`` with the noun in the right number."""
-    word = noun if count == 1 else (plural_form or noun + "s")
-    return f"{count} {word}"

@@ -28,6 +28,7 @@ from tqdm import tqdm
 
 from slam_predict.collect import interrupt
 from slam_predict.collect.store import RunStore, run_seed
+from slam_predict.words import plural
 
 LOG = logging.getLogger(__name__)
 STOP_WAIT_S = 30.0  # wall time the runs in progress get to stop after a signal
@@ -263,11 +264,6 @@ class Batch:
         bar.close()
         LOG.info("%s in %.1f s", plural(done, "run"), time.perf_counter() - started)
         return done
-
-
-def plural(count: int, noun: str) -> str:
-    """'1 run', '2 runs'."""
-    return f"{count} {noun}" + ("" if count == 1 else "s")
 
 
 def _default_runs_needed(config: BatchConfig) -> Callable[[List[dict], int], int]:

@@ -157,8 +157,9 @@ def record_mismatch(record: Dict[str, Any], world: str, index: int,
 
 
 def check_out_folder(root: Path) -> None:
-    """InputError unless ``root`` is (or can be made) a campaign folder: not a file, writable,
-    creatable; an existing non-empty folder must hold a campaign (nothing else is touched)."""
+    """InputError unless an existing ``root`` can be a campaign folder: not a file, writable,
+    and, when not empty, holding a campaign (nothing else is touched). Whether a new folder
+    can be created is the CLI's check (``cli.guards.check_creatable``)."""
     root = Path(root)
     if root.exists() and not root.is_dir():
         raise InputError("--out is a file, not a campaign folder", root)
@@ -168,14 +169,6 @@ def check_out_folder(root: Path) -> None:
         if any(root.iterdir()) and not is_campaign(root):
             raise InputError("--out folder is not empty and holds no campaign (no campaign.json, "
                              "summary.csv or run folders)", root)
-        return
-    ancestor = root.parent
-    while not ancestor.exists() and ancestor != ancestor.parent:
-        ancestor = ancestor.parent
-    if not ancestor.is_dir():
-        raise InputError(f"cannot create --out folder: {ancestor} is a file", root)
-    if not os.access(ancestor, os.W_OK | os.X_OK):
-        raise InputError(f"cannot create --out folder: {ancestor} is not writable", root)
 
 
 def is_campaign(root: Path) -> bool:

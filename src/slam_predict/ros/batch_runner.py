@@ -230,7 +230,8 @@ def run_batch(worlds: str, runs, out: str, options: Dict, base_seed: int = 0,
               max_runs: int = 50) -> int:
     """Run (or resume) the batch; returns the exit code: 0, 1 when runs failed, or 128 + the
     signal number when SIGINT/SIGTERM stopped it."""
-    from slam_predict.collect.batch import Batch, BatchConfig, plural
+    from slam_predict.collect.batch import Batch, BatchConfig
+    from slam_predict.words import plural
     from slam_predict.collect.summary import write_summary
 
     check_choices(options)
