@@ -29,14 +29,15 @@ def wait_for(path: Path, seconds: float) -> bool:
 
 
 def in_process_record(world: str, folder: Path) -> Path:
-    """A short in-process episode (10 s, snapshots every 5 s) of the same world."""
+    """A short in-process episode (30 s, snapshots every 20 s) of the same world (the thesis
+    explorer starts moving after 17 s: earlier snapshots would be equal and stop the run)."""
     from slam_predict.collect.batch import RunSpec
     from slam_predict.collect.episode import run_episode
     from slam_predict.collect.settings import load_settings
 
     settings = load_settings()
-    settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=10.0, interval_s=5.0,
-                                        small_interval_s=5.0)
+    settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=30.0, interval_s=20.0,
+                                        small_interval_s=20.0)
     out = folder / "tiny" / "run_000"
     run_episode(RunSpec(world, "tiny", 0, 1, str(out)), settings=settings)
     return out
