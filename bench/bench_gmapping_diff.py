@@ -45,10 +45,9 @@ SHARED = Path(os.environ.get("SLAM_PREDICT_SHARED", ROOT.parent / "shared"))
 LOGS = ("intel", "aces", "csail", "freiburg-101")
 BUILD_SCRIPT = ROOT / "bench" / "gmapping_diff" / "build.sh"
 DRIVER_SOURCE = ROOT / "bench" / "gmapping_diff" / "driver.cpp"
-HOW_TO_GET = ("the real openslam_gmapping is needed: export it, e.g.\n"
-              "  git clone https://github.com/ros-perception/openslam_gmapping /work/ext/"
-              "openslam_gmapping\n"
-              "then pass --upstream /work/ext/openslam_gmapping "
+HOW_TO_GET = ("the real openslam_gmapping is needed: put a checkout of "
+              "ros-perception/openslam_gmapping OUTSIDE this repository (any folder, e.g. "
+              "UPSTREAM_DIR)\nthen pass --upstream UPSTREAM_DIR "
               "(or set SLAM_PREDICT_GMAPPING_UPSTREAM)")
 
 
