@@ -176,7 +176,7 @@ def test_config_value_ranges_name_the_key_path(data, where):
 
 def test_tiny_world_closed_loop_explores_and_returns_home(root):
     settings = runner.load_settings(root / "config")
-    assert settings.explore.strategy == "thesis"                 # the default
+    settings.explore = dataclasses.replace(settings.explore, strategy="thesis")
     world = load_plan(root / "worlds" / "tiny.world")
     summary, loop = runner.explore_world(world, 1, settings, max_sim_time=900)
     assert summary["stop_reason"] == "no_frontiers"
