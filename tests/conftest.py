@@ -35,3 +35,17 @@ def shared_dir() -> Path:
     if not SHARED.is_dir():
         pytest.skip(f"../shared not found at {SHARED} (set SLAM_PREDICT_SHARED)")
     return SHARED
+
+
+@pytest.fixture
+def read_only_folder(tmp_path) -> Path:
+    """An empty folder this process may not write into (skips when it still can, as root)."""
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        if os.access(locked, os.W_OK):
+            pytest.skip("this user can write into read-only folders (root)")
+        yield locked
+    finally:
+        locked.chmod(0o700)

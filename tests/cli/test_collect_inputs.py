@@ -1,7 +1,6 @@
 """`slam-predict collect`: every input checked before any work, and campaign.json (a resume with
 another seed or other settings is refused; folders without campaign.json are adopted)."""
 import json
-import os
 from pathlib import Path
 
 import pytest
@@ -108,19 +107,12 @@ def test_bad_out_folder_is_refused_before_anything_starts(tmp_path, capsys, make
     assert {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()} == before
 
 
-def test_unwritable_out_folder_is_refused(tmp_path, capsys):
-    locked = tmp_path / "locked"
-    locked.mkdir()
-    locked.chmod(0o555)
-    try:
-        if os.access(locked, os.W_OK):
-            pytest.skip("running as root: a read-only folder is still writable")
-        code = main(["collect", str(TINY), "--out", str(locked / "data"), "--no-progress"])
-        err = capsys.readouterr().err.strip().splitlines()
-        assert code == 2 and len(err) == 1 and "not writable" in err[0]
-        assert not (locked / "data").exists()
-    finally:
-        locked.chmod(0o755)
+def test_unwritable_out_folder_is_refused(read_only_folder, capsys):
+    out = read_only_folder / "data"
+    code = main(["collect", str(TINY), "--out", str(out), "--no-progress"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "not writable" in err[0]
+    assert not out.exists()
 
 
 # -- campaign.json ----------------------------------------------------------------------------
