@@ -54,6 +54,8 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     parser.add_argument("--cases", default="all", help="all | quick | comma-separated names")
     parser.add_argument("--renames", help="JSON file {old.key.path: new.key.path}")
     parser.add_argument("--keep", help="keep both output trees in this folder")
+    parser.add_argument("--parallel", action="store_true",
+                        help="run the two sides of a case at the same time (2 cores)")
     return parser.parse_args(argv)
 
 
@@ -194,8 +196,15 @@ def main(argv: Sequence[str]) -> int:
             for out in outs.values():
                 shutil.rmtree(out, ignore_errors=True)
                 out.parent.mkdir(parents=True, exist_ok=True)
-            t_ref = run_case(ref_tree, case, outs["ref"])
-            t_new = run_case(new_tree, case, outs["new"])
+            if args.parallel:
+                from concurrent.futures import ThreadPoolExecutor
+                with ThreadPoolExecutor(2) as pool:
+                    ref_job = pool.submit(run_case, ref_tree, case, outs["ref"])
+                    new_job = pool.submit(run_case, new_tree, case, outs["new"])
+                    t_ref, t_new = ref_job.result(), new_job.result()
+            else:
+                t_ref = run_case(ref_tree, case, outs["ref"])
+                t_new = run_case(new_tree, case, outs["new"])
             problems = compare_trees(outs["ref"], outs["new"], renames)
             verdict = "identical" if not problems else f"DIFFERENT ({len(problems)})"
             print(f"{name:34s} {verdict:16s} wall ref {t_ref:6.1f} s, new {t_new:6.1f} s")
