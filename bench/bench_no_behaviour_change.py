@@ -31,7 +31,7 @@ from typing import Dict, List, Sequence
 ROOT = Path(__file__).resolve().parents[1]
 IGNORED_KEYS = {"wall_time_s", "timing", "code_version", "created", "settings_file", "source",
                 "world_file", "history", "elapsed_s", "timings", "wall_s", "timing_s",
-                "timing_share", "settings_sha256"}
+                "timing_share", "settings_sha256", "files"}
 
 # (name, world, map source, seed, max sim time s, strategy); a "collect" case runs one run.
 CASES = [
@@ -150,8 +150,14 @@ def _content(path: Path) -> bytes:
     """The file's bytes; a .gz file's uncompressed bytes (its header holds a time stamp)."""
     if path.suffix == ".gz":
         import gzip
-        return gzip.decompress(path.read_bytes())
+        return _without_version(gzip.decompress(path.read_bytes()))
     return path.read_bytes()
+
+
+def _without_version(data: bytes) -> bytes:
+    """A text log without its header comments that name the code version."""
+    lines = data.split(b"\n")
+    return b"\n".join(ln for ln in lines if not (ln.startswith(b"#") and b"slam_predict" in ln))
 
 
 def _csv_rows(path: Path) -> List[List[str]]:
