@@ -132,10 +132,16 @@ def run_ours_replay(data, params, seed: int) -> dict:
     """Our port fed with the real library's random stream (drand48 seeded as the node does)."""
     from drand48_rng import Drand48Generator
 
+    return run_port(data, params, Drand48Generator(seed))
+
+
+def run_port(data, params, rng) -> dict:
+    """Our port over ``data`` drawing from ``rng`` (any object with the numpy Generator methods
+    the filter calls): processed scans, poses, Neff history, resamples, CPU s."""
     from slam_predict.slam.gmapping.filter import GMapping
 
     cpu0 = time.process_time()
-    slam = GMapping(params, data.laser, Drand48Generator(seed))
+    slam = GMapping(params, data.laser, rng)
     indices = [k for k in range(len(data))
                if slam.update(data.odometry[k], data.ranges[k], data.times[k]) is not None]
     numbers, _, poses = slam.trajectory()

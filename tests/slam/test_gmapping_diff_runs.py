@@ -76,6 +76,10 @@ def test_in_loop_errors_score_the_in_loop_trajectory_like_both_sides(campaign):
     assert own["scans_trans_m"] == pytest.approx(error["trans_mean_m"], rel=1e-9)
     assert own["scans_rot_deg"] == pytest.approx(error["rot_mean_deg"], rel=1e-9)
     assert own["scans_trans_m"] > 0.0
+    # the bench's own loop over the port (bench_gmapping_rng.py uses it) gives the same run
+    port = bench.run_port(data, params, recorded.rng())
+    assert port["indices"] == result.indices.tolist()
+    assert np.array_equal(np.array(port["poses"]), result.poses)
 
 
 def test_match_times_refuses_stamps_without_a_scan():
