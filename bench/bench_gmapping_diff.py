@@ -1,4 +1,5 @@
-"""Differential check: our GMapping port against the real openslam_gmapping, same input, side by side.
+"""Differential check: our GMapping port against the real openslam_gmapping, same input,
+side by side.
 
 For every log and seed, the log is read once with our runner's reader
 (``slam_predict.slam.gmapping.runner.read_input``); that very input object (odometry, ranges,
@@ -13,21 +14,28 @@ forward pairs, pair seed 0.
 Prints per log: seeds, scans processed (ours / real; flagged when the processed scans differ),
 error mean / median / min–max of each side, the ratio of means (ours ÷ real) with a 95 %
 bootstrap interval (seeds resampled independently on each side), resamples, mean Neff after scan
-matching, and CPU s (ours in-process, real = the driver's CPU time). Acceptance (issue #16): ratio within [0.85, 1.15] per log.
+matching, and CPU s (ours in-process, real = the driver's CPU time). Acceptance (issue #16):
+ratio within [0.85, 1.15] per log.
 
 Usage: bench/bench_gmapping_diff.py --upstream DIR [--logs intel aces|PATH.log.gz ...]
-           [--seeds 1-10] [--jobs 1] [--set KEY=VALUE ...] [--config YAML] [--out DIR]
+           [--runs RUN_OR_CAMPAIGN_DIR ...] [--seeds 1-10] [--jobs 1] [--set KEY=VALUE ...]
+           [--config YAML] [--out DIR]
 ``--upstream`` (or env SLAM_PREDICT_GMAPPING_UPSTREAM) is an export of
 github.com/ros-perception/openslam_gmapping; it is built once into ``<out>/build`` with
 ``bench/gmapping_diff/build.sh``. Named logs (intel, aces, csail, freiburg-101) use
 ``../shared/baselines/gmapping_real_<log>.yaml``; any other CARMEN log uses ``--config``
-(default: slam_gmapping's defaults). ``--set`` overrides parameters on both sides; the real side's
-beam angles follow ``range_sensor_angles`` (true: the node's RangeSensor angles, false: the scan's
-own). Finished runs are cached in ``<out>/<variant>/<log>/`` and reused.
+(default: slam_gmapping's defaults). ``--runs`` takes collected run folders (or campaign folders
+holding them) with a sensor log: each run's ``sensors.log.gz`` is replayed with the GMapping
+parameters its run.json records, and a second table puts both sides' errors beside the run's
+own (``gmapping_diff/collected_runs.py``) with the median ratio over runs. ``--set`` overrides
+parameters on both sides; the real side's beam angles follow ``range_sensor_angles`` (true: the
+node's RangeSensor angles, false: the scan's own). Finished runs are cached in
+``<out>/<variant>/<log>/`` and reused.
 """
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import resource
@@ -43,6 +51,9 @@ import yaml
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("SLAM_PREDICT_SHARED", ROOT.parent / "shared"))
 LOGS = ("intel", "aces", "csail", "freiburg-101")
+sys.path.insert(0, str(ROOT / "bench" / "gmapping_diff"))
+import collected_runs as collected  # noqa: E402  (bench/gmapping_diff/collected_runs.py)
+
 BUILD_SCRIPT = ROOT / "bench" / "gmapping_diff" / "build.sh"
 DRIVER_SOURCE = ROOT / "bench" / "gmapping_diff" / "driver.cpp"
 HOW_TO_GET = ("the real openslam_gmapping is needed: put a checkout of "
@@ -69,6 +80,8 @@ def build_driver(upstream: Path, build: Path) -> Path:
 
 def log_source(name: str, config: str | None):
     """(log path, config path or None, short name) for a named shared log or a CARMEN path."""
+    if collected.is_run(Path(name)):
+        return Path(name) / collected.SENSOR_LOG, None, collected.run_name(Path(name))
     if name in LOGS:
         return (SHARED / "data" / "slam_inputs" / f"{name}.log.gz",
                 SHARED / "baselines" / f"gmapping_real_{name}.yaml", name)
@@ -78,14 +91,23 @@ def log_source(name: str, config: str | None):
 
 
 def load(log: str, config: str | None, overrides: dict):
+    """(SlamInput, GMappingParams, short name); a collected run uses its recorded parameters."""
+    return _load(log, config, json.dumps(overrides, sort_keys=True))
+
+
+@functools.lru_cache(maxsize=2)
+def _load(log: str, config: str | None, overrides_json: str):
     from slam_predict.config import load_yaml
     from slam_predict.slam.gmapping.params import params_from_dict
     from slam_predict.slam.gmapping.runner import read_input
 
     path, cfg, short = log_source(log, config)
-    values = dict(load_yaml(cfg) or {}) if cfg else {}
-    values.update(overrides)
-    return read_input(path), params_from_dict(values, str(cfg or "--set")), short
+    if collected.is_run(Path(log)):
+        values, origin = collected.recorded_params(Path(log)), f"{log}/run.json"
+    else:
+        values, origin = (dict(load_yaml(cfg) or {}) if cfg else {}), str(cfg or "--set")
+    values.update(json.loads(overrides_json))
+    return read_input(path), params_from_dict(values, origin), short
 
 
 def error_of(data, indices, poses) -> dict:
@@ -108,13 +130,18 @@ def run_ours(data, params, seed: int) -> dict:
 
 def run_ours_replay(data, params, seed: int) -> dict:
     """Our port fed with the real library's random stream (drand48 seeded as the node does)."""
-    sys.path.insert(0, str(ROOT / "bench" / "gmapping_diff"))
     from drand48_rng import Drand48Generator
 
+    return run_port(data, params, Drand48Generator(seed))
+
+
+def run_port(data, params, rng) -> dict:
+    """Our port over ``data`` drawing from ``rng`` (any object with the numpy Generator methods
+    the filter calls): processed scans, poses, Neff history, resamples, CPU s."""
     from slam_predict.slam.gmapping.filter import GMapping
 
     cpu0 = time.process_time()
-    slam = GMapping(params, data.laser, Drand48Generator(seed))
+    slam = GMapping(params, data.laser, rng)
     indices = [k for k in range(len(data))
                if slam.update(data.odometry[k], data.ranges[k], data.times[k]) is not None]
     numbers, _, poses = slam.trajectory()
@@ -177,7 +204,8 @@ def summary_row(log: str, runs: list) -> str:
          for side, rs in (("ours", ours), ("real", real))}
     processed = "/".join(",".join(str(n) for n in sorted({len(r["indices"]) for r in rs}))
                          for rs in (ours, real))
-    same = all(a["indices"] == b["indices"] for a, b in zip(ours, real))
+    same = len(ours) == len(real) and all(
+        a["indices"] == b["indices"] for a, b in zip(ours, real, strict=True))
     ratio = e["ours"].mean() / e["real"].mean()
     lo, hi = bootstrap_ratio(e["ours"], e["real"])
     cells = [log, str(len(ours)), processed + ("" if same else " (scans differ)")]
@@ -189,7 +217,8 @@ def summary_row(log: str, runs: list) -> str:
               f"{np.mean([r['resamples'] for r in real]):.0f}",
               f"{np.mean([np.mean(r['neff']) for r in ours]):.1f}/"
               f"{np.mean([np.mean(r['neff']) for r in real]):.1f}",
-              f"{np.mean([r['cpu_s'] for r in ours]):.1f}/{np.mean([r['cpu_s'] for r in real]):.1f}"]
+              f"{np.mean([r['cpu_s'] for r in ours]):.1f}/"
+              f"{np.mean([r['cpu_s'] for r in real]):.1f}"]
     return "| " + " | ".join(cells) + " |"
 
 
@@ -213,7 +242,9 @@ def table(records: list) -> str:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--upstream", default=os.environ.get("SLAM_PREDICT_GMAPPING_UPSTREAM"))
-    parser.add_argument("--logs", nargs="+", default=list(LOGS))
+    parser.add_argument("--logs", nargs="+", help=f"default: {' '.join(LOGS)} (none with --runs)")
+    parser.add_argument("--runs", nargs="+", default=[],
+                        help="collected run folders (or folders holding them) with sensor logs")
     parser.add_argument("--seeds", type=seeds_arg, default=list(range(1, 4)))
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
@@ -233,7 +264,9 @@ def main() -> int:
     variant = "_".join(sorted(args.set) + (["replay"] if args.replay_rng else [])) or "default"
     shared = {"config": args.config, "out": str(out / variant), "driver": str(driver),
               "set": overrides, "replay": args.replay_rng}
-    jobs = [(log, seed, side, shared) for log in args.logs for seed in args.seeds
+    run_dirs = [str(p) for p in collected.find_runs(args.runs)] if args.runs else []
+    logs = (args.logs or ([] if run_dirs else list(LOGS))) + run_dirs
+    jobs = [(log, seed, side, shared) for log in logs for seed in args.seeds
             for side in ("ours", "real")]
     if args.jobs > 1:
         with ProcessPoolExecutor(max_workers=args.jobs) as pool:
@@ -243,6 +276,13 @@ def main() -> int:
     commit = (out / "build" / "upstream_commit").read_text().strip()
     print(f"real openslam_gmapping {commit}; overrides: {variant}")
     print(table(records))
+    if run_dirs:
+        loops = {}
+        for run in run_dirs:
+            data, _, short = load(run, None, overrides)
+            loops[short] = collected.in_loop_errors(Path(run), data)
+        print("\ncollected runs (ours = our port, real = openslam_gmapping; ratio of mean ε_t):")
+        print(collected.runs_table(records, loops, bootstrap_ratio))
     return 0
 
 

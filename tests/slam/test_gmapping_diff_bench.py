@@ -40,3 +40,19 @@ def test_differing_processed_scans_are_flagged():
     assert "(scans differ)" in bench.table(records)
     records[1]["indices"] = [0, 2, 5]
     assert "(scans differ)" not in bench.table(records)
+
+
+def test_rng_bench_generators_and_summary():
+    spec = importlib.util.spec_from_file_location(
+        "bench_gmapping_rng", BENCH.parent / "bench_gmapping_rng.py")
+    rng_bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(rng_bench)
+    draws = {name: make(7).random() for name, make in rng_bench.GENERATORS.items()}
+    assert draws["pcg64"] == np.random.default_rng(7).random()
+    assert draws["mt19937"] == np.random.Generator(np.random.MT19937(7)).random()
+    assert len(set(draws.values())) == 3
+    runs = [{"seed": s, "error": {"trans_mean_m": e}, "resamples": r}
+            for s, e, r in ((1, 0.5, 10), (2, 1.5, 20), (3, 0.7, 30))]
+    assert rng_bench.summary("pcg64", runs) == (
+        "pcg64: n 3, mean 0.900 m, median 0.700 m, above 1 m 1/3, resamples 20; "
+        "per seed: 1:0.500 2:1.500 3:0.700")
