@@ -17,6 +17,7 @@ import hashlib
 import json
 import math
 import os
+import types
 import typing
 from typing import Any, Dict, Mapping, Optional, Type, TypeVar
 
@@ -128,7 +129,7 @@ def _convert(hint: Any, value: Any, where: str, source: str) -> Any:
     """Convert a YAML value to the annotated type (dataclass, tuple, float, int, Optional)."""
     origin = typing.get_origin(hint)
     args = typing.get_args(hint)
-    if origin is typing.Union:
+    if origin is typing.Union or origin is types.UnionType:  # Optional[X] or X | None
         if value is None and type(None) in args:
             return None
         hint = next(a for a in args if a is not type(None))

@@ -35,6 +35,22 @@ def test_ints_become_floats_and_lists_tuples():
     assert cfg.bounds == (1.0, 2.0) and isinstance(cfg.inner.gain, float)
 
 
+@dataclass
+class Pep604:
+    """The same optional fields spelled ``X | None`` (what ruff's pyupgrade rules write)."""
+
+    limit: float | None = None
+    pair: tuple[float, float] | None = None
+
+
+def test_pep604_optionals_convert_like_optional():
+    cfg = from_dict(Pep604, {"limit": 2, "pair": [1, 2]})
+    assert cfg == Pep604(2.0, (1.0, 2.0)) and isinstance(cfg.limit, float)
+    assert from_dict(Pep604, {"limit": None}).limit is None
+    with pytest.raises(InputError, match="must be a number"):
+        from_dict(Pep604, {"limit": "far"})
+
+
 def test_unknown_key_did_you_mean():
     with pytest.raises(InputError) as info:
         from_dict(Outer, {"particle": 3}, "cfg.yaml")
