@@ -13,7 +13,6 @@ from pathlib import Path
 from typing import Optional
 
 from slam_predict import __version__
-from slam_predict.atomic import write_text
 from slam_predict.report import html as H
 from slam_predict.report.campaign import Campaign, load_campaign
 from slam_predict.report.sections import overview, summary, world_section
@@ -73,10 +72,3 @@ def build_report(data_dir, models_dir=None, title: Optional[str] = None,
         parts.append(world_section(world))
     parts.append(learn_html)
     return H.page(title, "\n".join(parts))
-
-
-def write_report(data_dir, out, models_dir=None, title: Optional[str] = None) -> Path:
-    """Build the report and write it atomically to ``out``; returns the path."""
-    text = build_report(data_dir, models_dir, title)
-    write_text(out, text)
-    return Path(out)

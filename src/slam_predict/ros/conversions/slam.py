@@ -15,7 +15,7 @@ from nav_msgs.srv import GetMapResponse
 from rospy.numpy_msg import numpy_msg
 
 from slam_predict.geometry import quaternion_to_yaw
-from slam_predict.ros.conversions.geometry import time_from_ros, time_to_ros
+from slam_predict.ros.conversions.geometry import time_to_ros
 from slam_predict.slam import OccupancyGrid
 
 NumpyOccupancyGrid = numpy_msg(RosOccupancyGrid)
@@ -75,8 +75,3 @@ def get_map_response(msg) -> "NumpyGetMapResponse":
     response = NumpyGetMapResponse()
     response.map = msg
     return response
-
-
-def stamp_of(msg) -> float:
-    """Header stamp (s) of a message."""
-    return time_from_ros(msg.header.stamp)
