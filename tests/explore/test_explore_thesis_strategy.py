@@ -175,7 +175,7 @@ def test_config_value_ranges_name_the_key_path(data, where):
 
 
 def test_tiny_world_closed_loop_explores_and_returns_home(root):
-    settings = runner.load_settings(root / "config")
+    settings = runner.load_explore_settings(root / "config")
     settings.explore = dataclasses.replace(settings.explore, strategy="thesis")
     world = load_plan(root / "worlds" / "tiny.world")
     summary, loop = runner.explore_world(world, 1, settings, max_sim_time=900)

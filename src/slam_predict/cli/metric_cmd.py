@@ -110,9 +110,9 @@ def detect_format(path: str, fmt: str) -> str:
 
 
 def load_trajectory(path: str, fmt: str, topic: str = None, field: str = "pose"):
-    """A :class:`~slam_predict.metric.evaluate.Trajectory` from a TUM, CARMEN or bag file."""
+    """A :class:`~slam_predict.metric.evaluate.StampedPoses` from a TUM, CARMEN or bag file."""
     from slam_predict.errors import require_file
-    from slam_predict.metric.evaluate import Trajectory
+    from slam_predict.metric.evaluate import StampedPoses
 
     fmt = detect_format(path, fmt)
     if fmt == "bag":
@@ -120,20 +120,20 @@ def load_trajectory(path: str, fmt: str, topic: str = None, field: str = "pose")
 
         if not topic:
             raise InputError("bag input needs the pose topic (--slam-topic / --gt-topic)", path)
-        return Trajectory(*read_pose_topic(path, topic))
+        return StampedPoses(*read_pose_topic(path, topic))
     require_file(path, "trajectory")
     if fmt == "tum":
         from slam_predict.formats.tum import read_tum
 
-        return Trajectory(*read_tum(path))
+        return StampedPoses(*read_tum(path))
     from slam_predict.formats.carmen import read_log
 
     log = read_log(path)
     if log.scans:
         poses = log.scan_poses if field == "pose" else log.scan_odom_poses
-        return Trajectory(log.scan_times, poses)
+        return StampedPoses(log.scan_times, poses)
     if len(log.odometry):
-        return Trajectory(log.odometry.t, log.odometry.poses)
+        return StampedPoses(log.odometry.t, log.odometry.poses)
     raise InputError("CARMEN log holds no FLASER/ROBOTLASER1/ODOM poses", path)
 
 

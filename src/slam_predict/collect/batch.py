@@ -190,7 +190,7 @@ class Batch:
         self.worlds = dict(worlds)
         self.store = RunStore(Path(out))
         self.config = config
-        self.runs_needed = runs_needed or _default_runs_needed(config)
+        self.runs_needed = runs_needed or _thesis_runs_needed
         self.failures: List[str] = []
         self.stopped_by: Optional[int] = None
 
@@ -266,9 +266,9 @@ class Batch:
         return done
 
 
-def _default_runs_needed(config: BatchConfig) -> Callable[[List[dict], int], int]:
-    def needed(records: List[dict], done: int) -> int:
-        from slam_predict.metric.stats import required_runs
-        return required_runs([r["metric"]["trans_mean"] for r in records],
-                             [r["metric"]["rot_mean"] for r in records])
-    return needed
+def _thesis_runs_needed(records: List[dict], done: int) -> int:
+    """Total runs the world needs by the thesis' rule (:func:`metric.sampling.run_count`)."""
+    from slam_predict.metric.sampling import run_count
+
+    return run_count([r["metric"]["trans_mean"] for r in records],
+                     [r["metric"]["rot_mean"] for r in records]).runs_required

@@ -13,7 +13,6 @@ from typing import Iterable, Optional, Sequence
 import numpy as np
 
 from slam_predict.metric.kummerle import MetricResult
-from slam_predict.metric.sampling import RunCountDecision, run_count
 
 COMPONENTS = ("trans_mean", "trans_std", "rot_mean", "rot_std")
 
@@ -67,9 +66,3 @@ def building_statistics_from_results(results: Iterable[MetricResult]) -> Buildin
     return building_statistics(col("trans_mean"), col("rot_mean"), col("trans_sqr_mean"),
                                col("rot_sqr_mean"))
 
-
-def runs_needed(results: Iterable[MetricResult], **kwargs) -> RunCountDecision:
-    """The thesis' run-count rule applied to per-run results (see :func:`run_count`)."""
-    summaries = [r.summary() for r in results]
-    return run_count([s["trans_mean"] for s in summaries], [s["rot_mean"] for s in summaries],
-                     **kwargs)

@@ -91,12 +91,3 @@ class StreamingStatistics:
         return ErrorStatistics(self.mean, std, self.min, self.max, self.n, self.ddof,
                                math.sqrt(self.sum_sq / self.n))
 
-
-def required_runs(per_run_trans, per_run_rot, **kwargs) -> int:
-    """Total runs a building needs by the thesis' rule (pilot of 10, 95 %, ±0.03 m, ±0.002 rad).
-
-    Shorthand for ``run_count(...).runs_required`` (:mod:`slam_predict.metric.sampling`).
-    """
-    from slam_predict.metric.sampling import run_count
-
-    return run_count(per_run_trans, per_run_rot, **kwargs).runs_required
