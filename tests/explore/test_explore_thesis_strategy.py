@@ -11,7 +11,8 @@ import pytest
 from slam_predict.config import from_dict
 from slam_predict.errors import InputError
 from slam_predict.explore import run as runner
-from slam_predict.explore.explorer import ABORTED, SUCCEEDED, ExploreConfig, Explorer
+from slam_predict.explore.explorer import ExploreConfig, Explorer
+from slam_predict.explore.goals import ABORTED, SUCCEEDED
 from slam_predict.explore.thesis_strategy import ThesisExplorer
 from slam_predict.slam import OccupancyGrid
 from slam_predict.world.load import load_plan

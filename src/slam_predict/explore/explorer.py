@@ -6,8 +6,8 @@ Strategies (``strategy``):
   (:mod:`slam_predict.explore.thesis_strategy`, its own rules and the ``thesis`` parameters;
   the rules below do not apply to it).
 * ``nearest`` (the thesis' rules as stated in its text): the frontier nearest the robot by
-  Euclidean distance (to its nearest cell); frontiers within ``tie_tolerance`` of the nearest tie and one is drawn with the
-  seeded generator. The goal point is the frontier cell nearest its centroid among those at
+  Euclidean distance (to its nearest cell); frontiers within ``tie_tolerance`` of the nearest
+  tie and one is drawn with the seeded generator. The goal point is the frontier cell nearest its centroid among those at
   least ``goal_clearance`` from walls (:func:`~slam_predict.explore.frontiers.clear_goal`). The
   goal is kept while its frontier lasts (some frontier cell within ``goal_frontier_radius`` of
   the chosen frontier's reference cell) and replaced when it has been seen.
@@ -49,18 +49,17 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Dict, List, Optional, Protocol, Tuple
+from typing import ClassVar, Dict, List, Optional, Tuple
 
 import numpy as np
 
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
 from slam_predict.explore.frontiers import Frontier, clear_goal, find_frontiers
+from slam_predict.explore.goals import ABORTED, PREEMPTED, SUCCEEDED, ExploreLog, Goal, GoalClient
 from slam_predict.explore.thesis_config import ThesisExploreConfig
 
 LOG = logging.getLogger(__name__)
 STRATEGIES = ("thesis", "nearest", "explore_lite")
-
-SUCCEEDED, ABORTED, PREEMPTED = 3, 4, 2  # actionlib_msgs/GoalStatus
 
 
 @dataclass
@@ -112,48 +111,6 @@ class ExploreConfig:
             raise ValueError("blacklist_retries must be >= 0")
         if self.min_unknown_width < 0:
             raise ValueError("min_unknown_width must be >= 0")
-
-
-class GoalClient(Protocol):
-    """What the explorer needs from move_base (in-process navigator or actionlib client)."""
-
-    def send_goal(self, target: Tuple[float, float, float], t: float) -> None: ...
-
-    def cancel(self, t: float) -> None: ...
-
-    def status(self) -> Optional[int]: ...
-
-    def plan_length(self) -> Optional[float]: ...
-
-
-@dataclass
-class Goal:
-    """The explorer's current goal."""
-
-    target: Tuple[float, float, float]
-    t_sent: float
-    frontier_point: np.ndarray
-    frontier_size: int
-    min_distance: float
-    time_limit: Optional[float] = None
-    last_progress: float = 0.0
-    look_around: bool = False
-
-
-@dataclass
-class ExploreLog:
-    """What happened: one dict per goal outcome, and the stop reason."""
-
-    goals: List[Dict[str, Any]] = field(default_factory=list)
-    stop_reason: Optional[str] = None
-    t_stop: Optional[float] = None
-
-    def counts(self) -> Dict[str, int]:
-        """Goal outcomes by kind."""
-        out: Dict[str, int] = {}
-        for g in self.goals:
-            out[g["outcome"]] = out.get(g["outcome"], 0) + 1
-        return out
 
 
 class Explorer:

@@ -35,7 +35,7 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
-from slam_predict.explore.explorer import SUCCEEDED, ExploreLog
+from slam_predict.explore.goals import SUCCEEDED, ExploreLog
 from slam_predict.explore.frontiers import Frontier
 from slam_predict.explore.thesis_frontiers import FrontierStore
 from slam_predict.explore.thesis_map import backoff_goal, explorer_costmap, frontier_cells, \
