@@ -135,7 +135,7 @@ def _is_truncated(lines, index: int, kind: str, path: str) -> bool:
         return not text.startswith("#") and (len(tokens) < 8 or not _numeric(tokens))
     if kind != "carmen":
         raise InputError(f"unknown log kind {kind!r} (carmen or tum)", path)
-    from slam_predict.formats.carmen import line_status
+    from slam_predict.formats.carmen_lines import line_status
 
     status = line_status(tokens)
     return status == "truncated" or (status == "malformed" and not text.endswith("\n"))
