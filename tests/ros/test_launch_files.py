@@ -43,7 +43,7 @@ def config(launch: str, *args: str):
 
 
 def _ack_list(value):
-    from slam_predict.ros.stage_sim_node import _ack_list as parse
+    from slam_predict.ros.stage_sim_params import ack_list as parse
     return parse(value)
 
 
