@@ -8,8 +8,13 @@ from scipy import ndimage
 
 from slam_predict.features import raster_kernels, rooms, voronoi
 from slam_predict.features.skeleton_graph import pixel_edges, simplify_chains, sparsify
-from slam_predict.features.voronoi import (VoronoiConfig, building_interior, nearest_site,
-                                           skeleton_of, voronoi_graph)
+from slam_predict.features.voronoi import (
+    VoronoiConfig,
+    building_interior,
+    nearest_site,
+    skeleton_of,
+    voronoi_graph,
+)
 
 from . import reference
 from .plans import Plan, corridor_with_rooms, ring_corridor, single_room

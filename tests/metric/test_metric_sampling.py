@@ -7,8 +7,14 @@ import numpy as np
 import pytest
 
 from slam_predict.metric import (
-    MetricResult, building_statistics, building_statistics_from_results, relation_sample_size,
-    required_sample_size, run_count, z_score)
+    MetricResult,
+    building_statistics,
+    building_statistics_from_results,
+    relation_sample_size,
+    required_sample_size,
+    run_count,
+    z_score,
+)
 from slam_predict.metric.stats import compute_statistics
 
 
@@ -79,8 +85,10 @@ def test_building_statistics_ddof0():
 
 
 def _result(trans, rot):
-    return MetricResult({"trans_abs": compute_statistics(trans), "trans_sqr": compute_statistics(np.square(trans)),
-                         "rot_abs": compute_statistics(rot), "rot_sqr": compute_statistics(np.square(rot))})
+    return MetricResult({"trans_abs": compute_statistics(trans),
+                         "trans_sqr": compute_statistics(np.square(trans)),
+                         "rot_abs": compute_statistics(rot),
+                         "rot_sqr": compute_statistics(np.square(rot))})
 
 
 def test_building_statistics_from_results():

@@ -3,8 +3,13 @@ import pytest
 import yaml
 
 from slam_predict.errors import InputError
-from slam_predict.slam.gmapping.params import (GMappingParams, load_params, params_from_dict,
-                                               params_to_dict, resolve_ranges)
+from slam_predict.slam.gmapping.params import (
+    GMappingParams,
+    load_params,
+    params_from_dict,
+    params_to_dict,
+    resolve_ranges,
+)
 
 
 def test_defaults_are_slam_gmappings():

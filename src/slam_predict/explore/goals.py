@@ -4,7 +4,7 @@ tracks and the log of goal outcomes (shared by every strategy of
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional, Protocol, Tuple
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -14,25 +14,25 @@ SUCCEEDED, ABORTED, PREEMPTED = 3, 4, 2  # actionlib_msgs/GoalStatus
 class GoalClient(Protocol):
     """What the explorer needs from move_base (in-process navigator or actionlib client)."""
 
-    def send_goal(self, target: Tuple[float, float, float], t: float) -> None: ...
+    def send_goal(self, target: tuple[float, float, float], t: float) -> None: ...
 
     def cancel(self, t: float) -> None: ...
 
-    def status(self) -> Optional[int]: ...
+    def status(self) -> int | None: ...
 
-    def plan_length(self) -> Optional[float]: ...
+    def plan_length(self) -> float | None: ...
 
 
 @dataclass
 class Goal:
     """The explorer's current goal."""
 
-    target: Tuple[float, float, float]
+    target: tuple[float, float, float]
     t_sent: float
     frontier_point: np.ndarray
     frontier_size: int
     min_distance: float
-    time_limit: Optional[float] = None
+    time_limit: float | None = None
     last_progress: float = 0.0
     look_around: bool = False
 
@@ -41,13 +41,13 @@ class Goal:
 class ExploreLog:
     """What happened: one dict per goal outcome, and the stop reason."""
 
-    goals: List[Dict[str, Any]] = field(default_factory=list)
-    stop_reason: Optional[str] = None
-    t_stop: Optional[float] = None
+    goals: list[dict[str, Any]] = field(default_factory=list)
+    stop_reason: str | None = None
+    t_stop: float | None = None
 
-    def counts(self) -> Dict[str, int]:
+    def counts(self) -> dict[str, int]:
         """Goal outcomes by kind."""
-        out: Dict[str, int] = {}
+        out: dict[str, int] = {}
         for g in self.goals:
             out[g["outcome"]] = out.get(g["outcome"], 0) + 1
         return out

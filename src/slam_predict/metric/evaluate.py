@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
-from typing import Optional, Union
 
 import numpy as np
 
@@ -16,10 +15,19 @@ from slam_predict.errors import InputError
 from slam_predict.formats.relations import Relations
 from slam_predict.metric.association import associate, dedupe_consecutive, nearest_within
 from slam_predict.metric.kummerle import (
-    MetricResult, RelationMetric, evaluate_all_pairs, evaluate_pairs, evaluate_random,
-    evaluate_sampled)
+    MetricResult,
+    RelationMetric,
+    evaluate_all_pairs,
+    evaluate_pairs,
+    evaluate_random,
+    evaluate_sampled,
+)
 from slam_predict.metric.relations import (
-    PairSelection, consecutive_pairs, random_forward_pairs, relation_deltas)
+    PairSelection,
+    consecutive_pairs,
+    random_forward_pairs,
+    relation_deltas,
+)
 
 log = logging.getLogger(__name__)
 
@@ -52,8 +60,8 @@ def aligned(est: StampedPoses, ref: StampedPoses, tol: float = DEFAULT_TOL, dedu
 
 
 def evaluate_trajectories(est: StampedPoses, ref: StampedPoses, *,
-                          pairs: Union[PairSelection, int] = PairSelection.AUTO,
-                          rng: Optional[np.random.Generator] = None, delta: int = 1,
+                          pairs: PairSelection | int = PairSelection.AUTO,
+                          rng: np.random.Generator | None = None, delta: int = 1,
                           tol: float = DEFAULT_TOL, dedupe: bool = True, ddof: int = 1,
                           source: str = "") -> MetricResult:
     """Relation error of ``est`` against ``ref``.

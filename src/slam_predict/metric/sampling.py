@@ -7,8 +7,8 @@ use z², the standard formula (the spec says so).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
-from typing import Sequence
 
 import numpy as np
 from scipy.stats import norm

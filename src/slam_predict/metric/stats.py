@@ -28,10 +28,10 @@ class ErrorStatistics:
         return asdict(self)
 
     @classmethod
-    def from_dict(cls, data: dict) -> "ErrorStatistics":
+    def from_dict(cls, data: dict) -> ErrorStatistics:
         return cls(**data)
 
-    def scaled(self, factor: float, power: int = 1) -> "ErrorStatistics":
+    def scaled(self, factor: float, power: int = 1) -> ErrorStatistics:
         """The statistics of the series multiplied by ``factor**power`` (e.g. rad → deg)."""
         k = float(factor) ** power
         return ErrorStatistics(self.mean * k, self.std * k, self.min * k, self.max * k, self.n,

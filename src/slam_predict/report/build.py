@@ -10,7 +10,6 @@ import datetime
 import logging
 import os
 from pathlib import Path
-from typing import Optional
 
 from slam_predict import __version__
 from slam_predict.report import html as H
@@ -46,7 +45,7 @@ def learning(campaign: Campaign, models_path, feature_fn=None) -> str:
     return H.section("Learning", "\n".join(parts), anchor="learning")
 
 
-def build_report(data_dir, models_dir=None, title: Optional[str] = None,
+def build_report(data_dir, models_dir=None, title: str | None = None,
                  feature_fn=None) -> str:
     """The report page of campaign ``data_dir`` (HTML text).
 
@@ -62,7 +61,7 @@ def build_report(data_dir, models_dir=None, title: Optional[str] = None,
     campaign = load_campaign(data_dir)
     resolved = Path(data_dir).resolve()
     title = title or f"SLAM campaign report: {resolved.parent.name}/{resolved.name}"
-    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    stamp = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     parts = [f"<p>Generated {H.esc(stamp)} by slam_predict {H.esc(__version__)} from "
              f"<code>{H.esc(os.fspath(data_dir))}</code>.</p>",
              contents(campaign, models_dir is not None), overview(campaign), summary(campaign)]

@@ -10,7 +10,8 @@ GMapping: its cell (0, 0) position, as slam_gmapping publishes it), with no rota
 from __future__ import annotations
 
 import numpy as np
-from nav_msgs.msg import MapMetaData, OccupancyGrid as RosOccupancyGrid
+from nav_msgs.msg import MapMetaData
+from nav_msgs.msg import OccupancyGrid as RosOccupancyGrid
 from nav_msgs.srv import GetMapResponse
 from rospy.numpy_msg import numpy_msg
 
@@ -70,7 +71,7 @@ def grid_from_ros(msg) -> OccupancyGrid:
                          (float(info.origin.position.x), float(info.origin.position.y)))
 
 
-def get_map_response(msg) -> "NumpyGetMapResponse":
+def get_map_response(msg) -> NumpyGetMapResponse:
     """A ``nav_msgs/GetMap`` response carrying ``msg`` (from :func:`grid_to_ros`)."""
     response = NumpyGetMapResponse()
     response.map = msg
