@@ -8,7 +8,7 @@ export NUMBA_CACHE_DIR ?= $(ROOT)/.numba_cache
 # Tests marked `slow` (full end-to-end sweeps) only run with `make test-full` or as benchmarks.
 PYTEST_ARGS ?= -m "not slow"
 
-.PHONY: setup demo test test-full pytest rostest bench clean
+.PHONY: setup demo test test-full lint pytest rostest bench clean
 
 setup:
 	@bash tools/setup.sh
@@ -17,7 +17,11 @@ demo: setup
 	@bash tools/demo.sh "$(DEMO_OUT)"
 
 test: setup
-	@$(MAKE) --no-print-directory pytest rostest
+	@$(MAKE) --no-print-directory lint pytest rostest
+
+# ruff (rules and line length in ruff.toml) over the whole repository, before any test runs.
+lint:
+	@$(VENV)/bin/ruff check --no-cache $(ROOT)
 
 pytest:
 	@set +u; source setup.bash; set -u; $(PY) -m pytest tests $(PYTEST_ARGS)
@@ -26,7 +30,7 @@ rostest:
 	@bash tools/run_rostests.sh
 
 test-full: setup
-	@$(MAKE) --no-print-directory pytest rostest PYTEST_ARGS=
+	@$(MAKE) --no-print-directory lint pytest rostest PYTEST_ARGS=
 
 bench: setup
 	@for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done

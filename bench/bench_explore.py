@@ -194,7 +194,7 @@ def main() -> int:
     parser.add_argument("--resume", action="store_true", help="skip plans already in the record")
     args = parser.parse_args()
     warm_all()
-    settings = runner.load_settings(ROOT / "config")
+    settings = runner.load_explore_settings(ROOT / "config")
     return run_sweep(args, settings) if args.sweep else run_components(args, settings)
 
 

@@ -135,7 +135,8 @@ def bench_ros_step(world: World, start: np.ndarray, steps: int) -> float:
     try:
         import io
 
-        from slam_predict.ros.stage_sim_node import NodeSettings, StageSim
+        from slam_predict.ros.stage_sim_node import StageSim
+        from slam_predict.ros.stage_sim_params import NodeSettings
     except ImportError:
         return float("nan")
 

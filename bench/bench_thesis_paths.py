@@ -63,7 +63,7 @@ def done_runs(path: Path) -> dict:
 
 def run_one(worlds_dir: Path, env: str, strategy: str, seed: int, max_sim_time: float,
             gmapping_scans: bool, overrides: dict, label: str) -> dict:
-    settings = runner.load_settings(runner.DEFAULT_CONFIG_DIR, "perfect")
+    settings = runner.load_explore_settings(runner.DEFAULT_CONFIG_DIR, "perfect")
     thesis = dataclasses.replace(settings.explore.thesis, **overrides)
     settings.explore = dataclasses.replace(settings.explore, strategy=strategy, thesis=thesis)
     if gmapping_scans:   # the perfect map integrates only the scans GMapping would process

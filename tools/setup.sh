@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Idempotent setup of slam_predict on Debian 12 (ROS 1 from Debian) or Ubuntu 20.04 + ROS Noetic.
 #   1. ROS 1: /opt/ros/noetic if present, else the Debian packages (installed when missing);
-#   2. .venv on the ROS python (/usr/bin/python3) with --system-site-packages + pinned PyPI deps;
+#   2. .venv on the ROS python (/usr/bin/python3) with --system-site-packages + pinned PyPI deps
+#      (requirements.txt, with the test tools and the linter ruff that `make test` runs);
 #   3. a catkin workspace (.catkin_ws) holding this package, built with -DPYTHON_EXECUTABLE set
 #      to the venv's python so the wrappers of scripts/ see the PyPI packages;
 #   4. the numba cache warmed; 5. setup.bash written at the repository root.
@@ -61,6 +62,8 @@ make_venv() {
     "$VENV/bin/python" -m pip install -q --no-build-isolation --no-deps -e .
     echo "$want" > "$stamp"
   fi
+  "$VENV/bin/ruff" --version > /dev/null \
+    || { say "ruff missing from $VENV (pinned in requirements.txt)"; exit 1; }
 }
 
 build_workspace() {

@@ -17,8 +17,10 @@ import hashlib
 import json
 import math
 import os
+import types
 import typing
-from typing import Any, Dict, Mapping, Optional, Type, TypeVar
+from collections.abc import Mapping
+from typing import Any, TypeVar
 
 import yaml
 
@@ -32,8 +34,8 @@ class Range:
     """Allowed values of a number: ``low`` ≤ v ≤ ``high`` (None = unbounded); ``open_low`` /
     ``open_high`` make a bound strict (v > low, v < high)."""
 
-    low: Optional[float] = None
-    high: Optional[float] = None
+    low: float | None = None
+    high: float | None = None
     open_low: bool = False
     open_high: bool = False
 
@@ -68,7 +70,7 @@ TWO_OR_MORE = Range(2.0)
 FRACTION = Range(0.0, 1.0, open_low=True, open_high=True)
 
 
-def from_dict(cls: Type[T], data: Optional[Mapping[str, Any]], source: str = "<config>",
+def from_dict(cls: type[T], data: Mapping[str, Any] | None, source: str = "<config>",
               key_path: str = "") -> T:
     """Build dataclass ``cls`` from ``data``; raise InputError naming ``source`` and the key
     on unknown keys, wrong types and values outside ``cls.RANGES``.
@@ -82,7 +84,7 @@ def from_dict(cls: Type[T], data: Optional[Mapping[str, Any]], source: str = "<c
     fields = {f.name: f for f in dataclasses.fields(cls)}
     hints = typing.get_type_hints(cls)
     ranges = getattr(cls, "RANGES", {})
-    kwargs: Dict[str, Any] = {}
+    kwargs: dict[str, Any] = {}
     for key, value in data.items():
         if key not in fields:
             where = f" in '{key_path}'" if key_path else ""
@@ -128,7 +130,7 @@ def _convert(hint: Any, value: Any, where: str, source: str) -> Any:
     """Convert a YAML value to the annotated type (dataclass, tuple, float, int, Optional)."""
     origin = typing.get_origin(hint)
     args = typing.get_args(hint)
-    if origin is typing.Union:
+    if origin is typing.Union or origin is types.UnionType:  # Optional[X] or X | None
         if value is None and type(None) in args:
             return None
         hint = next(a for a in args if a is not type(None))
@@ -146,7 +148,7 @@ def _convert(hint: Any, value: Any, where: str, source: str) -> Any:
         if len(args) != len(value):
             raise InputError(f"'{where}' needs {len(args)} values, got {len(value)}", source)
         return tuple(_convert(a, v, f"{where}[{i}]", source)
-                     for i, (a, v) in enumerate(zip(args, value)))
+                     for i, (a, v) in enumerate(zip(args, value, strict=True)))
     if hint is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise InputError(f"'{where}' must be a number, got {value!r}", source)
@@ -162,7 +164,7 @@ def _convert(hint: Any, value: Any, where: str, source: str) -> Any:
     return value
 
 
-def to_dict(obj: Any) -> Dict[str, Any]:
+def to_dict(obj: Any) -> dict[str, Any]:
     """Plain-dict form of a config dataclass (tuples as lists), the inverse of ``from_dict``."""
     def plain(value: Any) -> Any:
         if dataclasses.is_dataclass(value):
@@ -173,7 +175,7 @@ def to_dict(obj: Any) -> Dict[str, Any]:
     return plain(obj)
 
 
-def load_yaml(path: os.PathLike | str) -> Dict[str, Any]:
+def load_yaml(path: os.PathLike | str) -> dict[str, Any]:
     """Read a YAML mapping; InputError (naming the file) when missing or malformed."""
     path = os.fspath(path)
     try:
@@ -192,7 +194,7 @@ def load_yaml(path: os.PathLike | str) -> Dict[str, Any]:
     return data
 
 
-def load_config(cls: Type[T], path: os.PathLike | str, section: Optional[str] = None) -> T:
+def load_config(cls: type[T], path: os.PathLike | str, section: str | None = None) -> T:
     """Load dataclass ``cls`` from a YAML file (optionally from its one top-level ``section``;
     any other top-level key is then an error)."""
     data = load_yaml(path)

@@ -5,12 +5,11 @@ import sys
 from slam_predict.cli import main as cli
 
 
-def test_help_lists_available_subcommands(capsys):
+def test_help_lists_every_subcommand(capsys):
     parser = cli.build_parser()
     text = parser.format_help()
     for name in cli.SUBCOMMANDS:
-        if cli._load(name) is not None:
-            assert name in text
+        assert name in text
 
 
 def test_no_command_prints_help_and_exits_2(capsys):

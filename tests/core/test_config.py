@@ -1,12 +1,23 @@
 """Strict typed configs: round trips, conversions, unknown keys with did-you-mean, ranges."""
 import dataclasses
+import typing
 from dataclasses import dataclass, field
-from typing import ClassVar, Dict, Optional, Tuple
+from typing import ClassVar
 
 import pytest
 
-from slam_predict.config import (AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, PROBABILITY, Range,
-                                 check_keys, config_hash, from_dict, load_config, to_dict)
+from slam_predict.config import (
+    AT_LEAST_ONE,
+    NON_NEGATIVE,
+    POSITIVE,
+    PROBABILITY,
+    Range,
+    check_keys,
+    config_hash,
+    from_dict,
+    load_config,
+    to_dict,
+)
 from slam_predict.errors import InputError
 
 
@@ -19,9 +30,9 @@ class Inner:
 @dataclass
 class Outer:
     particles: int = 30
-    bounds: Tuple[float, float] = (0.0, 1.0)
+    bounds: tuple[float, float] = (0.0, 1.0)
     inner: Inner = field(default_factory=Inner)
-    optional: Optional[float] = None
+    optional: float | None = None
     flag: bool = False
 
 
@@ -33,6 +44,25 @@ def test_round_trip():
 def test_ints_become_floats_and_lists_tuples():
     cfg = from_dict(Outer, {"bounds": [1, 2], "inner": {"gain": 2}})
     assert cfg.bounds == (1.0, 2.0) and isinstance(cfg.inner.gain, float)
+
+
+# Both spellings of an optional field: ``typing.Optional[X]`` (a typing.Union) and ``X | None``
+# (a types.UnionType, what ruff's pyupgrade rules write); built at run time so the linter keeps
+# the old spelling.
+OPTIONAL_SPELLINGS = {"typing.Optional": (typing.Optional[float],  # noqa: UP045
+                                          typing.Optional[tuple[float, float]]),  # noqa: UP045
+                      "X | None": (float | None, tuple[float, float] | None)}
+
+
+@pytest.mark.parametrize("spelling", sorted(OPTIONAL_SPELLINGS))
+def test_both_optional_spellings_convert_alike(spelling):
+    number, pair = OPTIONAL_SPELLINGS[spelling]
+    cls = dataclasses.make_dataclass("Optionals", [("limit", number, None), ("pair", pair, None)])
+    cfg = from_dict(cls, {"limit": 2, "pair": [1, 2]})
+    assert (cfg.limit, cfg.pair) == (2.0, (1.0, 2.0)) and isinstance(cfg.limit, float)
+    assert from_dict(cls, {"limit": None}).limit is None
+    with pytest.raises(InputError, match="must be a number"):
+        from_dict(cls, {"limit": "far"})
 
 
 def test_unknown_key_did_you_mean():
@@ -77,9 +107,9 @@ class Ranged:
     count: int = 1
     rate: float = 1.0
     share: float = 0.5
-    gains: Tuple[float, ...] = (1.0,)
-    limit: Optional[float] = None
-    RANGES: ClassVar[Dict[str, Range]] = {"count": AT_LEAST_ONE, "rate": POSITIVE,
+    gains: tuple[float, ...] = (1.0,)
+    limit: float | None = None
+    RANGES: ClassVar[dict[str, Range]] = {"count": AT_LEAST_ONE, "rate": POSITIVE,
                                           "share": PROBABILITY, "gains": NON_NEGATIVE,
                                           "limit": NON_NEGATIVE}
 

@@ -6,7 +6,7 @@ import shutil
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.explore.run import load_settings
+from slam_predict.explore.run import load_explore_settings
 from slam_predict.nav.config import load_nav_config
 
 
@@ -19,7 +19,7 @@ def config_dir(root, tmp_path):
 
 
 def test_shipped_files_load(root):
-    settings = load_settings(root / "config", "gmapping")
+    settings = load_explore_settings(root / "config", "gmapping")
     assert settings.nav.controller_frequency > 0 and settings.gmapping.particles >= 1
 
 
@@ -43,18 +43,18 @@ def test_bad_key_or_value_names_its_file(config_dir, name, extra, message):
     with open(config_dir / name, "a") as handle:
         handle.write(extra)
     with pytest.raises(InputError) as info:
-        load_settings(config_dir, "gmapping")
+        load_explore_settings(config_dir, "gmapping")
     assert info.value.path == str(config_dir / name)
     assert message in info.value.problem
 
 
 def test_collect_settings_stop_section(config_dir):
-    from slam_predict.collect.settings import load_settings as load_collect
+    from slam_predict.collect.settings import load_settings
 
     with open(config_dir / "collect.yaml", "a") as handle:
         handle.write("stop:\n  max_snapshots: -5\n")
     with pytest.raises(InputError) as info:
-        load_collect(config_dir / "collect.yaml")
+        load_settings(config_dir / "collect.yaml")
     assert info.value.problem == "'stop.max_snapshots' must be ≥ 1, got -5"
 
 

@@ -7,7 +7,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from slam_predict.explore.explorer import ABORTED, SUCCEEDED, ExploreConfig, Explorer
+from slam_predict.explore.explorer import ExploreConfig, Explorer
+from slam_predict.explore.goals import ABORTED, SUCCEEDED
 
 RES = 0.1
 

@@ -17,7 +17,7 @@ from slam_predict.world.load import load_plan
 def settings(root):
     """The project's settings with the ``nearest`` strategy (these acceptance checks are
     its; the ``thesis`` strategy has tests/explore/test_explore_thesis_strategy.py)."""
-    settings = runner.load_settings(root / "config")
+    settings = runner.load_explore_settings(root / "config")
     settings.explore = dataclasses.replace(settings.explore, strategy="nearest")
     return settings
 

@@ -7,15 +7,16 @@ import math
 
 import numpy as np
 import pytest
+from test_explore_explorer import FakeClient
 
 from slam_predict.config import from_dict
 from slam_predict.errors import InputError
 from slam_predict.explore import run as runner
-from slam_predict.explore.explorer import ABORTED, SUCCEEDED, ExploreConfig, Explorer
+from slam_predict.explore.explorer import ExploreConfig, Explorer
+from slam_predict.explore.goals import ABORTED, SUCCEEDED
 from slam_predict.explore.thesis_strategy import ThesisExplorer
 from slam_predict.slam import OccupancyGrid
 from slam_predict.world.load import load_plan
-from test_explore_explorer import FakeClient
 
 
 def room_grid(open_right=True):
@@ -118,7 +119,7 @@ def test_only_invalid_points_turn_in_place_then_finish():
     explorer, client = make(max_idle_turns=2)
     grid = room_grid(open_right=False)
     t = run_until(explorer, 0.0, 17.0, grid)
-    for turn in range(2):
+    for _ in range(2):
         assert explorer.goal.kind == "turn"
         assert client.sent[-1][1] == (3.0, 4.0, pytest.approx(45.0 - 14 * math.pi))
         client._status = SUCCEEDED
@@ -175,7 +176,7 @@ def test_config_value_ranges_name_the_key_path(data, where):
 
 
 def test_tiny_world_closed_loop_explores_and_returns_home(root):
-    settings = runner.load_settings(root / "config")
+    settings = runner.load_explore_settings(root / "config")
     settings.explore = dataclasses.replace(settings.explore, strategy="thesis")
     world = load_plan(root / "worlds" / "tiny.world")
     summary, loop = runner.explore_world(world, 1, settings, max_sim_time=900)
@@ -188,7 +189,7 @@ def test_tiny_world_closed_loop_explores_and_returns_home(root):
     sent = [g["t_sent"] for g in loop.explorer.log.goals]
     ends = [g["t_end"] for g in loop.explorer.log.goals]
     assert sent[0] >= 17.0 - 1e-6
-    assert all(s - e >= 2.0 - 1e-6 for s, e in zip(sent[1:], ends[:-1]))
+    assert all(s - e >= 2.0 - 1e-6 for s, e in zip(sent[1:], ends[:-1], strict=True))
 
 
 def test_turns_count_toward_the_end_only_when_no_point_is_valid():

@@ -6,10 +6,15 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from slam_predict.features import graph_kernels, raster_kernels
+from slam_predict.features import raster_kernels, rooms, voronoi
 from slam_predict.features.skeleton_graph import pixel_edges, simplify_chains, sparsify
-from slam_predict.features.voronoi import (VoronoiConfig, building_interior, nearest_site,
-                                           skeleton_of, voronoi_graph)
+from slam_predict.features.voronoi import (
+    VoronoiConfig,
+    building_interior,
+    nearest_site,
+    skeleton_of,
+    voronoi_graph,
+)
 
 from . import reference
 from .plans import Plan, corridor_with_rooms, ring_corridor, single_room
@@ -144,8 +149,21 @@ def test_graph_lengths_do_not_depend_on_resolution():
     assert abs(int(totals[1][1]) - int(totals[0][1])) <= 1
 
 
-def test_skeleton_shared_with_rooms_is_reused():
-    world = single_room().world()
+def test_skeleton_shared_with_rooms_is_reused(monkeypatch):
+    world = corridor_with_rooms(3).world()
+    fresh = voronoi_graph(world.occupied, world.resolution)
+    fresh_rooms = rooms.segment_grid(world.occupied, world.resolution, rooms.RoomsConfig())
     base = skeleton_of(world.occupied, world.resolution)
-    assert voronoi_graph(world.occupied, world.resolution, base=base).order > 0
-    assert graph_kernels.all_pairs_hops is not None
+
+    def recomputed(*args, **kwargs):
+        raise AssertionError("skeleton_of called although a skeleton was given")
+
+    monkeypatch.setattr(voronoi, "skeleton_of", recomputed)
+    graph = voronoi_graph(world.occupied, world.resolution, base=base)
+    shared_rooms = rooms.segment_grid(world.occupied, world.resolution, rooms.RoomsConfig(), base)
+    assert graph.skeleton is base.skeleton and graph.interior is base.interior
+    assert graph.order > 0
+    for name in ("rc", "edges", "weights"):
+        np.testing.assert_array_equal(getattr(graph, name), getattr(fresh, name))
+    assert shared_rooms.count == fresh_rooms.count > 1
+    np.testing.assert_array_equal(shared_rooms.labels, fresh_rooms.labels)

@@ -7,8 +7,14 @@ import numpy as np
 import pytest
 
 from slam_predict.metric import (
-    MetricResult, building_statistics, building_statistics_from_results, needs_more_runs,
-    relation_sample_size, required_sample_size, run_count, runs_needed, z_score)
+    MetricResult,
+    building_statistics,
+    building_statistics_from_results,
+    relation_sample_size,
+    required_sample_size,
+    run_count,
+    z_score,
+)
 from slam_predict.metric.stats import compute_statistics
 
 
@@ -53,16 +59,15 @@ def test_run_count_pilot_then_formula():
     n_r = math.ceil(z2 * np.var(rot, ddof=1) / 0.002 ** 2)
     assert decision.runs_required == max(10, n_t, n_r)
     assert decision.more_needed == (decision.runs_required > 10)
-    assert needs_more_runs(trans, rot) == decision.more_needed
     # Tight spread: the pilot suffices.
-    assert not needs_more_runs([0.3 + 0.001 * i for i in range(10)], [0.01] * 10)
+    assert not run_count([0.3 + 0.001 * i for i in range(10)], [0.01] * 10).more_needed
     assert run_count(trans, rot, max_runs=12).runs_required <= 12
 
 
 def test_run_count_iterates_until_satisfied():
     rng = np.random.default_rng(5)
     trans, rot = [], []
-    while needs_more_runs(trans, rot):
+    while run_count(trans, rot).more_needed:
         trans.append(float(rng.normal(0.4, 0.05)))
         rot.append(float(rng.normal(0.01, 0.003)))
     final = run_count(trans, rot)
@@ -80,8 +85,10 @@ def test_building_statistics_ddof0():
 
 
 def _result(trans, rot):
-    return MetricResult({"trans_abs": compute_statistics(trans), "trans_sqr": compute_statistics(np.square(trans)),
-                         "rot_abs": compute_statistics(rot), "rot_sqr": compute_statistics(np.square(rot))})
+    return MetricResult({"trans_abs": compute_statistics(trans),
+                         "trans_sqr": compute_statistics(np.square(trans)),
+                         "rot_abs": compute_statistics(rot),
+                         "rot_sqr": compute_statistics(np.square(rot))})
 
 
 def test_building_statistics_from_results():
@@ -89,13 +96,8 @@ def test_building_statistics_from_results():
     stats = building_statistics_from_results(runs)
     assert stats.trans_mean == pytest.approx(0.3) and stats.trans_std == pytest.approx(0.1)
     assert stats.trans_sqr_mean == pytest.approx((0.05 + 0.16) / 2)
-    assert runs_needed(runs).runs_required == 10
 
 
-def test_required_runs_shorthand():
-    from slam_predict.metric.stats import required_runs
-
-    trans = [0.3, 0.5, 0.2, 0.6, 0.4, 0.35, 0.45, 0.25, 0.55, 0.3]
-    rot = [0.01] * 10
-    assert required_runs(trans, rot) == run_count(trans, rot).runs_required
-    assert required_runs([], []) == 10
+def test_run_count_without_runs_asks_for_the_pilot():
+    decision = run_count([], [])
+    assert decision.more_needed and (decision.runs_done, decision.runs_required) == (0, 10)

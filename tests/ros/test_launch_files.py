@@ -43,7 +43,7 @@ def config(launch: str, *args: str):
 
 
 def _ack_list(value):
-    from slam_predict.ros.stage_sim_node import _ack_list as parse
+    from slam_predict.ros.stage_sim_params import ack_list as parse
     return parse(value)
 
 
@@ -78,8 +78,6 @@ def test_nodes_of_both_choices():
                                          ("/move_base", "move_base"), ("/explore", "explore"),
                                          ("/orchestrator", "orchestrator")])
 def test_args_resolve_our_executables(node, script):
-    if not (ROOT / "scripts" / script).exists():
-        pytest.skip(f"scripts/{script} not built yet")
     out = cli("--args", node, "slam_predict", "single_run.launch", f"world:={WORLD}",
               "out:=/tmp/x")
     assert out.returncode == 0, out.stderr

@@ -13,9 +13,9 @@ pytest.importorskip("nav_msgs.msg", reason="ROS 1 python messages not installed"
 from geometry_msgs.msg import Twist  # noqa: E402
 
 from slam_predict.geometry import compose  # noqa: E402
-from slam_predict.ros.conversions.geometry import (odometry_from_ros,  # noqa: E402
-                                                   transform_from_ros)
-from slam_predict.ros.stage_sim_node import NodeSettings, StageSim  # noqa: E402
+from slam_predict.ros.conversions.geometry import odometry_from_ros, transform_from_ros  # noqa: E402
+from slam_predict.ros.stage_sim_node import StageSim  # noqa: E402
+from slam_predict.ros.stage_sim_params import NodeSettings  # noqa: E402
 from slam_predict.sim import OdomConfig, SimConfig, Simulator  # noqa: E402
 from slam_predict.world.load import load_plan  # noqa: E402
 
@@ -151,8 +151,8 @@ class FakeScanPublisher(FakePublisher):
 
 
 def ack(t):
-    from std_msgs.msg import Time
     import rospy
+    from std_msgs.msg import Time
     return Time(rospy.Time.from_sec(t))
 
 
@@ -223,15 +223,15 @@ def test_lockstep_ack_timeout_steps_on_and_names_the_laggard(caplog):
 
 def test_lockstep_acks_parameter_parsing():
     from slam_predict.errors import InputError
-    from slam_predict.ros.stage_sim_node import _ack_list
+    from slam_predict.ros.stage_sim_params import ack_list
 
-    assert _ack_list("[[/a/sim_ack, scan], [/b/sim_ack, 0.1], ]") == (("/a/sim_ack", None),
-                                                                       ("/b/sim_ack", 0.1))
-    assert _ack_list([]) == () and _ack_list("") == ()
-    assert _ack_list(["/c"]) == (("/c", 0.0),)
+    assert ack_list("[[/a/sim_ack, scan], [/b/sim_ack, 0.1], ]") == (("/a/sim_ack", None),
+                                                                      ("/b/sim_ack", 0.1))
+    assert ack_list([]) == () and ack_list("") == ()
+    assert ack_list(["/c"]) == (("/c", 0.0),)
     for bad in ("[[/a, -1]]", "[[/a, soon]]", "[[1, 2]]", "[[/a, 1, 2]]"):
         with pytest.raises(InputError, match="lockstep_acks"):
-            _ack_list(bad)
+            ack_list(bad)
 
 
 def test_shutdown_wakes_a_lockstep_wait_at_once():

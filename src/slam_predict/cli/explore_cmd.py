@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     config_dir = args.config_dir or runner.DEFAULT_CONFIG_DIR
     if not os.path.isdir(config_dir):
         raise InputError("config folder not found", config_dir)
-    settings = runner.load_settings(config_dir, args.map_source)
+    settings = runner.load_explore_settings(config_dir, args.map_source)
     if args.strategy:
         settings.explore = dataclasses.replace(settings.explore, strategy=args.strategy)
     world = load_plan(args.plan, resolution=args.resolution, start=args.start,

@@ -31,17 +31,8 @@ SUBCOMMANDS = (
 )
 
 
-def _load(name: str):
-    try:
-        return importlib.import_module(f"slam_predict.cli.{name}_cmd")
-    except ModuleNotFoundError as exc:
-        if exc.name == f"slam_predict.cli.{name}_cmd":
-            return None  # not built yet
-        raise
-
-
 def build_parser() -> argparse.ArgumentParser:
-    """The full argument parser with every available subcommand."""
+    """The full argument parser with every subcommand."""
     parser = argparse.ArgumentParser(
         prog="slam-predict",
         description="Predict GMapping's localization error in a building from its floor plan.")
@@ -50,9 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="more log output (-v info, -vv debug)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in SUBCOMMANDS:
-        module = _load(name)
-        if module is None:
-            continue
+        module = importlib.import_module(f"slam_predict.cli.{name}_cmd")
         child = sub.add_parser(name, help=module.HELP, description=module.HELP)
         module.add_arguments(child)
         child.set_defaults(_run=module.run)

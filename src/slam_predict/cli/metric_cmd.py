@@ -1,6 +1,7 @@
 """``slam-predict metric``: Kümmerle relation error of recorded trajectories, relations, log repair.
 
-  slam-predict metric evaluate --slam SLAM --gt GT [--format auto|tum|carmen|bag] [--pairs auto|all|consecutive|N]
+  slam-predict metric evaluate --slam SLAM --gt GT [--format auto|tum|carmen|bag]
+                               [--pairs auto|all|consecutive|N]
   slam-predict metric evaluate --slam SLAM --relations REF.relations
   slam-predict metric relations --gt GT --pairs N --out REF.relations
   slam-predict metric adjust LOG [--out FILE]
@@ -28,9 +29,11 @@ TUM_SUFFIXES = (".tum", ".txt", ".csv")
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     sub = parser.add_subparsers(dest="metric_command", metavar="ACTION")
-    ev = sub.add_parser("evaluate", help="relation error of a SLAM trajectory against ground truth")
+    ev = sub.add_parser("evaluate",
+                        help="relation error of a SLAM trajectory against ground truth")
     _add_input_args(ev, "slam", "estimated trajectory (TUM, CARMEN log or ROS bag)", required=True)
-    _add_input_args(ev, "gt", "ground-truth trajectory (TUM, CARMEN log or ROS bag)", required=False)
+    _add_input_args(ev, "gt", "ground-truth trajectory (TUM, CARMEN log or ROS bag)",
+                    required=False)
     ev.add_argument("--relations", metavar="FILE",
                     help="reference relations file (Freiburg format) instead of --gt")
     ev.add_argument("--format", choices=FORMATS, default="auto",
@@ -110,9 +113,9 @@ def detect_format(path: str, fmt: str) -> str:
 
 
 def load_trajectory(path: str, fmt: str, topic: str = None, field: str = "pose"):
-    """A :class:`~slam_predict.metric.evaluate.Trajectory` from a TUM, CARMEN or bag file."""
+    """A :class:`~slam_predict.metric.evaluate.StampedPoses` from a TUM, CARMEN or bag file."""
     from slam_predict.errors import require_file
-    from slam_predict.metric.evaluate import Trajectory
+    from slam_predict.metric.evaluate import StampedPoses
 
     fmt = detect_format(path, fmt)
     if fmt == "bag":
@@ -120,20 +123,20 @@ def load_trajectory(path: str, fmt: str, topic: str = None, field: str = "pose")
 
         if not topic:
             raise InputError("bag input needs the pose topic (--slam-topic / --gt-topic)", path)
-        return Trajectory(*read_pose_topic(path, topic))
+        return StampedPoses(*read_pose_topic(path, topic))
     require_file(path, "trajectory")
     if fmt == "tum":
         from slam_predict.formats.tum import read_tum
 
-        return Trajectory(*read_tum(path))
+        return StampedPoses(*read_tum(path))
     from slam_predict.formats.carmen import read_log
 
     log = read_log(path)
     if log.scans:
         poses = log.scan_poses if field == "pose" else log.scan_odom_poses
-        return Trajectory(log.scan_times, poses)
+        return StampedPoses(log.scan_times, poses)
     if len(log.odometry):
-        return Trajectory(log.odometry.t, log.odometry.poses)
+        return StampedPoses(log.odometry.t, log.odometry.poses)
     raise InputError("CARMEN log holds no FLASER/ROBOTLASER1/ODOM poses", path)
 
 
@@ -146,7 +149,8 @@ def parse_pairs(text: str):
     try:
         value = int(text)
     except ValueError:
-        raise InputError(f"--pairs must be auto, all, consecutive or a number, got {text!r}")
+        raise InputError(f"--pairs must be auto, all, consecutive or a number, got {text!r}") \
+            from None
     if value < 1:
         raise InputError(f"--pairs must be at least 1, got {value}")
     return value
@@ -210,8 +214,8 @@ def _relations(args) -> int:
         raise InputError("need at least 2 poses to sample relations", args.gt)
     relations = sample_relations(ref, args.pairs, np.random.default_rng(args.seed),
                                  dedupe=not args.no_dedupe)
-    write_relations(args.out, relations,
-                    header=[f"{args.pairs} random forward relations of {args.gt}, seed {args.seed}"])
+    header = f"{args.pairs} random forward relations of {args.gt}, seed {args.seed}"
+    write_relations(args.out, relations, header=[header])
     print(f"wrote {plural(len(relations), 'relation')} to {args.out}")
     return 0
 

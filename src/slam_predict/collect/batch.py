@@ -20,9 +20,9 @@ import logging
 import os
 import signal
 import time
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 
 from tqdm import tqdm
 
@@ -43,22 +43,22 @@ class RunSpec:
     index: int
     seed: int
     out_dir: str
-    options: Dict = field(default_factory=dict, hash=False, compare=False)
+    options: dict = field(default_factory=dict, hash=False, compare=False)
 
 
 @dataclass
 class BatchConfig:
     """Batch settings: runs per world (int or 'auto'), caps, parallelism, base seed."""
 
-    runs: Union[int, str] = 5
+    runs: int | str = 5
     pilot_runs: int = 10
     max_runs: int = 50
     jobs: int = 1
-    scheduler: Optional[str] = None
+    scheduler: str | None = None
     base_seed: int = 0
     progress: bool = True
     episode: str = "slam_predict.collect.episode:run_episode"
-    options: Dict = field(default_factory=dict)
+    options: dict = field(default_factory=dict)
 
 
 def resolve_callable(path: str) -> Callable:
@@ -79,14 +79,14 @@ def _call_episode(episode: str, spec: RunSpec) -> dict:
             raise
 
 
-Outcome = Tuple[RunSpec, Optional[dict], Optional[BaseException]]
+Outcome = tuple[RunSpec, dict | None, BaseException | None]
 
 
 class _Executor:
     """Runs episodes lazily, at most ``jobs`` at a time, and yields each as it finishes: in the
     current process (``jobs`` 1), in local worker processes, or on a Dask cluster."""
 
-    def __init__(self, jobs: int, scheduler: Optional[str]):
+    def __init__(self, jobs: int, scheduler: str | None):
         self.client = None
         self.pool = None
         self.slots = max(1, int(jobs))
@@ -103,7 +103,7 @@ class _Executor:
             with contextlib.suppress(ProcessLookupError, PermissionError):
                 os.kill(pid, signum)
 
-    def _worker_pids(self) -> List[int]:
+    def _worker_pids(self) -> list[int]:
         processes = getattr(self.pool, "_processes", None) or {}
         return [int(pid) for pid in list(processes)]
 
@@ -133,7 +133,7 @@ class _Executor:
     def _parallel(self, episode: str, specs: Sequence[RunSpec]) -> Iterator[Outcome]:
         queue = iter(specs)
         slots = self.slots if self.pool is not None else len(specs)
-        running: Dict = {}
+        running: dict = {}
         stop_deadline = None
         while True:
             while len(running) < slots and interrupt.stop_signal() is None:
@@ -155,7 +155,7 @@ class _Executor:
                 except Exception as exc:  # noqa: BLE001 - reported per run
                     yield spec, None, exc
 
-    def _wait_some(self, jobs: List, timeout: float = 0.5) -> List:
+    def _wait_some(self, jobs: list, timeout: float = 0.5) -> list:
         """The jobs that finished within ``timeout`` s (at least one, unless it expired)."""
         if self.client is not None:
             from dask.distributed import wait
@@ -165,7 +165,7 @@ class _Executor:
         done, _ = futures.wait(jobs, timeout=timeout, return_when=futures.FIRST_COMPLETED)
         return list(done)
 
-    def _abandon(self, running: Dict) -> None:
+    def _abandon(self, running: dict) -> None:
         """Give up on runs that did not stop within ``STOP_WAIT_S``: kill local workers."""
         LOG.warning("%s did not stop within %.0f s: killing them", plural(len(running), "run"),
                     STOP_WAIT_S)
@@ -185,14 +185,14 @@ class _Executor:
 class Batch:
     """Run (or resume) a campaign over ``worlds`` (name → world file path)."""
 
-    def __init__(self, worlds: Dict[str, str], out: Union[str, Path], config: BatchConfig,
-                 runs_needed: Optional[Callable[[List[dict], int], int]] = None):
+    def __init__(self, worlds: dict[str, str], out: str | Path, config: BatchConfig,
+                 runs_needed: Callable[[list[dict], int], int] | None = None):
         self.worlds = dict(worlds)
         self.store = RunStore(Path(out))
         self.config = config
-        self.runs_needed = runs_needed or _default_runs_needed(config)
-        self.failures: List[str] = []
-        self.stopped_by: Optional[int] = None
+        self.runs_needed = runs_needed or _thesis_runs_needed
+        self.failures: list[str] = []
+        self.stopped_by: int | None = None
 
     def target(self, world: str) -> int:
         """How many runs ``world`` needs now (fixed, or estimated from its records)."""
@@ -203,7 +203,7 @@ class Batch:
             return self.config.pilot_runs
         return min(self.config.max_runs, max(len(records), self.runs_needed(records, len(records))))
 
-    def pending(self) -> List[RunSpec]:
+    def pending(self) -> list[RunSpec]:
         """Runs still to do, index-major (every world's run 0, then every world's run 1, …), so
         an interrupted campaign has its runs spread over all worlds."""
         specs = []
@@ -266,9 +266,9 @@ class Batch:
         return done
 
 
-def _default_runs_needed(config: BatchConfig) -> Callable[[List[dict], int], int]:
-    def needed(records: List[dict], done: int) -> int:
-        from slam_predict.metric.stats import required_runs
-        return required_runs([r["metric"]["trans_mean"] for r in records],
-                             [r["metric"]["rot_mean"] for r in records])
-    return needed
+def _thesis_runs_needed(records: list[dict], done: int) -> int:
+    """Total runs the world needs by the thesis' rule (:func:`metric.sampling.run_count`)."""
+    from slam_predict.metric.sampling import run_count
+
+    return run_count([r["metric"]["trans_mean"] for r in records],
+                     [r["metric"]["rot_mean"] for r in records]).runs_required

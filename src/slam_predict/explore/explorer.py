@@ -6,11 +6,12 @@ Strategies (``strategy``):
   (:mod:`slam_predict.explore.thesis_strategy`, its own rules and the ``thesis`` parameters;
   the rules below do not apply to it).
 * ``nearest`` (the thesis' rules as stated in its text): the frontier nearest the robot by
-  Euclidean distance (to its nearest cell); frontiers within ``tie_tolerance`` of the nearest tie and one is drawn with the
-  seeded generator. The goal point is the frontier cell nearest its centroid among those at
-  least ``goal_clearance`` from walls (:func:`~slam_predict.explore.frontiers.clear_goal`). The
-  goal is kept while its frontier lasts (some frontier cell within ``goal_frontier_radius`` of
-  the chosen frontier's reference cell) and replaced when it has been seen.
+  Euclidean distance (to its nearest cell); frontiers within ``tie_tolerance`` of the nearest
+  tie and one is drawn with the seeded generator. The goal point is the frontier cell nearest
+  its centroid among those at least ``goal_clearance`` from walls
+  (:func:`~slam_predict.explore.frontiers.clear_goal`). The goal is kept while its frontier
+  lasts (some frontier cell within ``goal_frontier_radius`` of the chosen frontier's reference
+  cell) and replaced when it has been seen.
 * ``explore_lite``: explore_lite's cost potential_scale·min_distance·res − gain_scale·size·res
   (its extra ×res included), lowest first, goal = the frontier centroid, re-chosen at every
   tick (a changed target preempts the goal); no progress for ``progress_timeout`` blacklists.
@@ -49,18 +50,17 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Dict, List, Optional, Protocol, Tuple
+from typing import ClassVar
 
 import numpy as np
 
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
 from slam_predict.explore.frontiers import Frontier, clear_goal, find_frontiers
+from slam_predict.explore.goals import ABORTED, PREEMPTED, SUCCEEDED, ExploreLog, Goal, GoalClient
 from slam_predict.explore.thesis_config import ThesisExploreConfig
 
 LOG = logging.getLogger(__name__)
 STRATEGIES = ("thesis", "nearest", "explore_lite")
-
-SUCCEEDED, ABORTED, PREEMPTED = 3, 4, 2  # actionlib_msgs/GoalStatus
 
 
 @dataclass
@@ -92,7 +92,7 @@ class ExploreConfig:
     blacklist_retries: int = 0
     min_unknown_width: float = 0.0
     thesis: ThesisExploreConfig = field(default_factory=ThesisExploreConfig)
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "planner_frequency": POSITIVE, "max_vel_x": POSITIVE, "goal_timeout_factor": POSITIVE,
         "max_goal_attempts": AT_LEAST_ONE, **{name: NON_NEGATIVE for name in (
             "progress_timeout", "potential_scale", "orientation_scale", "gain_scale",
@@ -114,48 +114,6 @@ class ExploreConfig:
             raise ValueError("min_unknown_width must be >= 0")
 
 
-class GoalClient(Protocol):
-    """What the explorer needs from move_base (in-process navigator or actionlib client)."""
-
-    def send_goal(self, target: Tuple[float, float, float], t: float) -> None: ...
-
-    def cancel(self, t: float) -> None: ...
-
-    def status(self) -> Optional[int]: ...
-
-    def plan_length(self) -> Optional[float]: ...
-
-
-@dataclass
-class Goal:
-    """The explorer's current goal."""
-
-    target: Tuple[float, float, float]
-    t_sent: float
-    frontier_point: np.ndarray
-    frontier_size: int
-    min_distance: float
-    time_limit: Optional[float] = None
-    last_progress: float = 0.0
-    look_around: bool = False
-
-
-@dataclass
-class ExploreLog:
-    """What happened: one dict per goal outcome, and the stop reason."""
-
-    goals: List[Dict[str, Any]] = field(default_factory=list)
-    stop_reason: Optional[str] = None
-    t_stop: Optional[float] = None
-
-    def counts(self) -> Dict[str, int]:
-        """Goal outcomes by kind."""
-        out: Dict[str, int] = {}
-        for g in self.goals:
-            out[g["outcome"]] = out.get(g["outcome"], 0) + 1
-        return out
-
-
 class Explorer:
     """Frontier exploration driven by :meth:`step`; see the module docstring. With
     ``strategy: thesis`` the instance is a
@@ -171,15 +129,15 @@ class Explorer:
         self.cfg = cfg
         self.client = client
         self.rng = rng
-        self.goal: Optional[Goal] = None
-        self.blacklist: List[np.ndarray] = []
-        self.forgettable: List[np.ndarray] = []   # blacklisted by ABORTED / no progress
+        self.goal: Goal | None = None
+        self.blacklist: list[np.ndarray] = []
+        self.forgettable: list[np.ndarray] = []   # blacklisted by ABORTED / no progress
         self.retries = 0                          # consecutive blacklist retry rounds
         self._retry_map = None                    # waiting for a map newer than this one
-        self.attempts: List[Tuple[np.ndarray, int]] = []
+        self.attempts: list[tuple[np.ndarray, int]] = []
         self.random_next = False
-        self.frontiers: List[Frontier] = []
-        self.recent: List[Tuple[np.ndarray, object]] = []
+        self.frontiers: list[Frontier] = []
+        self.recent: list[tuple[np.ndarray, object]] = []
         self._grid = None
         self.log = ExploreLog()
         self._next_tick = -math.inf
@@ -300,7 +258,7 @@ class Explorer:
         self._retry_map = grid
         return True
 
-    def _check_look_around(self, t: float, status: Optional[int]) -> bool:
+    def _check_look_around(self, t: float, status: int | None) -> bool:
         """The look-around goal ended (any outcome or its time limit)? Then wait for a map."""
         goal = self.goal
         timed_out = t - goal.t_sent > goal.time_limit
@@ -333,7 +291,7 @@ class Explorer:
         """True when the frontier's reference cell is near a blacklisted point."""
         return self._near(frontier.goal, self.blacklist)
 
-    def _near(self, point: np.ndarray, points: List[np.ndarray]) -> bool:
+    def _near(self, point: np.ndarray, points: list[np.ndarray]) -> bool:
         return any(np.hypot(*(point - p)) <= self.cfg.blacklist_radius for p in points)
 
     def _stop(self, t: float, reason: str) -> None:
@@ -345,7 +303,7 @@ class Explorer:
         LOG.info("exploration stopped at %.1f s: %s", t, reason)
 
     # -------------------------------------------------------------------------- strategies
-    def _nearest(self, t: float, candidates: List[Frontier], robot_pose) -> None:
+    def _nearest(self, t: float, candidates: list[Frontier], robot_pose) -> None:
         if self.goal is not None and self._goal_alive(candidates):
             return
         if self.random_next:
@@ -366,12 +324,12 @@ class Explorer:
         return max([n for p, n in self.attempts
                     if np.hypot(*(p - point)) <= self.cfg.blacklist_radius], default=0)
 
-    def _goal_alive(self, candidates: List[Frontier]) -> bool:
+    def _goal_alive(self, candidates: list[Frontier]) -> bool:
         target = self.goal.frontier_point
         radius = self.cfg.goal_frontier_radius
         return any(np.min(np.hypot(*(f.cells - target).T)) <= radius for f in candidates)
 
-    def _explore_lite(self, t: float, candidates: List[Frontier], res: float, robot_pose) -> None:
+    def _explore_lite(self, t: float, candidates: list[Frontier], res: float, robot_pose) -> None:
         cfg = self.cfg
         if self.random_next:
             choice = candidates[int(self.rng.integers(len(candidates)))]

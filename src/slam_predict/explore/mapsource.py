@@ -95,11 +95,6 @@ class PerfectMap(SlamBackend):
         self.scans = 0
         self._last: Optional[tuple] = None   # (last odom pose, t processed, m, rad since)
 
-    @property
-    def world_T_map(self) -> np.ndarray:
-        """The map frame's pose in the world frame (identity: the map frame is the world's)."""
-        return np.zeros(3)
-
     def _due(self, odom_pose: np.ndarray, t: float) -> bool:
         """GMapping's rule: is this scan processed? Motion accumulates from scan to scan (path
         length m, absolute turn rad) since the last processed scan."""
@@ -153,10 +148,6 @@ class PerfectMap(SlamBackend):
             data[seen & occupied] = 100
             self._grid = OccupancyGrid(data, self.config.delta, self.origin)
         return self._grid
-
-    def occupancy_grid(self) -> OccupancyGrid:
-        """Alias of :meth:`map`."""
-        return self.map()
 
     def pose(self) -> np.ndarray:
         return self._pose.copy()

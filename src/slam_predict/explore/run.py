@@ -50,9 +50,10 @@ class ExploreSettings:
     gmapping: Any = None
 
 
-def load_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
-                  map_source: str = "perfect") -> ExploreSettings:
-    """Settings from the project's YAML files in ``config_dir`` (missing files: defaults)."""
+def load_explore_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
+                          map_source: str = "perfect") -> ExploreSettings:
+    """``explore``'s settings from the YAML files in ``config_dir``; a missing file means its
+    defaults (unlike :func:`collect.settings.load_settings`, where every file must exist)."""
     config_dir = Path(config_dir)
 
     def path(name: str) -> Optional[Path]:

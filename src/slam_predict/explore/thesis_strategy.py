@@ -31,15 +31,18 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
 
 import numpy as np
 
-from slam_predict.explore.explorer import SUCCEEDED, ExploreLog
 from slam_predict.explore.frontiers import Frontier
+from slam_predict.explore.goals import SUCCEEDED, ExploreLog
 from slam_predict.explore.thesis_frontiers import FrontierStore
-from slam_predict.explore.thesis_map import backoff_goal, explorer_costmap, frontier_cells, \
-    seen_mask
+from slam_predict.explore.thesis_map import (
+    backoff_goal,
+    explorer_costmap,
+    frontier_cells,
+    seen_mask,
+)
 from slam_predict.geometry import wrap_angle
 
 LOG = logging.getLogger(__name__)
@@ -52,9 +55,9 @@ class ThesisGoal:
     """A goal being watched: its kind, target pose, frontier point and polling state."""
 
     kind: str
-    target: Tuple[float, float, float]
+    target: tuple[float, float, float]
     t_sent: float
-    point: Optional[np.ndarray]
+    point: np.ndarray | None
     next_check: float
     elapsed: float
     first_wait: bool = True
@@ -72,18 +75,18 @@ class ThesisExplorer:
         self.store = FrontierStore(self.tc.max_goal_range, self.tc.cluster_join_dist,
                                    self.tc.cluster_merge_dist)
         self.log = ExploreLog()
-        self.goal: Optional[ThesisGoal] = None
-        self.frontiers: List[Frontier] = []
+        self.goal: ThesisGoal | None = None
+        self.frontiers: list[Frontier] = []
         self.failed_last = False
-        self.cluster_id: Optional[int] = None
-        self.home: Optional[np.ndarray] = None
-        self._select_at: Optional[float] = None
-        self._pending: Optional[Tuple[str, Tuple[float, float, float], np.ndarray]] = None
+        self.cluster_id: int | None = None
+        self.home: np.ndarray | None = None
+        self._select_at: float | None = None
+        self._pending: tuple[str, tuple[float, float, float], np.ndarray] | None = None
         self._send_at = math.inf
         self._costmap = None
         self._idle_turns = 0
         self._home_tries = 0
-        self._finish_reason: Optional[str] = None
+        self._finish_reason: str | None = None
 
     @property
     def done(self) -> bool:

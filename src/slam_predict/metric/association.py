@@ -14,7 +14,6 @@ from __future__ import annotations
 import gzip
 import logging
 import os
-from typing import Optional, Tuple
 
 import numpy as np
 
@@ -24,7 +23,7 @@ from slam_predict.errors import InputError, require_file
 log = logging.getLogger(__name__)
 
 
-def associate(t_a, t_b, tol: float) -> Tuple[np.ndarray, np.ndarray]:
+def associate(t_a, t_b, tol: float) -> tuple[np.ndarray, np.ndarray]:
     """Indices (ia, ib) of one-to-one nearest-timestamp matches within ``tol`` s."""
     t_a = np.asarray(t_a, dtype=float).reshape(-1)
     t_b = np.asarray(t_b, dtype=float).reshape(-1)
@@ -90,7 +89,7 @@ def dedupe_mask(poses, atol: float = 0.0) -> np.ndarray:
     return keep
 
 
-def dedupe_consecutive(t, poses, atol: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
+def dedupe_consecutive(t, poses, atol: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """(t, poses) without consecutive repeated poses (the thesis' pause removal)."""
     mask = dedupe_mask(poses, atol)
     removed = int((~mask).sum())
@@ -99,7 +98,7 @@ def dedupe_consecutive(t, poses, atol: float = 0.0) -> Tuple[np.ndarray, np.ndar
     return np.asarray(t, float)[mask], np.asarray(poses, float).reshape(-1, 3)[mask]
 
 
-def drop_truncated_last_line(path: os.PathLike | str, out: Optional[os.PathLike | str] = None,
+def drop_truncated_last_line(path: os.PathLike | str, out: os.PathLike | str | None = None,
                              kind: str = "auto") -> bool:
     """Remove the last line of a CARMEN or TUM file if it is truncated; True if one was removed.
 
@@ -114,7 +113,7 @@ def drop_truncated_last_line(path: os.PathLike | str, out: Optional[os.PathLike 
         try:
             data = gzip.decompress(data)
         except (OSError, EOFError) as exc:
-            raise InputError(f"cannot decompress: {exc}", path)
+            raise InputError(f"cannot decompress: {exc}", path) from None
     lines = data.splitlines(keepends=True)
     last = next((i for i in range(len(lines) - 1, -1, -1) if lines[i].strip()), None)
     removed = last is not None and _is_truncated(lines, last, kind, path)
@@ -135,7 +134,7 @@ def _is_truncated(lines, index: int, kind: str, path: str) -> bool:
         return not text.startswith("#") and (len(tokens) < 8 or not _numeric(tokens))
     if kind != "carmen":
         raise InputError(f"unknown log kind {kind!r} (carmen or tum)", path)
-    from slam_predict.formats.carmen import line_status
+    from slam_predict.formats.carmen_lines import line_status
 
     status = line_status(tokens)
     return status == "truncated" or (status == "malformed" and not text.endswith("\n"))

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
-from typing import Optional, Union
 
 import numpy as np
 
@@ -16,10 +15,19 @@ from slam_predict.errors import InputError
 from slam_predict.formats.relations import Relations
 from slam_predict.metric.association import associate, dedupe_consecutive, nearest_within
 from slam_predict.metric.kummerle import (
-    MetricResult, RelationMetric, evaluate_all_pairs, evaluate_pairs, evaluate_random,
-    evaluate_sampled)
+    MetricResult,
+    RelationMetric,
+    evaluate_all_pairs,
+    evaluate_pairs,
+    evaluate_random,
+    evaluate_sampled,
+)
 from slam_predict.metric.relations import (
-    PairSelection, consecutive_pairs, random_forward_pairs, relation_deltas)
+    PairSelection,
+    consecutive_pairs,
+    random_forward_pairs,
+    relation_deltas,
+)
 
 log = logging.getLogger(__name__)
 
@@ -28,7 +36,7 @@ RELATIONS_TOL = 0.1           # s, relation timestamp ↔ pose (metricEvaluator)
 
 
 @dataclass
-class Trajectory:
+class StampedPoses:
     """Timestamps ``t`` (N,) s and planar ``poses`` (N, 3)."""
 
     t: np.ndarray
@@ -41,7 +49,7 @@ class Trajectory:
             raise ValueError("timestamps and poses differ in length")
 
 
-def aligned(est: Trajectory, ref: Trajectory, tol: float = DEFAULT_TOL, dedupe: bool = True):
+def aligned(est: StampedPoses, ref: StampedPoses, tol: float = DEFAULT_TOL, dedupe: bool = True):
     """Index-aligned (t, est poses, ref poses) after pause removal on the reference and
     one-to-one association within ``tol`` s."""
     ref_t, ref_p = dedupe_consecutive(ref.t, ref.poses) if dedupe else (ref.t, ref.poses)
@@ -51,9 +59,9 @@ def aligned(est: Trajectory, ref: Trajectory, tol: float = DEFAULT_TOL, dedupe: 
     return ref_t[order_r][ir], est.poses[order_e][ie], ref_p[order_r][ir]
 
 
-def evaluate_trajectories(est: Trajectory, ref: Trajectory, *,
-                          pairs: Union[PairSelection, int] = PairSelection.AUTO,
-                          rng: Optional[np.random.Generator] = None, delta: int = 1,
+def evaluate_trajectories(est: StampedPoses, ref: StampedPoses, *,
+                          pairs: PairSelection | int = PairSelection.AUTO,
+                          rng: np.random.Generator | None = None, delta: int = 1,
                           tol: float = DEFAULT_TOL, dedupe: bool = True, ddof: int = 1,
                           source: str = "") -> MetricResult:
     """Relation error of ``est`` against ``ref``.
@@ -85,7 +93,7 @@ def evaluate_trajectories(est: Trajectory, ref: Trajectory, *,
     return result
 
 
-def sample_relations(ref: Trajectory, n_pairs: int, rng: np.random.Generator,
+def sample_relations(ref: StampedPoses, n_pairs: int, rng: np.random.Generator,
                      dedupe: bool = True) -> Relations:
     """Random forward relations of the reference, as a metricEvaluator relations set."""
     t, poses = dedupe_consecutive(ref.t, ref.poses) if dedupe else (ref.t, ref.poses)
@@ -93,7 +101,7 @@ def sample_relations(ref: Trajectory, n_pairs: int, rng: np.random.Generator,
     return Relations(t[pairs[:, 0]], t[pairs[:, 1]], relation_deltas(poses, pairs))
 
 
-def evaluate_relations(est: Trajectory, relations: Relations, tol: float = RELATIONS_TOL,
+def evaluate_relations(est: StampedPoses, relations: Relations, tol: float = RELATIONS_TOL,
                        ddof: int = 1, source: str = "") -> MetricResult:
     """Relation error of ``est`` against reference relations looked up by timestamp."""
     order = np.argsort(est.t, kind="stable")

@@ -7,13 +7,12 @@ across runs uses ddof = 0 (eqs. 3.7/3.9 divide by |R|; numpy ``std`` in the data
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
-from typing import Iterable, Optional, Sequence
 
 import numpy as np
 
 from slam_predict.metric.kummerle import MetricResult
-from slam_predict.metric.sampling import RunCountDecision, run_count
 
 COMPONENTS = ("trans_mean", "trans_std", "rot_mean", "rot_std")
 
@@ -40,7 +39,7 @@ class BuildingStatistics:
         return np.array([getattr(self, c) for c in COMPONENTS])
 
 
-def _mean_std(values: Optional[Sequence[float]]):
+def _mean_std(values: Sequence[float] | None):
     if values is None or len(values) == 0:
         return math.nan, math.nan
     values = np.asarray(values, dtype=float)
@@ -48,8 +47,8 @@ def _mean_std(values: Optional[Sequence[float]]):
 
 
 def building_statistics(per_run_trans: Sequence[float], per_run_rot: Sequence[float],
-                        per_run_trans_sqr: Optional[Sequence[float]] = None,
-                        per_run_rot_sqr: Optional[Sequence[float]] = None) -> BuildingStatistics:
+                        per_run_trans_sqr: Sequence[float] | None = None,
+                        per_run_rot_sqr: Sequence[float] | None = None) -> BuildingStatistics:
     """Mean and std (ddof 0) over runs of the per-run errors."""
     if len(per_run_trans) != len(per_run_rot):
         raise ValueError("per-run translational and rotational errors differ in count")
@@ -67,9 +66,3 @@ def building_statistics_from_results(results: Iterable[MetricResult]) -> Buildin
     return building_statistics(col("trans_mean"), col("rot_mean"), col("trans_sqr_mean"),
                                col("rot_sqr_mean"))
 
-
-def runs_needed(results: Iterable[MetricResult], **kwargs) -> RunCountDecision:
-    """The thesis' run-count rule applied to per-run results (see :func:`run_count`)."""
-    summaries = [r.summary() for r in results]
-    return run_count([s["trans_mean"] for s in summaries], [s["rot_mean"] for s in summaries],
-                     **kwargs)

@@ -7,8 +7,8 @@ use z², the standard formula (the spec says so).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
-from typing import Sequence
 
 import numpy as np
 from scipy.stats import norm
@@ -119,7 +119,3 @@ def run_count(per_run_trans: Sequence[float], per_run_rot: Sequence[float], *,
         required = min(required, max_runs)
     return RunCountDecision(required > done, done, required, estimate)
 
-
-def needs_more_runs(per_run_trans: Sequence[float], per_run_rot: Sequence[float], **kwargs) -> bool:
-    """True while the building needs more runs by :func:`run_count`."""
-    return run_count(per_run_trans, per_run_rot, **kwargs).more_needed

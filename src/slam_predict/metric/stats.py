@@ -28,10 +28,10 @@ class ErrorStatistics:
         return asdict(self)
 
     @classmethod
-    def from_dict(cls, data: dict) -> "ErrorStatistics":
+    def from_dict(cls, data: dict) -> ErrorStatistics:
         return cls(**data)
 
-    def scaled(self, factor: float, power: int = 1) -> "ErrorStatistics":
+    def scaled(self, factor: float, power: int = 1) -> ErrorStatistics:
         """The statistics of the series multiplied by ``factor**power`` (e.g. rad → deg)."""
         k = float(factor) ** power
         return ErrorStatistics(self.mean * k, self.std * k, self.min * k, self.max * k, self.n,
@@ -91,12 +91,3 @@ class StreamingStatistics:
         return ErrorStatistics(self.mean, std, self.min, self.max, self.n, self.ddof,
                                math.sqrt(self.sum_sq / self.n))
 
-
-def required_runs(per_run_trans, per_run_rot, **kwargs) -> int:
-    """Total runs a building needs by the thesis' rule (pilot of 10, 95 %, ±0.03 m, ±0.002 rad).
-
-    Shorthand for ``run_count(...).runs_required`` (:mod:`slam_predict.metric.sampling`).
-    """
-    from slam_predict.metric.sampling import run_count
-
-    return run_count(per_run_trans, per_run_rot, **kwargs).runs_required

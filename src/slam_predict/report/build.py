@@ -10,10 +10,8 @@ import datetime
 import logging
 import os
 from pathlib import Path
-from typing import Optional
 
 from slam_predict import __version__
-from slam_predict.atomic import write_text
 from slam_predict.report import html as H
 from slam_predict.report.campaign import Campaign, load_campaign
 from slam_predict.report.sections import overview, summary, world_section
@@ -47,7 +45,7 @@ def learning(campaign: Campaign, models_path, feature_fn=None) -> str:
     return H.section("Learning", "\n".join(parts), anchor="learning")
 
 
-def build_report(data_dir, models_dir=None, title: Optional[str] = None,
+def build_report(data_dir, models_dir=None, title: str | None = None,
                  feature_fn=None) -> str:
     """The report page of campaign ``data_dir`` (HTML text).
 
@@ -63,7 +61,7 @@ def build_report(data_dir, models_dir=None, title: Optional[str] = None,
     campaign = load_campaign(data_dir)
     resolved = Path(data_dir).resolve()
     title = title or f"SLAM campaign report: {resolved.parent.name}/{resolved.name}"
-    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    stamp = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     parts = [f"<p>Generated {H.esc(stamp)} by slam_predict {H.esc(__version__)} from "
              f"<code>{H.esc(os.fspath(data_dir))}</code>.</p>",
              contents(campaign, models_dir is not None), overview(campaign), summary(campaign)]
@@ -73,10 +71,3 @@ def build_report(data_dir, models_dir=None, title: Optional[str] = None,
         parts.append(world_section(world))
     parts.append(learn_html)
     return H.page(title, "\n".join(parts))
-
-
-def write_report(data_dir, out, models_dir=None, title: Optional[str] = None) -> Path:
-    """Build the report and write it atomically to ``out``; returns the path."""
-    text = build_report(data_dir, models_dir, title)
-    write_text(out, text)
-    return Path(out)

@@ -127,7 +127,7 @@ class FeatureCache:
         return compute_plan_features(self._worlds[name], card)
 
 
-def run_count(row: Dict) -> int:
+def recorded_runs(row: Dict) -> int:
     """Runs of a summary row (0 when unknown)."""
     runs = float(row.get("runs", math.nan))
     return int(runs) if math.isfinite(runs) else 0
@@ -151,7 +151,7 @@ def predict_campaign(entry: ModelEntry, campaign: Campaign,
         out.notes += [f"{name}: {w}" for w in result["warnings"]
                       if w not in entry.store.notes and not w.startswith(unmodelled)]
         for component in COMPONENTS:
-            out.items.append(Prediction.of(name, component, run_count(row),
+            out.items.append(Prediction.of(name, component, recorded_runs(row),
                                            float(row[component]), result[component]))
     return out
 
@@ -243,7 +243,7 @@ def predictions_section(entry: ModelEntry, campaign: Campaign, cache: FeatureCac
     if unmodelled:
         result.notes.insert(0, f"{', '.join(unmodelled)}: not predicted, no model of "
                                f"{entry.name} beats the training mean (evaluation R² ≤ 0)")
-    single = [r["world"] for r in campaign.summary_rows() if run_count(r) == 1]
+    single = [r["world"] for r in campaign.summary_rows() if recorded_runs(r) == 1]
     extra = ([f"{', '.join(single)}: one run only, so the measured std components are 0 by "
               "definition"] if single and result.items else [])
     body = (predictions_table(result.items) if result.items else "")

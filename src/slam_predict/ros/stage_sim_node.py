@@ -42,13 +42,14 @@ Pacing, ``~speedup``:
   ``cmd_vel`` wait is not used when a periodic node acks (move_base); with scan consumers only
   (e.g. a plain cmd_vel publisher drives the robot) both waits apply.
 
-Other params (read in :func:`main` only): ``~config`` YAML file with a ``sim:`` section
-(:class:`~slam_predict.sim.SimConfig`, e.g. $(find slam_predict)/config/robot.yaml; default: the
-world file's robot with the default SimConfig), ``~odom_model`` and ``~integrator`` (override the
-config), ``~seed`` (int; default: fresh entropy, logged), ``~laser_z`` (m, default 0),
-``~ground_truth_frame_id``, ``~wait_for_service`` (default empty: start at once; else do not
-step until that service exists — the ROS path's orchestrator offers ``/orchestrator/ready`` once
-the run's nodes are up). The odometry model and errors in use are set as ``~odom_error``.
+Other params (read in :func:`main` only, by :mod:`slam_predict.ros.stage_sim_params`):
+``~config`` YAML file with a ``sim:`` section (:class:`~slam_predict.sim.SimConfig`, e.g.
+$(find slam_predict)/config/robot.yaml; default: the world file's robot with the default
+SimConfig), ``~odom_model`` and ``~integrator`` (override the config), ``~seed`` (int; default:
+fresh entropy, logged), ``~laser_z`` (m, default 0), ``~ground_truth_frame_id``,
+``~wait_for_service`` (default empty: start at once; else do not step until that service
+exists — the ROS path's orchestrator offers ``/orchestrator/ready`` once the run's nodes are
+up). The odometry model and errors in use are set as ``~odom_error``.
 """
 from __future__ import annotations
 
@@ -56,31 +57,21 @@ import logging
 import sys
 import threading
 import time
-from dataclasses import dataclass
-from typing import Optional, Tuple
 
 import numpy as np
 
 from slam_predict.geometry import wrap_angle
 from slam_predict.ros.conversions import geometry as conv
 from slam_predict.ros.conversions.sensor import scan_data, scan_to_ros
+from slam_predict.ros.stage_sim_params import (
+    NodeSettings,
+    node_settings,
+    sim_config,
+    world_argument,
+)
 from slam_predict.sim import SimState, Simulator
 
 LOG = logging.getLogger(__name__)
-
-
-@dataclass
-class NodeSettings:
-    """Node behaviour (the node's private params); see the module docstring."""
-
-    watchdog_timeout: float = 0.2
-    speedup: float = 1.0
-    lockstep: bool = True
-    lockstep_timeout: float = 0.05
-    laser_z: float = 0.0
-    ground_truth_frame_id: str = "odom"
-    lockstep_acks: Tuple[Tuple[str, Optional[float]], ...] = ()  # (topic, lag s | None = scan)
-    lockstep_ack_timeout: float = 30.0
 
 
 class StageSim:
@@ -114,10 +105,10 @@ class StageSim:
     def start(self) -> None:
         """Advertise topics, subscribe cmd_vel, offer reset_positions (after init_node)."""
         import tf2_ros
+        from geometry_msgs.msg import Twist
         from nav_msgs.msg import Odometry
         from rosgraph_msgs.msg import Clock
         from sensor_msgs.msg import LaserScan
-        from geometry_msgs.msg import Twist
         from std_srvs.srv import Empty
 
         rp = self.rospy
@@ -262,7 +253,7 @@ class StageSim:
         dth = float(wrap_angle(now[2] - prev[2]))
         return ((now[0] - prev[0]) / dt, (now[1] - prev[1]) / dt, dth / dt)
 
-    def run(self, max_steps: Optional[int] = None) -> None:
+    def run(self, max_steps: int | None = None) -> None:
         """Step until shutdown (or ``max_steps``), paced by ``speedup`` (module docstring)."""
         self._pubs["clock"].publish(conv.clock_to_ros(self.sim.t))
         if self.settings.speedup == 0 and self.settings.lockstep and self._acks:
@@ -283,77 +274,6 @@ class StageSim:
                 self._command_event.wait(self.settings.lockstep_timeout)
 
 
-def _world_argument(rospy_module) -> str:
-    """The world file: first non-flag command-line argument (as stageros), else ``~world``."""
-    args = [a for a in rospy_module.myargv(sys.argv)[1:] if not a.startswith("-")]
-    return args[0] if args else rospy_module.get_param("~world", "")
-
-
-def _sim_config(rospy_module):
-    """SimConfig from ``~config`` (section ``sim``), then ``~odom_model``/``~integrator``."""
-    import dataclasses
-
-    from slam_predict.config import load_config
-    from slam_predict.errors import InputError
-    from slam_predict.sim import SimConfig
-
-    path = rospy_module.get_param("~config", "")
-    config = load_config(SimConfig, path, "sim") if path else SimConfig()
-    model = rospy_module.get_param("~odom_model", "")
-    integrator = rospy_module.get_param("~integrator", "")
-    try:
-        if model:
-            config = dataclasses.replace(config, odom=dataclasses.replace(config.odom,
-                                                                          model=model))
-        if integrator:
-            config = dataclasses.replace(config, integrator=integrator)
-    except ValueError as exc:
-        raise InputError(str(exc), path or None) from None
-    return config
-
-
-def _settings(rospy_module) -> NodeSettings:
-    get = rospy_module.get_param
-    speedup = float(get("~speedup", 1.0))
-    return NodeSettings(
-        watchdog_timeout=float(get("~base_watchdog_timeout", 0.2)),
-        speedup=max(speedup, 0.0),
-        lockstep=bool(get("~lockstep", True)),
-        lockstep_timeout=float(get("~lockstep_timeout", 0.05)),
-        laser_z=float(get("~laser_z", 0.0)),
-        ground_truth_frame_id=str(get("~ground_truth_frame_id", "odom")),
-        lockstep_acks=_ack_list(get("~lockstep_acks", [])),
-        lockstep_ack_timeout=float(get("~lockstep_ack_timeout", 30.0)))
-
-
-def _ack_list(value) -> Tuple[Tuple[str, Optional[float]], ...]:
-    """``~lockstep_acks`` as ((topic, lag s or None for ``scan``), ...) from a list of
-    [topic, lag] pairs or of topics (lag 0); a string is parsed as YAML first."""
-    import yaml
-
-    from slam_predict.errors import InputError
-
-    if isinstance(value, str):
-        value = yaml.safe_load(value) if value.strip() else []
-    pairs = []
-    for item in value or []:
-        if isinstance(item, str):
-            item = [item, 0.0]
-        ok = isinstance(item, (list, tuple)) and len(item) == 2 and isinstance(item[0], str)
-        if ok and item[1] == "scan":
-            pairs.append((item[0], None))
-            continue
-        try:
-            pairs.append((item[0], float(item[1])))
-            ok = ok and pairs[-1][1] >= 0
-        except (TypeError, ValueError, IndexError, KeyError):
-            ok = False
-        if not ok:
-            raise InputError(f"~lockstep_acks: expected [topic, lag_s >= 0 or 'scan'] pairs, "
-                             f"got {item!r}")
-    return tuple(pairs)
-
-
 def main(argv=None) -> int:
     """Node entry point: read ~params, load the world, step until shutdown."""
     import rospy
@@ -363,7 +283,7 @@ def main(argv=None) -> int:
 
     rospy.set_param("/use_sim_time", True)  # as stageros: every node follows our /clock
     rospy.init_node("stage_sim", argv=argv)
-    path = _world_argument(rospy)
+    path = world_argument(rospy)
     if not path:
         rospy.logfatal("stage_sim: give a world file (stage_sim WORLD, or ~world)")
         return 2
@@ -372,9 +292,9 @@ def main(argv=None) -> int:
         seed = int(np.random.SeedSequence().entropy % (2 ** 63))
     try:
         world = load_plan(path)
-        config = _sim_config(rospy)
+        config = sim_config(rospy)
         sim = Simulator(world, config, np.random.default_rng(int(seed)))
-        settings = _settings(rospy)
+        settings = node_settings(rospy)
     except InputError as exc:
         rospy.logfatal("stage_sim: %s", exc.one_line())
         return 2

@@ -10,12 +10,13 @@ GMapping: its cell (0, 0) position, as slam_gmapping publishes it), with no rota
 from __future__ import annotations
 
 import numpy as np
-from nav_msgs.msg import MapMetaData, OccupancyGrid as RosOccupancyGrid
+from nav_msgs.msg import MapMetaData
+from nav_msgs.msg import OccupancyGrid as RosOccupancyGrid
 from nav_msgs.srv import GetMapResponse
 from rospy.numpy_msg import numpy_msg
 
 from slam_predict.geometry import quaternion_to_yaw
-from slam_predict.ros.conversions.geometry import time_from_ros, time_to_ros
+from slam_predict.ros.conversions.geometry import time_to_ros
 from slam_predict.slam import OccupancyGrid
 
 NumpyOccupancyGrid = numpy_msg(RosOccupancyGrid)
@@ -70,13 +71,8 @@ def grid_from_ros(msg) -> OccupancyGrid:
                          (float(info.origin.position.x), float(info.origin.position.y)))
 
 
-def get_map_response(msg) -> "NumpyGetMapResponse":
+def get_map_response(msg) -> NumpyGetMapResponse:
     """A ``nav_msgs/GetMap`` response carrying ``msg`` (from :func:`grid_to_ros`)."""
     response = NumpyGetMapResponse()
     response.map = msg
     return response
-
-
-def stamp_of(msg) -> float:
-    """Header stamp (s) of a message."""
-    return time_from_ros(msg.header.stamp)
