@@ -3,10 +3,12 @@
 One row per (world, robot): ``robot`` is the robot configuration hash
 (:func:`slam_predict.sensor.sensor_hash` of run.json's ``sensor``; empty for run records written
 before run.json recorded the sensor, so older campaigns keep one row per world), so runs of two
-robot configurations in one world give two rows. Columns (m, rad): world, robot, runs, trans_mean, trans_std, rot_mean, rot_std (mean and std over runs
-of each run's mean absolute relation error), path_length_mean, rotation_mean (ground-truth
-path), and the squared-error variants trans_sqr_mean, trans_sqr_std, rot_sqr_mean, rot_sqr_std.
-Std over runs uses ddof = 0, as the seed study's tables (numpy ``std``).
+robot configurations in one world give two rows. Columns (m, rad): world, runs, trans_mean,
+trans_std, rot_mean, rot_std (mean and std over runs of each run's mean absolute relation error),
+path_length_mean, rotation_mean (ground-truth path), the squared-error variants trans_sqr_mean,
+trans_sqr_std, rot_sqr_mean, rot_sqr_std, coverage_mean, sim_time_mean_s, and robot (last, so
+scripts that address the older columns by position keep working). Std over runs uses ddof = 0,
+as the seed study's tables (numpy ``std``).
 """
 from __future__ import annotations
 
@@ -22,9 +24,10 @@ from slam_predict.collect.store import RunStore
 from slam_predict.sensor import sensor_hash
 
 KEY_COLUMNS = ("world", "robot")
-COLUMNS = (*KEY_COLUMNS, "runs", "trans_mean", "trans_std", "rot_mean", "rot_std",
+# robot last: scripts address the older columns by position (tools/train_own_model.sh: runs = $2)
+COLUMNS = ("world", "runs", "trans_mean", "trans_std", "rot_mean", "rot_std",
            "path_length_mean", "rotation_mean", "trans_sqr_mean", "trans_sqr_std",
-           "rot_sqr_mean", "rot_sqr_std", "coverage_mean", "sim_time_mean_s")
+           "rot_sqr_mean", "rot_sqr_std", "coverage_mean", "sim_time_mean_s", "robot")
 
 
 def robot_key(record: Dict) -> str:

@@ -233,7 +233,7 @@ def _close(text: Optional[str], value: float) -> bool:
 def _csv_numbers(row: Dict[str, str]) -> Dict:
     """A summary.csv row with its numeric columns as floats (NaN when empty or bad)."""
     out: Dict = {key: row.get(key, "") for key in KEY_COLUMNS}
-    for column in COLUMNS[len(KEY_COLUMNS):]:
+    for column in (c for c in COLUMNS if c not in KEY_COLUMNS):
         try:
             out[column] = float(row.get(column, ""))
         except (TypeError, ValueError):
