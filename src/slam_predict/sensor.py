@@ -14,8 +14,9 @@ odometry ``error`` is Stage's ``odom_error`` (x, y, yaw).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Dict, Mapping, Optional, Tuple
+from typing import Any, ClassVar, Optional
 
 import numpy as np
 
@@ -37,9 +38,9 @@ class LaserConfig:
     range_min: float = 0.0
     range_max: float = 80.0
     rate_hz: float = 10.0
-    pose: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
     noise_std: float = 0.0
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "fov": FULL_TURN, "samples": AT_LEAST_ONE, "range_min": NON_NEGATIVE,
         "range_max": POSITIVE, "rate_hz": POSITIVE, "noise_std": NON_NEGATIVE}
 
@@ -55,7 +56,7 @@ class LaserConfig:
 
 def check_laser(laser: Any) -> None:
     """ValueError unless the laser fields (None = not set, allowed) are physically valid."""
-    def given(name: str) -> Optional[float]:
+    def given(name: str) -> float | None:
         return getattr(laser, name)
 
     if given("samples") is not None and given("samples") < 1:
@@ -89,9 +90,9 @@ class OdomConfig:
     """
 
     model: str = "uniform_per_run"
-    error: Optional[Tuple[float, float, float]] = None
-    gaussian: Tuple[float, float, float, float] = (0.005, 0.005, 0.01, 0.002)
-    RANGES: ClassVar[Dict[str, Range]] = {"gaussian": NON_NEGATIVE}
+    error: Optional[tuple[float, float, float]] = None  # noqa: UP045 (from_dict)
+    gaussian: tuple[float, float, float, float] = (0.005, 0.005, 0.01, 0.002)
+    RANGES: ClassVar[dict[str, Range]] = {"gaussian": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.model not in ODOM_MODELS:

@@ -85,7 +85,7 @@ def test_committed_campaign_gives_the_committed_summary(tmp_path):
     committed = _rows(REALISTIC / "summary.csv")
     regenerated = _rows(write_summary(tmp_path))
     assert len(regenerated) == len(committed) > 5
-    for old, new in zip(committed, regenerated):
+    for old, new in zip(committed, regenerated, strict=True):
         assert new["robot"] == ""
         assert {k: new[k] for k in COLUMNS if k != "robot"} == old
     rows = ds.read_error_table(REALISTIC / "summary.csv")

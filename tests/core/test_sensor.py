@@ -28,7 +28,8 @@ def test_defaults_are_the_seed_study_laser_in_rad():
     assert sensor.laser.range_max == 80.0 and sensor.odom.error[2] == pytest.approx(0.0349066)
     assert LaserSpec is LaserConfig and LaserSpec() == sensor.laser
     angles = sensor.laser.angles()
-    assert angles[0] == pytest.approx(-3 * math.pi / 4) and angles[-1] == pytest.approx(3 * math.pi / 4)
+    assert angles[0] == pytest.approx(-3 * math.pi / 4)
+    assert angles[-1] == pytest.approx(3 * math.pi / 4)
 
 
 @pytest.mark.parametrize("laser, message", [

@@ -62,8 +62,8 @@ def test_traverse_matches_slow_reference(seed, mode):
     rng = np.random.default_rng(100 + seed)
     occ = random_map(rng)
     graph = _random_graph(rng, occ)
-    config = TraversalConfig(laser_range_m=float(rng.uniform(0.5, 2.0)), laser_fov=math.radians(260.0),
-                             min_rotation_distance_m=0.2, mode=mode)
+    config = TraversalConfig(laser_range_m=float(rng.uniform(0.5, 2.0)),
+                             laser_fov=math.radians(260.0), min_rotation_distance_m=0.2, mode=mode)
     start_rc = np.argwhere(~occ)[rng.integers((~occ).sum())]
     yaw = float(rng.uniform(-math.pi, math.pi))
     fast = traverse(graph, occ, start_rc, yaw, config)

@@ -79,7 +79,8 @@ def write_summary(data_dir: Path) -> Path:
     for world in store.worlds():
         for robot, records in by_robot(store.records(world)).items():
             row = building_row(world, records, robot)
-            writer.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v) for k, v in row.items()})
+            writer.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v)
+                             for k, v in row.items()})
     path = Path(data_dir) / "summary.csv"
     write_text(path, buffer.getvalue())
     return path

@@ -1,10 +1,11 @@
 """Learning dataset: per-building error statistics joined with feature vectors, with provenance.
 
 One row per building and robot configuration: ``world``, ``robot`` (the robot configuration hash
-of the collection summary, :func:`slam_predict.sensor.sensor_hash`; empty for the thesis tables and
-older summaries), provenance (``setting``, ``slam_config_hash``, ``feature_version``, ``runs``), the four targets (``trans_mean``, ``trans_std`` in m;
-``rot_mean``, ``rot_std`` in rad), optional reference columns (``ref_*``: numbers known only from
-the source table, e.g. the thesis' own Voronoi distance; never used as features) and the features.
+of the collection summary, :func:`slam_predict.sensor.sensor_hash`; empty for the thesis tables
+and older summaries), provenance (``setting``, ``slam_config_hash``, ``feature_version``,
+``runs``), the four targets (``trans_mean``, ``trans_std`` in m; ``rot_mean``, ``rot_std`` in
+rad), optional reference columns (``ref_*``: numbers known only from the source table, e.g. the
+thesis' own Voronoi distance; never used as features) and the features.
 
 Error statistics come from the collection summary (``world, runs, trans_mean, …``) or from the
 seed thesis' tables (``dataset, Voronoi distance, …, transError.mean.mean, …``; header names

@@ -22,10 +22,10 @@ from typing import Any, Dict, Optional, Tuple
 import numpy as np
 
 from slam_predict.geometry import compose
+from slam_predict.sensor import LaserConfig, SensorConfig
 from slam_predict.sim import kinematics, raycast
 from slam_predict.sim.config import SimConfig
 from slam_predict.sim.odometry import make_odometry, world_error
-from slam_predict.sensor import LaserConfig, SensorConfig
 from slam_predict.world.model import RobotSpec, World
 
 LOG = logging.getLogger(__name__)
