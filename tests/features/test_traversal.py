@@ -62,8 +62,8 @@ def test_traverse_matches_slow_reference(seed, mode):
     rng = np.random.default_rng(100 + seed)
     occ = random_map(rng)
     graph = _random_graph(rng, occ)
-    config = TraversalConfig(laser_range_m=float(rng.uniform(0.5, 2.0)), laser_fov_deg=260.0,
-                             min_rotation_distance_m=0.2, mode=mode)
+    config = TraversalConfig(laser_range_m=float(rng.uniform(0.5, 2.0)),
+                             laser_fov=math.radians(260.0), min_rotation_distance_m=0.2, mode=mode)
     start_rc = np.argwhere(~occ)[rng.integers((~occ).sum())]
     yaw = float(rng.uniform(-math.pi, math.pi))
     fast = traverse(graph, occ, start_rc, yaw, config)
@@ -71,7 +71,7 @@ def test_traverse_matches_slow_reference(seed, mode):
     visits, dist_px, rotation = reference.traverse(
         occ, graph.rc, graph.edges, graph.weights, fast.start_node,
         math.pi / 2 if compat else yaw, 0.0 if compat else yaw,
-        config.laser_range_m / 0.05, math.radians(config.laser_fov_deg) / 2,
+        config.laser_range_m / 0.05, config.laser_fov / 2,
         config.min_rotation_distance_m / 0.05, hops=compat, reset_heading=compat)
     assert fast.start_node == int(np.argmin(((graph.rc - start_rc) ** 2).sum(axis=1)))
     np.testing.assert_array_equal(fast.path_rc, graph.rc[visits])
@@ -112,7 +112,7 @@ def test_long_range_laser_sees_a_corridor_without_moving():
     plan = Plan(12.0, 3.0).room("corridor", (0.5, 0.5, 11.5, 2.5))
     world = plan.world(start_xy=(6.0, 1.5))
     graph = voronoi_graph(world.occupied, world.resolution)
-    omni = TraversalConfig(laser_fov_deg=360.0)
+    omni = TraversalConfig(laser_fov=2 * math.pi)
     result = traverse(graph, world.occupied, world.world_to_cell(world.start_pose[:2]), 0.0,
                       omni)
     assert result.distance == 0.0 and result.rotation == 0.0
@@ -122,7 +122,7 @@ def test_short_range_laser_walks_the_corridor():
     plan = Plan(22.0, 3.0).room("corridor", (0.5, 0.5, 21.5, 2.5))
     world = plan.world(start_xy=(1.5, 1.5))
     graph = voronoi_graph(world.occupied, world.resolution)
-    cfg = TraversalConfig(laser_range_m=4.0, laser_fov_deg=360.0)
+    cfg = TraversalConfig(laser_range_m=4.0, laser_fov=2 * math.pi)
     result = traverse(graph, world.occupied, world.world_to_cell(world.start_pose[:2]), 0.0,
                       cfg)
     # the far end (x ≈ 21 m) must come within 4 m: at least ~16 m of walking, straight ahead
@@ -134,8 +134,8 @@ def test_narrow_field_of_view_forces_a_turn():
     world = single_room(10.0, 3.0).world(start_xy=(5.7, 2.2), yaw=0.0)
     graph = voronoi_graph(world.occupied, world.resolution)
     rc = world.world_to_cell(world.start_pose[:2])
-    wide = traverse(graph, world.occupied, rc, 0.0, TraversalConfig(laser_fov_deg=360.0))
-    narrow = traverse(graph, world.occupied, rc, 0.0, TraversalConfig(laser_fov_deg=90.0))
+    wide = traverse(graph, world.occupied, rc, 0.0, TraversalConfig(laser_fov=2 * math.pi))
+    narrow = traverse(graph, world.occupied, rc, 0.0, TraversalConfig(laser_fov=math.pi / 2))
     assert wide.distance == 0.0
     assert narrow.distance > 2.0 and narrow.rotation > 2.0  # walks west, turning round
 

@@ -16,6 +16,7 @@ from rosgraph_msgs.msg import Log  # noqa: E402
 from slam_predict.collect import record as rec  # noqa: E402
 from slam_predict.collect.settings import load_settings  # noqa: E402
 from slam_predict.collect.stopping import StopConfig  # noqa: E402
+from slam_predict.config import to_dict  # noqa: E402
 from slam_predict.geometry import compose  # noqa: E402
 from slam_predict.ros.conversions.geometry import (time_from_ros, time_to_ros,  # noqa: E402
                                                    transform_to_ros)
@@ -25,6 +26,7 @@ from slam_predict.ros.orchestrator import RunMonitor, Sample  # noqa: E402
 from slam_predict.ros.orchestrator_config import OrchestratorConfig  # noqa: E402
 from slam_predict.ros.orchestrator_node import OrchestratorNode  # noqa: E402
 from slam_predict.ros.run_record import RunInfo, build_record, world_T_map, write_record  # noqa: E402
+from slam_predict.sim.simulator import resolve_sensor  # noqa: E402
 from slam_predict.slam import OccupancyGrid  # noqa: E402
 
 ROOM = Path(__file__).resolve().parents[1] / "data" / "stage_sim_room.world"
@@ -169,8 +171,10 @@ def test_record_has_the_episode_keys_and_reloads(tmp_path):
     expected = {"world", "world_file", "run_index", "seed", "code_version", "config_hashes",
                 "settings_file", "odometry_model", "odometry_error", "stop_reason",
                 "explorer_end", "sim_duration_s", "wall_time_s", "distance_m", "rotation_rad",
-                "coverage", "stalls", "free_area_m2", "snapshots", "metric", "timing", "ros"}
+                "coverage", "stalls", "free_area_m2", "snapshots", "metric", "timing", "ros",
+                "sensor"}
     assert set(record) == expected
+    assert record["sensor"] == to_dict(resolve_sensor(world, settings.sim))
     loaded, traj = rec.load_record(tmp_path)
     assert loaded["schema"] == rec.SCHEMA_VERSION and loaded["run_index"] == 3
     assert len(traj.t) == 300 and loaded["ros"]["samples"] == 300
@@ -192,6 +196,6 @@ def test_record_without_world_has_no_coverage(tmp_path):
     settings = load_settings()
     monitor = synthetic_monitor()
     record = build_record(RunInfo("lab"), settings, monitor, None, None, 1.0, {})
-    assert record["coverage"] is None and record["world_file"] == ""
+    assert record["coverage"] is None and record["world_file"] == "" and record["sensor"] is None
     assert record["odometry_model"] == settings.sim.odom.model
     assert time_to_ros(record["sim_duration_s"]).to_sec() == pytest.approx(30.0)

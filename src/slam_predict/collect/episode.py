@@ -25,6 +25,7 @@ from slam_predict.collect import interrupt
 from slam_predict.collect import record as rec
 from slam_predict.collect.settings import CollectSettings, load_settings
 from slam_predict.collect.stopping import SnapshotMSE, grid_to_snapshot
+from slam_predict.config import to_dict
 from slam_predict.paths import portable_path
 
 LOG = logging.getLogger(__name__)
@@ -196,6 +197,7 @@ def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
             "settings_file": portable_path(settings.source),
             "odometry_model": settings.sim.odom.model,
             "odometry_error": loop.sim.odom_error,
+            "sensor": to_dict(loop.sim.sensor),
             "stop_reason": reason, "explorer_end": explorer_end,
             "sim_duration_s": float(loop.t), "wall_time_s": wall,
             "distance_m": rec.path_length(traj.ground_truth),

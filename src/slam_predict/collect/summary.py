@@ -1,9 +1,14 @@
 """Per-building summary table ``DATA/summary.csv``, regenerated from the run records.
 
-Columns (m, rad): world, runs, trans_mean, trans_std, rot_mean, rot_std (mean and std over runs
-of each run's mean absolute relation error), path_length_mean, rotation_mean (ground-truth
-path), and the squared-error variants trans_sqr_mean, trans_sqr_std, rot_sqr_mean, rot_sqr_std.
-Std over runs uses ddof = 0, as the seed study's tables (numpy ``std``).
+One row per (world, robot): ``robot`` is the robot configuration hash
+(:func:`slam_predict.sensor.sensor_hash` of run.json's ``sensor``; empty for run records written
+before run.json recorded the sensor, so older campaigns keep one row per world), so runs of two
+robot configurations in one world give two rows. Columns (m, rad): world, runs, trans_mean,
+trans_std, rot_mean, rot_std (mean and std over runs of each run's mean absolute relation error),
+path_length_mean, rotation_mean (ground-truth path), the squared-error variants trans_sqr_mean,
+trans_sqr_std, rot_sqr_mean, rot_sqr_std, coverage_mean, sim_time_mean_s, and robot (last, so
+scripts that address the older columns by position keep working). Std over runs uses ddof = 0,
+as the seed study's tables (numpy ``std``).
 """
 from __future__ import annotations
 
@@ -16,14 +21,31 @@ import numpy as np
 
 from slam_predict.atomic import write_text
 from slam_predict.collect.store import RunStore
+from slam_predict.sensor import sensor_hash
 
+KEY_COLUMNS = ("world", "robot")
+# robot last: scripts address the older columns by position (tools/train_own_model.sh: runs = $2)
 COLUMNS = ("world", "runs", "trans_mean", "trans_std", "rot_mean", "rot_std",
            "path_length_mean", "rotation_mean", "trans_sqr_mean", "trans_sqr_std",
-           "rot_sqr_mean", "rot_sqr_std", "coverage_mean", "sim_time_mean_s")
+           "rot_sqr_mean", "rot_sqr_std", "coverage_mean", "sim_time_mean_s", "robot")
 
 
-def building_row(world: str, records: List[Dict]) -> Dict[str, float]:
-    """One summary row from the run.json records of ``world``."""
+def robot_key(record: Dict) -> str:
+    """The robot configuration hash of a run.json record ('' when it has no ``sensor``)."""
+    sensor = record.get("sensor")
+    return sensor_hash(sensor) if sensor else ""
+
+
+def by_robot(records: List[Dict]) -> Dict[str, List[Dict]]:
+    """The records grouped by :func:`robot_key`, keys sorted."""
+    groups: Dict[str, List[Dict]] = {}
+    for record in records:
+        groups.setdefault(robot_key(record), []).append(record)
+    return dict(sorted(groups.items()))
+
+
+def building_row(world: str, records: List[Dict], robot: str = "") -> Dict[str, float]:
+    """One summary row from the run.json records of ``world`` run with robot ``robot``."""
     def values(*keys: str) -> np.ndarray:
         out = []
         for record in records:
@@ -36,7 +58,7 @@ def building_row(world: str, records: List[Dict]) -> Dict[str, float]:
     trans, rot = values("metric", "trans_mean"), values("metric", "rot_mean")
     trans_sqr, rot_sqr = values("metric", "trans_sqr_mean"), values("metric", "rot_sqr_mean")
     return {
-        "world": world, "runs": len(records),
+        "world": world, "robot": robot, "runs": len(records),
         "trans_mean": trans.mean(), "trans_std": trans.std(),
         "rot_mean": rot.mean(), "rot_std": rot.std(),
         "path_length_mean": values("distance_m").mean(),
@@ -55,8 +77,10 @@ def write_summary(data_dir: Path) -> Path:
     writer = csv.DictWriter(buffer, fieldnames=COLUMNS, lineterminator="\n")
     writer.writeheader()
     for world in store.worlds():
-        row = building_row(world, store.records(world))
-        writer.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v) for k, v in row.items()})
+        for robot, records in by_robot(store.records(world)).items():
+            row = building_row(world, records, robot)
+            writer.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v)
+                             for k, v in row.items()})
     path = Path(data_dir) / "summary.csv"
     write_text(path, buffer.getvalue())
     return path

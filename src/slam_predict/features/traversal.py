@@ -1,6 +1,7 @@
 """Voronoi traversal distance and rotation (seed thesis §5.2.3.2, Algorithms 3–4).
 
-A virtual robot with a laser (range ``laser_range_m``, field of view ``laser_fov_deg``) starts
+A virtual robot with a laser (range ``laser_range_m`` m, field of view ``laser_fov`` rad; a robot's
+own laser with :meth:`TraversalConfig.for_laser`) starts
 at the Voronoi node nearest the world's start pose, facing the start yaw, and alternates:
 
 * mapping: every unseen graph node within range, inside the field of view around the current
@@ -27,9 +28,11 @@ Presets (``mode``):
 """
 from __future__ import annotations
 
+import dataclasses
+import logging
 import math
 from dataclasses import dataclass
-from typing import ClassVar, Dict, Optional
+from typing import Any, ClassVar, Dict, Optional
 
 import cv2
 import numpy as np
@@ -37,28 +40,71 @@ import numpy as np
 from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
 from slam_predict.features import kernels
 from slam_predict.features.voronoi import VoronoiGraph
+from slam_predict.sensor import DEFAULT_FOV, FULL_TURN, LaserConfig
+
+LOG = logging.getLogger(__name__)
 
 MODES = ("documented", "thesis_compatible")
 
 
 @dataclass(frozen=True)
 class TraversalConfig:
-    """Traversal settings (m, deg)."""
+    """Traversal settings (m, rad). ``laser_fov`` defaults to 270 ° (4.71238898038469 rad);
+    ``laser_fov_deg`` is its deprecated degree form (still read, with a warning)."""
 
     laser_range_m: float = 30.0
-    laser_fov_deg: float = 270.0
+    laser_fov: Optional[float] = None
+    laser_fov_deg: Optional[float] = None
     min_rotation_distance_m: float = 0.5
     smoothing_tolerance_m: float = 0.5
     mode: str = "documented"
     RANGES: ClassVar[Dict[str, Range]] = {
-        "laser_range_m": POSITIVE, "laser_fov_deg": Range(0.0, 360.0, open_low=True),
+        "laser_range_m": POSITIVE, "laser_fov": FULL_TURN,
+        "laser_fov_deg": Range(0.0, 360.0, open_low=True),
         "min_rotation_distance_m": NON_NEGATIVE, "smoothing_tolerance_m": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
             raise ValueError(f"mode must be one of {', '.join(MODES)}, got {self.mode!r}")
-        if self.laser_range_m <= 0 or not 0 < self.laser_fov_deg <= 360:
-            raise ValueError("laser_range_m must be > 0 and laser_fov_deg in (0, 360]")
+        if self.laser_fov_deg is not None:
+            if self.laser_fov is not None:
+                raise ValueError("give laser_fov (rad) or the deprecated laser_fov_deg, not both")
+            LOG.warning("traversal laser_fov_deg is deprecated: write laser_fov: %r (rad)",
+                        math.radians(self.laser_fov_deg))
+            object.__setattr__(self, "laser_fov", math.radians(self.laser_fov_deg))
+            object.__setattr__(self, "laser_fov_deg", None)
+        if self.laser_fov is None:
+            object.__setattr__(self, "laser_fov", DEFAULT_FOV)
+        if self.laser_range_m <= 0 or not 0 < self.laser_fov <= 2 * math.pi:
+            raise ValueError("laser_range_m must be > 0 and laser_fov in (0, 2*pi] rad")
+
+    def for_laser(self, laser: LaserConfig, max_range: Optional[float] = None
+                  ) -> "TraversalConfig":
+        """These settings with a robot's laser: its fov and its range_max, capped at
+        ``max_range`` m when given (the range the mapping uses, e.g. GMapping's maxUrange)."""
+        reach = laser.range_max if max_range is None else min(laser.range_max, max_range)
+        return dataclasses.replace(self, laser_range_m=float(reach), laser_fov=float(laser.fov))
+
+
+def upgrade_stored(traversal: Dict[str, Any]) -> Dict[str, Any]:
+    """Stored traversal settings (a model card's, written before ``laser_fov``) with
+    ``laser_fov_deg`` turned into ``laser_fov`` rad, without the deprecation warning."""
+    out = dict(traversal)
+    degrees = out.pop("laser_fov_deg", None)
+    if degrees is not None and out.get("laser_fov") is None:
+        out["laser_fov"] = math.radians(float(degrees))
+    elif degrees is not None:
+        out["laser_fov_deg"] = degrees   # both given: let the config refuse it
+    return out
+
+
+def legacy_hash_form(traversal: Dict[str, Any]) -> Dict[str, Any]:
+    """The plain-dict traversal settings as they were hashed into the feature version before
+    the field of view became ``laser_fov`` (rad): ``laser_fov_deg`` in degrees (rounded to
+    1e-9 °), so models trained before the change keep their feature version."""
+    out = {k: v for k, v in traversal.items() if k not in ("laser_fov", "laser_fov_deg")}
+    out["laser_fov_deg"] = round(math.degrees(traversal["laser_fov"]), 9)
+    return out
 
 
 @dataclass
@@ -104,7 +150,7 @@ def traverse(graph: VoronoiGraph, occupied: np.ndarray, start_rc, start_yaw: flo
         graph.rc[:, 1].copy(), indptr, indices, weights, start,
         math.pi / 2 if compat else float(start_yaw), 0.0 if compat else float(start_yaw),
         config.laser_range_m / res,
-        math.radians(config.laser_fov_deg) / 2.0, config.min_rotation_distance_m / res,
+        config.laser_fov / 2.0, config.min_rotation_distance_m / res,
         compat, compat)
     path_rc = graph.rc[visits]
     smoothed = polyline_turning(simplify_polyline(path_rc * res, config.smoothing_tolerance_m))

@@ -39,7 +39,7 @@ from typing import ClassVar, Dict, List, Optional, Tuple
 import numpy as np
 from scipy import ndimage
 
-from slam_predict.config import NON_NEGATIVE, Range, config_hash
+from slam_predict.config import NON_NEGATIVE, Range, config_hash, to_dict
 from slam_predict.features import geometric, graph_metrics
 from slam_predict.features import rooms as rooms_mod
 from slam_predict.features import topology as topology_mod
@@ -246,7 +246,9 @@ REGISTRY.add_family("voronoi_traversal", _voronoi_traversal, (
 
 def feature_version(config: Optional[FeaturesConfig] = None) -> str:
     """``<FEATURE_VERSION>+<config hash>``: equal strings mean comparable feature vectors."""
-    return f"{FEATURE_VERSION}+{config_hash(config or FeaturesConfig())}"
+    plain = to_dict(config or FeaturesConfig())
+    plain["traversal"] = traversal_mod.legacy_hash_form(plain["traversal"])
+    return f"{FEATURE_VERSION}+{config_hash(plain)}"
 
 
 def compute_with_context(world: World, config: Optional[FeaturesConfig] = None

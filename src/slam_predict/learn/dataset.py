@@ -1,9 +1,11 @@
 """Learning dataset: per-building error statistics joined with feature vectors, with provenance.
 
-One row per building: ``world``, provenance (``setting``, ``slam_config_hash``,
-``feature_version``, ``runs``), the four targets (``trans_mean``, ``trans_std`` in m;
-``rot_mean``, ``rot_std`` in rad), optional reference columns (``ref_*``: numbers known only from
-the source table, e.g. the thesis' own Voronoi distance; never used as features) and the features.
+One row per building and robot configuration: ``world``, ``robot`` (the robot configuration hash
+of the collection summary, :func:`slam_predict.sensor.sensor_hash`; empty for the thesis tables
+and older summaries), provenance (``setting``, ``slam_config_hash``, ``feature_version``,
+``runs``), the four targets (``trans_mean``, ``trans_std`` in m; ``rot_mean``, ``rot_std`` in
+rad), optional reference columns (``ref_*``: numbers known only from the source table, e.g. the
+thesis' own Voronoi distance; never used as features) and the features.
 
 Error statistics come from the collection summary (``world, runs, trans_mean, …``) or from the
 seed thesis' tables (``dataset, Voronoi distance, …, transError.mean.mean, …``; header names
@@ -50,6 +52,7 @@ class ErrorRow:
     setting: str = ""
     slam_config_hash: str = ""
     reference: Dict[str, float] = field(default_factory=dict)
+    robot: str = ""
 
 
 @dataclass
@@ -64,6 +67,7 @@ class Dataset:
         runs: (n,) number of runs per building (NaN when unknown).
         setting, slam_config_hash, feature_version: per-row provenance strings.
         reference: name → (n,) reference columns (never features).
+        robot: (n,) robot configuration hashes ('' = unknown); None = all unknown.
     """
 
     worlds: List[str]
@@ -75,6 +79,11 @@ class Dataset:
     slam_config_hash: List[str]
     feature_version: List[str]
     reference: Dict[str, np.ndarray] = field(default_factory=dict)
+    robot: Optional[List[str]] = None
+
+    def __post_init__(self) -> None:
+        if self.robot is None:
+            self.robot = [""] * len(self.worlds)
 
     def __len__(self) -> int:
         return len(self.worlds)
@@ -90,7 +99,7 @@ class Dataset:
         return Dataset(pick(self.worlds), list(self.feature_names), self.X[rows], self.Y[rows],
                        self.runs[rows], pick(self.setting), pick(self.slam_config_hash),
                        pick(self.feature_version),
-                       {k: v[rows] for k, v in self.reference.items()})
+                       {k: v[rows] for k, v in self.reference.items()}, pick(self.robot))
 
     def unique(self, attribute: str) -> str:
         """The single value of a provenance column; InputError when rows disagree."""
@@ -172,9 +181,10 @@ def read_error_table(path: os.PathLike | str, setting: str = "") -> List[ErrorRo
         result = _summary_rows(rows, path, setting)
     seen = set()
     for row in result:
-        if row.world in seen:
-            raise InputError(f"building '{row.world}' appears twice", path)
-        seen.add(row.world)
+        if (row.world, row.robot) in seen:
+            robot = f" with robot {row.robot}" if row.robot else ""
+            raise InputError(f"building '{row.world}'{robot} appears twice", path)
+        seen.add((row.world, row.robot))
     return result
 
 
@@ -199,7 +209,8 @@ def _summary_rows(rows, path: str, setting: str) -> List[ErrorRow]:
         reference = {name: _number(row, col, path, allow_empty=True)
                      for col, name in SUMMARY_REFERENCE.items() if col in row}
         out.append(ErrorRow(row["world"], targets, runs, row.get("setting") or setting,
-                            row[hash_column] if hash_column else "", reference))
+                            row[hash_column] if hash_column else "", reference,
+                            row.get("robot") or ""))
     return out
 
 
@@ -266,7 +277,8 @@ def join(errors: Sequence[ErrorRow], features: Mapping[str, Mapping[str, float]]
         slam_config_hash=[row.slam_config_hash for row, _ in matched],
         feature_version=versions,
         reference={k: np.array([row.reference.get(k, math.nan) for row, _ in matched])
-                   for k in refs})
+                   for k in refs},
+        robot=[row.robot for row, _ in matched])
 
 
 def reference_as_features(data: Dataset, columns: Sequence[str]) -> Dataset:
@@ -281,7 +293,7 @@ def reference_as_features(data: Dataset, columns: Sequence[str]) -> Dataset:
     X = np.column_stack([data.reference[c] for c in columns])
     return Dataset(list(data.worlds), [c[len(REF_PREFIX):] for c in columns], X, data.Y.copy(),
                    data.runs.copy(), list(data.setting), list(data.slam_config_hash),
-                   ["reference-table"] * len(data), dict(data.reference))
+                   ["reference-table"] * len(data), dict(data.reference), list(data.robot))
 
 
 # ----------------------------------------------------------------------------- CSV round trip
@@ -289,13 +301,13 @@ def reference_as_features(data: Dataset, columns: Sequence[str]) -> Dataset:
 def to_csv_text(data: Dataset) -> str:
     """The dataset as CSV text (provenance, targets, ``ref_*`` columns, then features)."""
     refs = sorted(data.reference)
-    header = ["world", *PROVENANCE, *COMPONENTS, *refs, *data.feature_names]
+    header = ["world", "robot", *PROVENANCE, *COMPONENTS, *refs, *data.feature_names]
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(header)
     for i, world in enumerate(data.worlds):
         runs = "" if math.isnan(data.runs[i]) else f"{data.runs[i]:g}"
-        writer.writerow([world, data.setting[i], data.slam_config_hash[i],
+        writer.writerow([world, data.robot[i], data.setting[i], data.slam_config_hash[i],
                          data.feature_version[i], runs,
                          *(repr(float(v)) for v in data.Y[i]),
                          *(repr(float(data.reference[r][i])) for r in refs),
@@ -348,7 +360,7 @@ def read_dataset(path: os.PathLike | str) -> Dataset:
     path = os.fspath(path)
     rows = _read_csv(path)
     _require_columns(rows, ["world", *PROVENANCE, *COMPONENTS], path)
-    fixed = {"world", "__line__", *PROVENANCE, *COMPONENTS}
+    fixed = {"world", "robot", "__line__", *PROVENANCE, *COMPONENTS}
     refs = [c for c in rows[0] if c.startswith(REF_PREFIX)]
     names = [c for c in rows[0] if c not in fixed and c not in refs]
     if not names:
@@ -362,4 +374,5 @@ def read_dataset(path: os.PathLike | str) -> Dataset:
         slam_config_hash=[r["slam_config_hash"] for r in rows],
         feature_version=[r["feature_version"] for r in rows],
         reference={c: np.array([_number(r, c, path, allow_empty=True) for r in rows])
-                   for c in refs})
+                   for c in refs},
+        robot=[r.get("robot") or "" for r in rows])

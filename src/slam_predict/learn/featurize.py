@@ -45,18 +45,29 @@ def full_feature_config(overrides: Optional[Mapping[str, Any]] = None) -> Dict[s
     return to_dict(feature_config(overrides))
 
 
+def stored_feature_config(config_dict: Mapping[str, Any]):
+    """A :class:`FeaturesConfig` from a configuration the code stored (model card, dataset
+    sidecar); keys renamed since are read silently (the user's files warn instead)."""
+    from slam_predict.features.traversal import upgrade_stored
+
+    config = dict(config_dict)
+    if isinstance(config.get("traversal"), Mapping):
+        config["traversal"] = upgrade_stored(config["traversal"])
+    return feature_config(config)
+
+
 def version_of(config_dict: Mapping[str, Any]) -> str:
-    """The feature version (definition + configuration hash) of a feature configuration."""
+    """The feature version (definition + configuration hash) of a stored feature configuration."""
     from slam_predict.features.vector import feature_version
 
-    return feature_version(feature_config(config_dict))
+    return feature_version(stored_feature_config(config_dict))
 
 
 def compute(world, config_dict: Mapping[str, Any]) -> Dict[str, float]:
-    """The feature vector of ``world`` under the configuration ``config_dict``."""
+    """The feature vector of ``world`` under the stored configuration ``config_dict``."""
     from slam_predict.features.vector import compute_features
 
-    values = compute_features(world, feature_config(config_dict))
+    values = compute_features(world, stored_feature_config(config_dict))
     return {k: float(v) for k, v in values.items()}
 
 

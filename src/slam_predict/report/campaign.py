@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional
 
-from slam_predict.collect.summary import COLUMNS, building_row
+from slam_predict.collect.summary import COLUMNS, KEY_COLUMNS, building_row
 from slam_predict.errors import InputError
 
 LOG = logging.getLogger(__name__)
@@ -232,8 +232,8 @@ def _close(text: Optional[str], value: float) -> bool:
 
 def _csv_numbers(row: Dict[str, str]) -> Dict:
     """A summary.csv row with its numeric columns as floats (NaN when empty or bad)."""
-    out: Dict = {"world": row.get("world", "")}
-    for column in COLUMNS[1:]:
+    out: Dict = {key: row.get(key, "") for key in KEY_COLUMNS}
+    for column in (c for c in COLUMNS if c not in KEY_COLUMNS):
         try:
             out[column] = float(row.get(column, ""))
         except (TypeError, ValueError):

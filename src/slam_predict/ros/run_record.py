@@ -11,7 +11,8 @@ Differences that follow from the ROS graph (documented in docs/ros.md): ``timing
 times of the run's phases (the nodes' internal timings are not observable); ``coverage`` uses
 the map frame's pose in the world estimated from the first sample (ground truth ⊕ SLAM⁻¹) and is
 ``null`` without a world file (real robot); ``odometry_error`` is what the simulator node
-reports (``null`` for stageros or a real robot).
+reports (``null`` for stageros or a real robot); ``sensor`` is the laser and odometry model
+of the world file with the robot file's overrides (``null`` without a world file).
 """
 from __future__ import annotations
 
@@ -24,10 +25,11 @@ import numpy as np
 from slam_predict.collect import record as rec
 from slam_predict.collect.episode import code_version, inscribed_radius, measure
 from slam_predict.collect.settings import CollectSettings
-from slam_predict.config import config_hash
+from slam_predict.config import config_hash, to_dict
 from slam_predict.geometry import compose, inverse
 from slam_predict.paths import portable_path
 from slam_predict.ros.orchestrator import RunMonitor
+from slam_predict.sim.simulator import resolve_sensor
 
 
 @dataclass
@@ -76,6 +78,7 @@ def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, 
         "settings_file": portable_path(settings.source),
         "odometry_model": info.odometry_model or settings.sim.odom.model,
         "odometry_error": info.odometry_error,
+        "sensor": None if world is None else to_dict(resolve_sensor(world, settings.sim)),
         "stop_reason": monitor.reason, "explorer_end": monitor.explorer_end,
         "sim_duration_s": monitor.sim_duration_s, "wall_time_s": float(wall_time_s),
         "distance_m": rec.path_length(traj.ground_truth),

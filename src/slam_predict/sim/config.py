@@ -8,42 +8,17 @@ Load from YAML with ``load_config(SimConfig, "config/robot.yaml", "sim")``.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import ClassVar, Dict, Optional, Tuple
 
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
+from slam_predict.sensor import FULL_TURN, ODOM_MODELS, OdomConfig, check_laser
+
+__all__ = ["INTEGRATORS", "ODOM_MODELS", "SCAN_TIMINGS", "LaserOverrides", "OdomConfig",
+           "RobotOverrides", "SimConfig"]
 
 INTEGRATORS = ("exact", "stage")
 SCAN_TIMINGS = ("after_move", "before_move")
-ODOM_MODELS = ("uniform_per_run", "fixed", "none", "gaussian_per_step")
-
-
-@dataclass
-class OdomConfig:
-    """How odometry departs from the executed motion (see :mod:`slam_predict.sim.odometry`).
-
-    Attributes:
-        model: ``uniform_per_run`` (default; per-run proportional errors drawn uniformly in
-            [-e, +e]), ``fixed`` (Stage's code: the values used as constant biases), ``none``
-            (odometry = executed motion) or ``gaussian_per_step`` (random-walk noise).
-        error: e per axis (x m/m, y m/m, theta rad/rad): the bound of the uniform draw, or the
-            bias of ``fixed`` (signed). ``None`` = the World's ``robot.odom_error`` (x, y, yaw).
-        gaussian: ``gaussian_per_step`` noise densities (k_x m/√m, k_y m/√m, k_θθ rad/√rad,
-            k_θs rad/√m): after a straight run of L m the x error has std k_x·√L.
-    """
-
-    model: str = "uniform_per_run"
-    error: Optional[Tuple[float, float, float]] = None
-    gaussian: Tuple[float, float, float, float] = (0.005, 0.005, 0.01, 0.002)
-    RANGES: ClassVar[Dict[str, Range]] = {"gaussian": NON_NEGATIVE}
-
-    def __post_init__(self) -> None:
-        if self.model not in ODOM_MODELS:
-            raise ValueError(f"odom model must be one of {', '.join(ODOM_MODELS)}, "
-                             f"got '{self.model}'")
-        if any(k < 0 for k in self.gaussian):
-            raise ValueError("gaussian odom noise densities must be >= 0")
 
 
 @dataclass
@@ -82,21 +57,12 @@ class LaserOverrides:
     pose: Optional[Tuple[float, float, float]] = None
     noise_std: Optional[float] = None
     RANGES: ClassVar[Dict[str, Range]] = {
-        "fov": Range(0.0, 2 * math.pi, open_low=True), "samples": AT_LEAST_ONE,
+        "fov": FULL_TURN, "samples": AT_LEAST_ONE,
         "range_min": NON_NEGATIVE, "range_max": POSITIVE, "rate_hz": POSITIVE,
         "noise_std": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
-        if self.samples is not None and self.samples < 1:
-            raise ValueError(f"laser samples must be >= 1, got {self.samples}")
-        for name in ("fov", "range_max", "rate_hz"):
-            value = getattr(self, name)
-            if value is not None and not value > 0:
-                raise ValueError(f"laser {name} must be > 0, got {value}")
-        for name in ("range_min", "noise_std"):
-            value = getattr(self, name)
-            if value is not None and value < 0:
-                raise ValueError(f"laser {name} must be >= 0, got {value}")
+        check_laser(self)
 
 
 @dataclass

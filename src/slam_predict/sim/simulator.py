@@ -22,10 +22,11 @@ from typing import Any, Dict, Optional, Tuple
 import numpy as np
 
 from slam_predict.geometry import compose
+from slam_predict.sensor import LaserConfig, SensorConfig
 from slam_predict.sim import kinematics, raycast
 from slam_predict.sim.config import SimConfig
 from slam_predict.sim.odometry import make_odometry, world_error
-from slam_predict.world.model import LaserSpec, RobotSpec, World
+from slam_predict.world.model import RobotSpec, World
 
 LOG = logging.getLogger(__name__)
 
@@ -63,6 +64,16 @@ def _override(spec: Any, overrides: Any) -> Any:
     return dataclasses.replace(spec, **changes)
 
 
+def resolve_sensor(world: World, config: SimConfig) -> SensorConfig:
+    """The robot's sensors: the World's laser and odometry error (the Stage file's) with every
+    non-None value of ``config``'s ``laser`` and ``odom`` replacing them."""
+    error = config.odom.error
+    if error is None:
+        error = world_error(world.robot.odom_error)
+    odom = dataclasses.replace(config.odom, error=tuple(float(e) for e in error))
+    return SensorConfig(laser=_override(world.laser, config.laser), odom=odom)
+
+
 class Simulator:
     """Steps a robot through a World; see the module docstring for the order of events.
 
@@ -77,7 +88,8 @@ class Simulator:
         self.config = config
         self.rng = rng
         self.robot: RobotSpec = _override(world.robot, config.robot)
-        self.laser: LaserSpec = _override(world.laser, config.laser)
+        self.sensor: SensorConfig = resolve_sensor(world, config)
+        self.laser: LaserConfig = self.sensor.laser
         self.dt = float(config.interval_sim or world.interval_sim)
         self._check_specs()
         self.limits = kinematics.VelocityLimits(self.robot.max_vel_x, self.robot.max_vel_theta,
@@ -87,7 +99,7 @@ class Simulator:
         self._cos = np.cos(self.laser_angles)
         self._sin = np.sin(self.laser_angles)
         self.laser_pose = np.asarray(self.laser.pose, dtype=float)
-        self.odometry = make_odometry(config.odom, world_error(world.robot.odom_error), rng)
+        self.odometry = make_odometry(self.sensor.odom, self.sensor.odom.error, rng)
         self.reset()
         if self.collides(self.true_pose):
             LOG.warning("%s: the footprint at the start pose (%.2f, %.2f) overlaps an obstacle; "

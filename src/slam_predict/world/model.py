@@ -8,32 +8,17 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Tuple
 
 import numpy as np
 
 from slam_predict.errors import InputError
+from slam_predict.sensor import LaserConfig
 
 DEG = math.pi / 180.0
 
 
-@dataclass
-class LaserSpec:
-    """A planar laser: ``fov`` rad, ``samples`` beams, ranges in m, ``pose`` (x, y, yaw) on the robot."""
-
-    fov: float = 270.0 * DEG
-    samples: int = 541
-    range_min: float = 0.0
-    range_max: float = 80.0
-    rate_hz: float = 10.0
-    pose: Tuple[float, float, float] = (0.0, 0.0, 0.0)
-    noise_std: float = 0.0
-
-    def angles(self) -> np.ndarray:
-        """Beam bearings in rad, Stage's rule: -fov/2 + i·fov/(samples-1)."""
-        if self.samples == 1:
-            return np.zeros(1)
-        return -self.fov / 2.0 + np.arange(self.samples) * self.fov / (self.samples - 1)
+LaserSpec = LaserConfig  # the World's laser (from the Stage file) is a sensor.LaserConfig
 
 
 @dataclass
