@@ -76,11 +76,11 @@ class PerfectMap(SlamBackend):
         self.laser = laser
         self.truth = truth
         cfg = self.config
-        rows, cols = world.shape
-        x_left = world.origin[0] - cols * world.resolution / 2.0 - cfg.margin
-        y_bottom = world.origin[1] - rows * world.resolution / 2.0 - cfg.margin
-        nx = int(math.ceil((cols * world.resolution + 2 * cfg.margin) / cfg.delta))
-        ny = int(math.ceil((rows * world.resolution + 2 * cfg.margin) / cfg.delta))
+        xmin, ymin, _, _ = world.extent
+        width, height = world.size_m
+        x_left, y_bottom = xmin - cfg.margin, ymin - cfg.margin
+        nx = int(math.ceil((width + 2 * cfg.margin) / cfg.delta))
+        ny = int(math.ceil((height + 2 * cfg.margin) / cfg.delta))
         self.origin = (x_left, y_bottom)
         self.hits = np.zeros((ny, nx), np.int32)
         self.visits = np.zeros((ny, nx), np.int32)
