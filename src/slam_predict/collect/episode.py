@@ -43,16 +43,6 @@ def full_extent_grid(grid, params) -> np.ndarray:
     return canvas
 
 
-def inscribed_radius(costmap) -> float:
-    """The costmap footprint's inscribed radius (m): the clearance the robot centre needs."""
-    if not costmap.footprint:
-        return float(costmap.robot_radius)
-    points = np.asarray(costmap.footprint, float)
-    edges = np.roll(points, -1, axis=0) - points
-    cross = np.abs(points[:, 0] * edges[:, 1] - points[:, 1] * edges[:, 0])
-    return float(np.min(cross / np.hypot(edges[:, 0], edges[:, 1])))
-
-
 class Recorder:
     """Per-step trajectories (10 Hz) and the stuck detector."""
 
@@ -125,6 +115,7 @@ def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
     """Run one exploration (a :class:`~slam_predict.collect.batch.RunSpec`); returns run.json."""
     from slam_predict.explore.coverage import coverage, reachable_free
     from slam_predict.explore.loop import ClosedLoop
+    from slam_predict.nav.costmap import inscribed_radius
     from slam_predict.world.load import load_plan
 
     settings = settings or load_settings(spec.options.get("settings"))

@@ -24,6 +24,7 @@ from slam_predict.explore.explorer import ExploreConfig
 from slam_predict.explore.loop import ClosedLoop
 from slam_predict.explore.mapsource import PerfectMapConfig
 from slam_predict.nav.config import MoveBaseConfig, load_nav_config
+from slam_predict.nav.costmap import inscribed_radius
 from slam_predict.sim import SimConfig
 from slam_predict.world.model import World
 
@@ -91,7 +92,7 @@ def summarize(loop: ClosedLoop, reason: str, wall: float, settings: ExploreSetti
     """The explore.json content of a finished loop."""
     world = loop.world
     grid = loop.source.map()
-    reach = reachable_free(world, loop.navigator.global_costmap.inscribed_radius)
+    reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
     cov = coverage(world, grid, reach, loop.world_T_map)
     log = loop.log
     cmds = np.array(log.commands) if log.commands else np.zeros((0, 3))

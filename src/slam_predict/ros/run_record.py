@@ -18,7 +18,6 @@ from pathlib import Path
 from typing import Any, Dict, Optional
 
 from slam_predict.collect import record as rec
-from slam_predict.collect.episode import inscribed_radius
 from slam_predict.collect.record import RunInfo
 from slam_predict.collect.settings import CollectSettings
 from slam_predict.config import config_hash
@@ -31,6 +30,7 @@ def run_coverage(world, grid, settings: CollectSettings, traj: rec.Trajectories)
     if world is None or grid is None or len(traj.t) == 0:
         return None
     from slam_predict.explore.coverage import coverage, reachable_free
+    from slam_predict.nav.costmap import inscribed_radius
 
     reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
     return coverage(world, grid, reach, world_T_map(traj.ground_truth[0], traj.slam[0]))
