@@ -8,8 +8,8 @@ kernel (:func:`slam_predict.slam.gmapping.raytrace.count_beams`: GridLineTravers
 along each beam every cell but the end gets a visit, the end cell a visit and a hit (beams
 longer than ``maxUrange`` are cut there and mark nothing at their end, beams beyond
 ``maxRange`` or non-positive are dropped); a cell is unknown (−1) until visited, occupied (100)
-when hits/visits > occ_thresh, else free (0). The map frame is the world frame; the grid covers the world's bitmap plus
-``margin`` at ``delta`` m/cell.
+when hits/visits > occ_thresh, else free (0). The map frame is the world frame; the grid covers
+the world's bitmap plus ``margin`` at ``delta`` m/cell.
 
 Like GMapping, the source can process only some scans (``linearUpdate`` m / ``angularUpdate`` rad
 of odometry motion, or ``temporalUpdate`` s, since the last processed scan; the first scan is
