@@ -40,3 +40,12 @@ def test_build_record_fields(run_record_keys):
     assert record["config_hashes"] == {"sim": "abc"} and record["timing"] == {"sim": 2.0}
     assert record["metric"]["poses"] == len(traj.t) and record["metric"]["trans_mean"] > 0
     assert record["metric"]["info"]["seed"] == [7, 1]
+
+
+def test_build_record_of_a_run_without_snapshots():
+    """A run that ended before its first snapshot (stuck, a limit) has an empty list."""
+    rule = SnapshotMSE(StopConfig(), 60.0)
+    end = rec.RunEnd("stuck", None, 30.0, 1.0, 0, None)
+    record = rec.build_record(rec.RunInfo("square"), load_settings(), {}, end, square_run(), rule,
+                              None, {})
+    assert record["snapshots"] == [] and record["stop_reason"] == "stuck"

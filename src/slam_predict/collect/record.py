@@ -125,7 +125,7 @@ def build_record(info: RunInfo, settings, hashes: dict[str, str], end: RunEnd,
         "rotation_rad": path_rotation(traj.ground_truth),
         "coverage": end.coverage, "stalls": int(end.stalls), "free_area_m2": free_area_m2,
         "snapshots": [{"t": t, "mse": m}
-                      for t, m in zip(rule.times, [None] + rule.mses, strict=True)],
+                      for t, m in zip(rule.times, [None] + rule.mses, strict=False)],
         "metric": measure(traj, settings, info.seed),
         "timing": {k: float(v) for k, v in timing.items()},
     }
