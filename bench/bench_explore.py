@@ -88,7 +88,7 @@ def row(summary) -> dict:
     """The sweep table's figures of one run."""
     cmd = summary["commands"]
     return {"plan": summary["world"], "area_m2": summary["reachable_free_m2"],
-            "coverage": summary["coverage"], "sim_min": round(summary["sim_time_s"] / 60, 1),
+            "coverage": summary["coverage"], "sim_min": round(summary["sim_duration_s"] / 60, 1),
             "wall_s": summary["wall_time_s"], "distance_m": round(summary["distance_m"], 1),
             "stalls": summary["stalls"], "stop": summary["stop_reason"],
             "limits_ok": limits_kept(cmd), "violations": cmd.get("violations"),
@@ -168,14 +168,14 @@ def run_components(args, settings) -> int:
         wall = summary["wall_time_s"]
         print(f"== {world.name} ({(~world.occupied).sum() * world.resolution ** 2:.0f} m² free, "
               f"{summary['reachable_free_m2']:.0f} m² reachable), seed {args.seed}")
-        print(f"sim time {summary['sim_time_s'] / 60:.1f} min (thesis, 1,500 m² office: 20–40 "
+        print(f"sim time {summary['sim_duration_s'] / 60:.1f} min (thesis, 1,500 m² office: 20–40 "
               f"min) | wall {wall:.1f} s | CPU {cpu:.1f} s | "
               f"{1000 * wall / max(1, len(loop.log.t)):.1f} ms/step")
         print(f"coverage {summary['coverage']:.3f} | distance {summary['distance_m']:.0f} m | "
               f"stalls {summary['stalls']} | stop {summary['stop_reason']} | goals "
               f"{summary['explorer_goals']} | command limits "
               f"{'kept' if limits_kept(summary['commands']) else 'EXCEEDED'}")
-        for name, seconds in sorted(summary["timing_s"].items(), key=lambda kv: -kv[1]):
+        for name, seconds in sorted(summary["timing"].items(), key=lambda kv: -kv[1]):
             print(f"  {name:<12} {seconds:8.1f} s  {100 * seconds / wall:5.1f} %")
         for name, seconds in sorted(totals.items(), key=lambda kv: -kv[1]):
             print(f"    navigator kernel {name:<22} {seconds:8.1f} s  {100 * seconds / wall:5.1f} %")

@@ -23,10 +23,10 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def explore(world_path: Path, world_name: str, index: int, settings, max_sim_time: float) -> dict:
     """Run one closed loop until the explorer stops; its summary."""
-    from slam_predict.collect.episode import inscribed_radius
     from slam_predict.collect.store import run_seed
     from slam_predict.explore.coverage import coverage, reachable_free
     from slam_predict.explore.loop import ClosedLoop
+    from slam_predict.nav.costmap import inscribed_radius
     from slam_predict.world.load import load_plan
 
     world = load_plan(world_path)

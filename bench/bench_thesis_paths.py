@@ -75,7 +75,7 @@ def run_one(worlds_dir: Path, env: str, strategy: str, seed: int, max_sim_time: 
     summary, loop = runner.explore_world(world, seed, settings, "perfect", max_sim_time)
     goals = loop.explorer.log.counts()
     return {"env": env, "strategy": label, "seed": seed, "distance_m": summary["distance_m"],
-            "sim_time_s": summary["sim_time_s"], "coverage": summary["coverage"],
+            "sim_duration_s": summary["sim_duration_s"], "coverage": summary["coverage"],
             "stop_reason": summary["stop_reason"], "stalls": summary["stalls"],
             "wall_time_s": summary["wall_time_s"], "goals": goals}
 
@@ -102,7 +102,7 @@ def report(rows: list, strategies: list, their_len: dict, areas: dict) -> None:
             dist = float(np.mean([r["distance_m"] for r in runs]))
             ratio = dist / their_len[env] if env in their_len else float("nan")
             ratios[s].append((areas.get(env, 0.0), ratio))
-            cells += [f"{dist:.0f}", f"{np.mean([r['sim_time_s'] for r in runs]):.0f}",
+            cells += [f"{dist:.0f}", f"{np.mean([r['sim_duration_s'] for r in runs]):.0f}",
                       f"{ratio:.2f}", f"{np.mean([r['coverage'] for r in runs]):.3f}",
                       ",".join(sorted({r["stop_reason"] for r in runs}))]
         cells.append(f"{their_len.get(env, float('nan')):.0f}")

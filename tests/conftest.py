@@ -49,3 +49,13 @@ def read_only_folder(tmp_path) -> Path:
         yield locked
     finally:
         locked.chmod(0o700)
+
+
+@pytest.fixture(scope="session")
+def run_record_keys() -> frozenset:
+    """run.json's top-level keys as collect.record.build_record writes them (both paths)."""
+    return frozenset({
+        "world", "world_file", "run_index", "seed", "code_version", "config_hashes",
+        "settings_file", "odometry_model", "odometry_error", "stop_reason", "explorer_end",
+        "sim_duration_s", "wall_time_s", "distance_m", "rotation_rad", "coverage", "stalls",
+        "free_area_m2", "snapshots", "metric", "timing", "sensor"})

@@ -38,6 +38,12 @@ def ominus(b, a) -> np.ndarray:
     return compose(inverse(a), b)
 
 
+def world_T_map(world_pose, map_pose) -> np.ndarray:
+    """The map frame's pose in the world frame from one robot pose known in both frames (taken
+    at the same instant): world_pose ⊕ map_pose⁻¹ (m, m, rad)."""
+    return compose(world_pose, inverse(map_pose))
+
+
 def transform_points(pose, points) -> np.ndarray:
     """Map points (N, 2) given in the frame of ``pose`` into the parent frame."""
     pose = np.asarray(pose, dtype=float)

@@ -7,7 +7,7 @@ import pytest
 
 from slam_predict.cli.main import main
 from slam_predict.collect import campaign
-from slam_predict.collect.episode import code_version
+from slam_predict.collect.record import code_version
 from slam_predict.collect.settings import load_settings
 from slam_predict.collect.store import run_seed
 

@@ -46,7 +46,7 @@ def test_full_extent_grid_places_the_map():
     assert canvas[row, col] == 100 and (canvas == 0).sum() == 11 and (canvas == -1).sum() == 4000 ** 2 - 12
 
 
-def test_short_episode_record_reloads_and_is_deterministic(tmp_path):
+def test_short_episode_record_reloads_and_is_deterministic(tmp_path, run_record_keys):
     first, folder = run(tmp_path, "a")
     second, _ = run(tmp_path, "b")
     for name in FILES:
@@ -56,6 +56,7 @@ def test_short_episode_record_reloads_and_is_deterministic(tmp_path):
     assert len(traj.t) == int(round(first["sim_duration_s"] / 0.1))
     assert np.allclose(np.diff(traj.t), 0.1)
     assert without_timing(first) == without_timing(second)
+    assert set(first) - {"sensor_logs"} == run_record_keys   # the builder the ROS path uses too
     assert (folder / "slam.tum").read_text() == (tmp_path / "b/tiny/run_000/slam.tum").read_text()
     metric = first["metric"]
     assert 0 < metric["trans_mean"] < 0.5 and metric["n"] >= 2

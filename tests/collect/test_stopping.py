@@ -1,8 +1,10 @@
-"""The snapshot MSE stop rule against a direct full-image computation."""
+"""The snapshot MSE stop rule against a direct full-image computation; the stuck detector and
+the order of the limits that end a run."""
 import numpy as np
 
-from slam_predict.collect.stopping import (FREE, OCCUPIED, UNKNOWN, SnapshotMSE, StopConfig,
-                                           grid_to_snapshot, snapshot_mse)
+from slam_predict.collect.stopping import (FREE, OCCUPIED, STUCK_DISTANCE_M, UNKNOWN,
+                                           SnapshotMSE, StopConfig, StuckDetector,
+                                           grid_to_snapshot, snapshot_mse, stop_reason)
 
 
 def test_grid_to_snapshot_map_saver_values():
@@ -45,3 +47,31 @@ def test_small_buildings_use_short_interval_and_cap():
     stops = [rule.add(120.0 * (i + 1), rng.choice([FREE, OCCUPIED], (50, 50)).astype(np.uint8))
              for i in range(3)]
     assert stops == [False, False, True] and rule.reason == "max_snapshots"
+
+
+def test_stuck_detector_counts_from_the_last_move_of_more_than_stuck_distance():
+    stuck = StuckDetector()
+    assert stuck.still_for(7.0) == 7.0                 # nothing seen yet: since t0
+    stuck.add(1.0, 0.0, 0.0)
+    stuck.add(2.0, STUCK_DISTANCE_M * 0.99, 0.0)       # less than the distance: no progress
+    assert stuck.still_for(5.0) == 4.0
+    stuck.add(3.0, 0.0, STUCK_DISTANCE_M * 1.01)       # measured from the anchor, not the last
+    assert stuck.still_for(5.0) == 2.0
+    stuck.add(4.0, 0.0, 0.0)                            # back more than the distance
+    assert stuck.still_for(5.0) == 1.0
+
+
+def test_stop_reason_order_and_limits():
+    cfg = StopConfig(stuck_timeout_s=30.0, max_sim_time_s=100.0, max_wall_time_s=50.0)
+    rule = SnapshotMSE(cfg, 60.0)
+    stuck = StuckDetector()
+    stuck.add(0.0, 0.0, 0.0)
+    assert stop_reason(cfg, rule, stuck, 29.9, 0.0, exploring=True) is None
+    assert stop_reason(cfg, rule, stuck, 30.0, 0.0, exploring=True) == "stuck"
+    assert stop_reason(cfg, rule, stuck, 30.0, 0.0, exploring=False) is None  # idle robot
+    assert stop_reason(cfg, rule, stuck, 100.0 - 1e-7, 0.0, exploring=False) == "max_sim_time"
+    assert stop_reason(cfg, rule, stuck, 99.9, 0.0, exploring=False) is None
+    assert stop_reason(cfg, rule, stuck, 10.0, 50.0, exploring=True) == "wall_time_limit"
+    assert stop_reason(cfg, rule, stuck, 200.0, 50.0, exploring=True) == "stuck"
+    rule.reason = "map_converged"                       # the MSE rule comes first
+    assert stop_reason(cfg, rule, stuck, 200.0, 90.0, exploring=True) == "map_converged"

@@ -70,3 +70,14 @@ def test_transform_points():
     pts = np.array([[1.0, 0.0], [0.0, 2.0]])
     out = g.transform_points([1.0, 1.0, np.pi / 2], pts)
     assert np.allclose(out, [[1.0, 2.0], [-1.0, 1.0]])
+
+
+def test_world_T_map_recovers_the_map_frame():
+    rng = np.random.default_rng(0)
+    world_T_map = np.array([rng.uniform(-10, 10), rng.uniform(-10, 10), rng.uniform(-3, 3)])
+    slam = np.column_stack([rng.uniform(-10, 10, (50, 2)), rng.uniform(-np.pi, np.pi, 50)])
+    gt = g.compose(world_T_map, slam)
+    found = g.world_T_map(gt[7], slam[7])
+    np.testing.assert_allclose(found, world_T_map, atol=1e-9)
+    back = g.compose(g.inverse(found), gt)
+    np.testing.assert_allclose(back[:, :2], slam[:, :2], atol=1e-9)

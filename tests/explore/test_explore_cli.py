@@ -28,7 +28,7 @@ def test_explore_writes_json_and_png(room_png, tmp_path, capsys):
     summary = json.loads((out / "explore.json").read_text())
     assert summary["seed"] == 3 and summary["map_source"] == "perfect"
     assert summary["start_pose"][:2] == [1.0, 0.0]
-    assert summary["sim_time_s"] <= 15.0 + 1e-6
+    assert summary["sim_duration_s"] <= 15.0 + 1e-6
     assert 0.0 < summary["coverage"] <= 1.0
     assert (out / "explore.png").read_bytes()[:4] == b"\x89PNG"
     assert "coverage" in capsys.readouterr().out

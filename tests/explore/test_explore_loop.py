@@ -46,7 +46,7 @@ def test_tiny_world_is_explored(root, settings, tmp_path):
     check_run(summary, loop, settings)
     out = runner.write_outputs(tmp_path / "run", summary, loop)
     assert (out / "explore.json").is_file() and (out / "explore.png").stat().st_size > 1000
-    assert set(summary) >= {"coverage", "sim_time_s", "wall_time_s", "distance_m",
+    assert set(summary) >= {"coverage", "sim_duration_s", "wall_time_s", "distance_m",
                             "rotation_rad", "stalls", "stop_reason"}
 
 

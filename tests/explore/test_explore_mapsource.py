@@ -1,4 +1,4 @@
-"""The perfect map source: ray counting against a slow reference, a map that grows only where
+"""The perfect map source: ray counting against GMapping's line walker, a map that grows only where
 the laser sees, GMapping's range rules, frames."""
 from __future__ import annotations
 
@@ -9,50 +9,63 @@ import pytest
 
 from slam_predict.explore.mapsource import PerfectMap, PerfectMapConfig
 from slam_predict.geometry import compose
-from slam_predict.nav.kernels import count_rays
 from slam_predict.slam import LaserGeometry
+from slam_predict.slam.gmapping.raytrace import count_beams, line_cells
 from slam_predict.world.model import World
 
 
-def ref_line(x0, y0, x1, y1):
-    """Integer Bresenham line from (x0, y0) to (x1, y1), both ends included."""
-    dx, dy = abs(x1 - x0), abs(y1 - y0)
-    sx, sy = (1 if x1 >= x0 else -1), (1 if y1 >= y0 else -1)
-    err, x, y, out = dx - dy, x0, y0, []
-    while True:
-        out.append((x, y))
-        if (x, y) == (x1, y1):
-            return out
-        e2 = 2 * err
-        if e2 > -dy:
-            err -= dy
-            x += sx
-        if e2 < dx:
-            err += dx
-            y += sy
+def counted_with_line_cells(shape, x0, y0, ends_x, ends_y, is_hit):
+    """Reference counts [y, x]: every cell of GMapping's line_cells but the end gets a visit,
+    the end a hit and a visit when the beam hit (cells outside ``shape`` skipped)."""
+    hits, visits = np.zeros(shape, np.int32), np.zeros(shape, np.int32)
+    inside = lambda x, y: 0 <= x < shape[1] and 0 <= y < shape[0]  # noqa: E731
+    for x1, y1, hit in zip(ends_x, ends_y, is_hit, strict=True):
+        cells = [tuple(c) for c in line_cells(x0, y0, int(x1), int(y1))]
+        for x, y in cells[:-1]:
+            if inside(x, y) and (x, y) != (x1, y1):
+                visits[y, x] += 1
+        if hit and inside(x1, y1):
+            hits[y1, x1] += 1
+            visits[y1, x1] += 1
+    return hits, visits
 
 
-@pytest.mark.parametrize("seed", range(3))
-def test_count_rays_matches_reference(seed):
+@pytest.mark.parametrize("seed", range(5))
+def test_beams_are_counted_on_gmappings_line_cells(seed):
+    """The perfect map's counting (PerfectMap.update's kernel) against GMapping's own line
+    walker on 2000 random beams, many leaving the grid."""
     rng = np.random.default_rng(seed)
-    hits = np.zeros((30, 40), np.int32)
-    visits = np.zeros_like(hits)
-    x0, y0 = 20, 15
-    ex = rng.integers(-10, 50, 40)
-    ey = rng.integers(-10, 40, 40)
-    is_hit = rng.random(40) < 0.7
-    count_rays(hits, visits, x0, y0, ex, ey, is_hit)
-    ref_h = np.zeros_like(hits)
-    ref_v = np.zeros_like(hits)
-    for x1, y1, h in zip(ex, ey, is_hit):
-        cells = ref_line(x0, y0, int(x1), int(y1))
-        for x, y in cells:
-            if 0 <= x < 40 and 0 <= y < 30:
-                ref_v[y, x] += 1
-        if h and 0 <= x1 < 40 and 0 <= y1 < 30:
-            ref_h[y1, x1] += 1
-    np.testing.assert_array_equal(visits, ref_v)
-    np.testing.assert_array_equal(hits, ref_h)
+    shape = (60, 80)
+    x0, y0 = (int(v) for v in rng.integers(-5, 85, 2))
+    ends_x = rng.integers(-60, 140, 2000)
+    ends_y = rng.integers(-60, 120, 2000)
+    is_hit = rng.random(2000) < 0.7
+    hits, visits = np.zeros(shape, np.int32), np.zeros(shape, np.int32)
+    count_beams(hits.T, visits.T, x0, y0, ends_x, ends_y, is_hit)
+    ref_hits, ref_visits = counted_with_line_cells(shape, x0, y0, ends_x, ends_y, is_hit)
+    np.testing.assert_array_equal(hits, ref_hits)
+    np.testing.assert_array_equal(visits, ref_visits)
+
+
+def test_perfect_map_counts_a_scan_on_line_cells():
+    """PerfectMap.update marks the cells of line_cells from the laser cell to each end cell."""
+    world = two_rooms()
+    angles = np.linspace(-math.pi, math.pi, 361)[:-1]
+    laser = LaserGeometry(angles, (0.0, 0.0, 0.0), 30.0)
+    truth = np.array([-2.013, 0.377, 0.0])   # yaw 0: end points computed exactly as update does
+    source = PerfectMap(world, laser, lambda: truth, PerfectMapConfig(margin=0.5))
+    ranges = cast(world, truth, angles)
+    source.update(np.zeros(3), ranges, 0.1)
+    ox, oy = source.origin
+    ends = truth[:2] + ranges[:, None] * np.stack([np.cos(truth[2] + angles),
+                                                   np.sin(truth[2] + angles)], axis=1)
+    ends_x = np.floor((ends[:, 0] - ox) / 0.05).astype(int)
+    ends_y = np.floor((ends[:, 1] - oy) / 0.05).astype(int)
+    x0, y0 = int(math.floor((truth[0] - ox) / 0.05)), int(math.floor((truth[1] - oy) / 0.05))
+    ref_hits, ref_visits = counted_with_line_cells(source.hits.shape, x0, y0, ends_x, ends_y,
+                                                   np.ones(len(angles), bool))
+    np.testing.assert_array_equal(source.hits, ref_hits)
+    np.testing.assert_array_equal(source.visits, ref_visits)
 
 
 def two_rooms() -> World:

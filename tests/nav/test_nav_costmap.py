@@ -11,7 +11,8 @@ from scipy import ndimage
 
 from slam_predict.nav.config import CostmapConfig
 from slam_predict.nav.costmap import (FREE, INSCRIBED, LETHAL, NO_INFORMATION, InflationLayer,
-                                      footprint_radii, make_footprint, static_costs)
+                                      footprint_radii, inscribed_radius, make_footprint,
+                                      static_costs)
 from slam_predict.nav.layered import LayeredCostmap
 
 
@@ -131,6 +132,21 @@ def test_footprint_padding_and_radii():
     circle = make_footprint(CostmapConfig(robot_radius=0.46, footprint_padding=0.0))
     assert len(circle) == 16
     assert footprint_radii(circle)[0] == pytest.approx(0.46 * math.cos(math.pi / 16))
+
+
+@pytest.mark.parametrize("footprint, padding", [
+    (((-0.2, -0.2), (-0.2, 0.2), (0.2, 0.2), (0.2, -0.2)), 0.01),   # config/costmap_common
+    (((-0.3, -0.1), (-0.1, 0.25), (0.35, 0.15), (0.2, -0.2)), 0.02),
+    ((), 0.0)])                                                         # 16-gon of robot_radius
+def test_inscribed_radius_is_the_padded_polygons_distance_to_its_boundary(footprint, padding):
+    """The robot centre's clearance: the distance from the centre to the nearest of many
+    points sampled on the padded polygon's edges (the coverage's reachable-area rule)."""
+    cfg = CostmapConfig(footprint=footprint, footprint_padding=padding, robot_radius=0.25)
+    poly = make_footprint(cfg)
+    s = np.linspace(0.0, 1.0, 20001)[:, None]
+    edges = [a + s * (b - a) for a, b in zip(poly, np.roll(poly, -1, axis=0), strict=True)]
+    nearest = np.min(np.hypot(*np.vstack(edges).T))
+    assert inscribed_radius(cfg) == pytest.approx(nearest, abs=1e-5)
 
 
 def test_static_translation_table():

@@ -25,7 +25,8 @@ from slam_predict.ros.ground_truth import GroundTruthConfig, GroundTruthSource  
 from slam_predict.ros.orchestrator import RunMonitor, Sample  # noqa: E402
 from slam_predict.ros.orchestrator_config import OrchestratorConfig  # noqa: E402
 from slam_predict.ros.orchestrator_node import OrchestratorNode  # noqa: E402
-from slam_predict.ros.run_record import RunInfo, build_record, world_T_map, write_record  # noqa: E402
+from slam_predict.collect.record import RunInfo  # noqa: E402
+from slam_predict.ros.run_record import build_record, write_record  # noqa: E402
 from slam_predict.sim.simulator import resolve_sensor  # noqa: E402
 from slam_predict.slam import OccupancyGrid  # noqa: E402
 
@@ -158,7 +159,7 @@ def synthetic_monitor(n=300, seed=0):
     return monitor
 
 
-def test_record_has_the_episode_keys_and_reloads(tmp_path):
+def test_record_has_the_episode_keys_and_reloads(tmp_path, run_record_keys):
     from slam_predict.world.load import load_plan
 
     settings = load_settings()
@@ -168,12 +169,7 @@ def test_record_has_the_episode_keys_and_reloads(tmp_path):
                    {"graph": {"sim": "slam_predict"}})
     record = build_record(info, settings, monitor, world, world.free_area_m2, 12.5, {"x": 1.0})
     write_record(tmp_path, record, monitor, settings)
-    expected = {"world", "world_file", "run_index", "seed", "code_version", "config_hashes",
-                "settings_file", "odometry_model", "odometry_error", "stop_reason",
-                "explorer_end", "sim_duration_s", "wall_time_s", "distance_m", "rotation_rad",
-                "coverage", "stalls", "free_area_m2", "snapshots", "metric", "timing", "ros",
-                "sensor"}
-    assert set(record) == expected
+    assert set(record) == run_record_keys | {"ros"}
     assert record["sensor"] == to_dict(resolve_sensor(world, settings.sim))
     loaded, traj = rec.load_record(tmp_path)
     assert loaded["schema"] == rec.SCHEMA_VERSION and loaded["run_index"] == 3
@@ -183,13 +179,6 @@ def test_record_has_the_episode_keys_and_reloads(tmp_path):
     assert record["metric"]["trans_mean"] > 0 and record["metric"]["n"] > 0
     assert 0.0 <= record["coverage"] <= 1.0
     assert record["distance_m"] == pytest.approx(rec.path_length(traj.ground_truth))
-
-
-def test_world_T_map_recovers_the_start_pose():
-    monitor = synthetic_monitor()
-    traj = monitor.trajectories()
-    traj.slam = traj.odom.copy()            # perfect SLAM: map frame = odom frame
-    np.testing.assert_allclose(world_T_map(traj), [-2.0, 0.0, 0.0], atol=1e-12)
 
 
 def test_record_without_world_has_no_coverage(tmp_path):

@@ -19,11 +19,11 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
 from std_msgs.msg import String
 
-from slam_predict.collect.episode import inscribed_radius
 from slam_predict.collect.settings import load_settings
 from slam_predict.explore.coverage import coverage, reachable_free
 from slam_predict.geometry import compose, inverse
 from slam_predict.nav.config import load_nav_config
+from slam_predict.nav.costmap import inscribed_radius
 from slam_predict.nav.navigator import TEXT_NO_PLAN, TEXT_REACHED
 from slam_predict.ros.conversions.nav import goal_to_ros
 from slam_predict.ros.conversions.slam import NumpyOccupancyGrid, grid_from_ros

@@ -90,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.collect.batch import Batch, BatchConfig
     from slam_predict.words import plural
     from slam_predict.collect.campaign import check_out_folder, identity, open_campaign
-    from slam_predict.collect.episode import code_version
+    from slam_predict.collect.record import code_version
     from slam_predict.collect.settings import load_settings
     from slam_predict.collect.summary import write_summary
 

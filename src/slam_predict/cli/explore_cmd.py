@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         runner.write_outputs(tmp, summary, loop)
     out = args.out
     print(f"{world.name}: coverage {summary['coverage']:.1%} of {summary['reachable_free_m2']} m² "
-          f"in {summary['sim_time_s'] / 60:.1f} min sim ({summary['wall_time_s']:.0f} s wall), "
+          f"in {summary['sim_duration_s'] / 60:.1f} min sim ({summary['wall_time_s']:.0f} s wall), "
           f"{summary['distance_m']:.0f} m, {plural(summary['stalls'], 'stall')}, "
           f"stop: {summary['stop_reason']} -> {out}")
     return 0

@@ -10,37 +10,22 @@ run; the reason is recorded. The record is written into a temporary folder renam
 """
 from __future__ import annotations
 
-import functools
 import logging
-import subprocess
 import time
 from pathlib import Path
 from typing import Dict, List, Optional
 
 import numpy as np
 
-from slam_predict import __version__
 from slam_predict.atomic import atomic_dir
 from slam_predict.collect import interrupt
 from slam_predict.collect import record as rec
 from slam_predict.collect.settings import CollectSettings, load_settings
-from slam_predict.collect.stopping import SnapshotMSE, grid_to_snapshot
+from slam_predict.collect.stopping import SnapshotMSE, StuckDetector, grid_to_snapshot, stop_reason
 from slam_predict.config import to_dict
 from slam_predict.paths import portable_path
 
 LOG = logging.getLogger(__name__)
-STUCK_DISTANCE_M = 0.1
-
-
-@functools.lru_cache(maxsize=1)
-def code_version() -> str:
-    """Package version plus the git commit of the source tree, when known."""
-    try:
-        sha = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
-                             text=True, cwd=Path(__file__).parent, timeout=5).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        sha = ""
-    return f"{__version__}+{sha}" if sha else __version__
 
 
 def full_extent_grid(grid, params) -> np.ndarray:
@@ -59,16 +44,6 @@ def full_extent_grid(grid, params) -> np.ndarray:
     return canvas
 
 
-def inscribed_radius(costmap) -> float:
-    """The costmap footprint's inscribed radius (m): the clearance the robot centre needs."""
-    if not costmap.footprint:
-        return float(costmap.robot_radius)
-    points = np.asarray(costmap.footprint, float)
-    edges = np.roll(points, -1, axis=0) - points
-    cross = np.abs(points[:, 0] * edges[:, 1] - points[:, 1] * edges[:, 0])
-    return float(np.min(cross / np.hypot(edges[:, 0], edges[:, 1])))
-
-
 class Recorder:
     """Per-step trajectories (10 Hz) and the stuck detector."""
 
@@ -77,8 +52,7 @@ class Recorder:
         self.gt: List[np.ndarray] = []
         self.slam: List[np.ndarray] = []
         self.odom: List[np.ndarray] = []
-        self._anchor = None
-        self._anchor_t = 0.0
+        self.stuck = StuckDetector()
 
     def add(self, loop) -> None:
         state = loop.state
@@ -86,30 +60,11 @@ class Recorder:
         self.gt.append(np.array(state.true_pose, float))
         self.slam.append(np.array(loop.robot_pose_map, float))
         self.odom.append(np.array(state.odom_pose, float))
-        if self._anchor is None or np.hypot(*(state.true_pose[:2] - self._anchor)) > STUCK_DISTANCE_M:
-            self._anchor, self._anchor_t = np.array(state.true_pose[:2]), float(state.t)
-
-    def still_for(self, t: float) -> float:
-        """Sim time (s) since the robot last moved ``STUCK_DISTANCE_M``."""
-        return t - self._anchor_t
+        self.stuck.add(float(state.t), state.true_pose[0], state.true_pose[1])
 
     def trajectories(self) -> rec.Trajectories:
         return rec.Trajectories(np.asarray(self.t), np.asarray(self.gt), np.asarray(self.slam),
                                 np.asarray(self.odom))
-
-
-def _stop_reason(loop, rule: SnapshotMSE, recorder: Recorder, settings: CollectSettings,
-                 wall_start: float) -> Optional[str]:
-    t = loop.t
-    if rule.reason:
-        return rule.reason
-    if not loop.explorer.done and recorder.still_for(t) >= settings.stop.stuck_timeout_s:
-        return "stuck"
-    if t >= settings.stop.max_sim_time_s:
-        return "max_sim_time"
-    if time.perf_counter() - wall_start >= settings.stop.max_wall_time_s:
-        return "wall_time_limit"
-    return None
 
 
 def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_m2: float):
@@ -128,29 +83,17 @@ def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_
             snapshot = grid_to_snapshot(full_extent_grid(loop.source.map(), settings.gmapping))
             rule.add(loop.t, snapshot)
             rec.write_snapshot(folder, len(rule.times), snapshot)
-        reason = _stop_reason(loop, rule, recorder, settings, wall_start)
+        reason = stop_reason(settings.stop, rule, recorder.stuck, loop.t,
+                             time.perf_counter() - wall_start, not loop.explorer.done)
         if reason:
             return reason, rule, recorder, explorer_end, time.perf_counter() - wall_start
-
-
-def measure(traj: rec.Trajectories, settings: CollectSettings, seed: int) -> Dict:
-    """The run's Kümmerle statistics on the pause-free trajectories (thesis sampling)."""
-    from slam_predict.metric.kummerle import evaluate_sampled
-
-    _, slam, gt = traj.adjusted()
-    m = settings.metric
-    result = evaluate_sampled(slam, gt, np.random.default_rng([seed, 1]), pilot=m.pilot,
-                              margin_trans=m.margin_trans, margin_rot=m.margin_rot,
-                              confidence=m.confidence)
-    info = {**result.info, "seed": [int(seed), 1]}   # `metric evaluate --seed S 1` reproduces it
-    return {**result.summary(), "info": info, "poses": int(len(gt))}
 
 
 def _sensor_recorder(folder: Path, loop, spec):
     from slam_predict.collect.sensorlog import SensorLogRecorder
 
     recorder = SensorLogRecorder(folder, loop.publisher, header=[
-        f"slam_predict {code_version()} sensor log: world {spec.world} "
+        f"slam_predict {rec.code_version()} sensor log: world {spec.world} "
         f"({portable_path(spec.world_path)}), run {spec.index}, seed {spec.seed}"])
     loop.observers.append(recorder)
     return recorder
@@ -173,6 +116,7 @@ def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
     """Run one exploration (a :class:`~slam_predict.collect.batch.RunSpec`); returns run.json."""
     from slam_predict.explore.coverage import coverage, reachable_free
     from slam_predict.explore.loop import ClosedLoop
+    from slam_predict.nav.costmap import inscribed_radius
     from slam_predict.world.load import load_plan
 
     settings = settings or load_settings(spec.options.get("settings"))
@@ -191,23 +135,13 @@ def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
         traj = recorder.trajectories()
         grid = loop.source.map()
         reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
-        record = {
-            "world": spec.world, "world_file": portable_path(spec.world_path), "run_index": spec.index,
-            "seed": spec.seed, "code_version": code_version(), "config_hashes": settings.hashes(),
-            "settings_file": portable_path(settings.source),
-            "odometry_model": settings.sim.odom.model,
-            "odometry_error": loop.sim.odom_error,
-            "sensor": to_dict(loop.sim.sensor),
-            "stop_reason": reason, "explorer_end": explorer_end,
-            "sim_duration_s": float(loop.t), "wall_time_s": wall,
-            "distance_m": rec.path_length(traj.ground_truth),
-            "rotation_rad": rec.path_rotation(traj.ground_truth),
-            "coverage": coverage(world, grid, reach, loop.world_T_map),
-            "stalls": loop.log.stalls, "free_area_m2": world.free_area_m2,
-            "snapshots": [{"t": t, "mse": m} for t, m in zip(rule.times, [None] + rule.mses)],
-            "metric": measure(traj, settings, spec.seed),
-            "timing": {k: float(v) for k, v in loop.timing.items()},
-        }
+        info = rec.RunInfo(spec.world, spec.world_path, spec.index, spec.seed,
+                           odometry_error=loop.sim.odom_error,
+                           sensor=to_dict(loop.sim.sensor))
+        end = rec.RunEnd(reason, explorer_end, loop.t, wall, loop.log.stalls,
+                         coverage(world, grid, reach, loop.world_T_map))
+        record = rec.build_record(info, settings, settings.hashes(), end, traj, rule,
+                                  world.free_area_m2, loop.timing)
         rec.write_trajectories(folder, traj)
         rec.write_map(folder, grid.data, grid.resolution, grid.origin)
         if settings.bag:

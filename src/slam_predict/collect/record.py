@@ -6,19 +6,27 @@ timestamp x y z qx qy qz qw), ``ground_truth.log`` / ``slam.log`` (CARMEN ``FLAS
 the thesis fed Freiburg's metricEvaluator), ``map.pgm`` + ``map.yaml`` (final SLAM map,
 map_saver values), ``map.png`` (preview), ``snapshots/snapshot_NN.png`` and optionally
 ``run.bag`` (PoseStamped topics ``/base_pose_ground_truth`` and ``/slam_pose``).
+
+:func:`build_record` is run.json's one builder: the in-process episode
+(:mod:`slam_predict.collect.episode`) and the ROS path (:mod:`slam_predict.ros.run_record`)
+both call it, so the two records have the same keys computed the same way.
 """
 from __future__ import annotations
 
+import functools
 import json
-from dataclasses import dataclass
+import subprocess
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, List, Tuple
+from typing import Any, Dict, List, Tuple
 
 import cv2
 import numpy as np
 
+from slam_predict import __version__
 from slam_predict.formats import carmen, mapserver, tum
 from slam_predict.metric.association import dedupe_consecutive
+from slam_predict.paths import portable_path
 
 SCHEMA_VERSION = 1
 # run.json fields that legitimately differ between two runs with the same seed.
@@ -41,6 +49,87 @@ class Trajectories:
         keep_t, _ = dedupe_consecutive(self.t, self.ground_truth)
         mask = np.isin(self.t, keep_t)
         return self.t[mask], self.slam[mask], self.ground_truth[mask]
+
+
+@dataclass
+class RunInfo:
+    """What the batch knows about a run: world name and file (may be empty), index, seed, the
+    odometry error model's name and its drawn parameters (None when unknown)."""
+
+    world: str
+    world_file: str = ""
+    run_index: int = 0
+    seed: int = 0
+    odometry_model: str = ""
+    odometry_error: dict[str, Any] | None = None
+    sensor: dict[str, Any] | None = None
+    ros: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class RunEnd:
+    """How a run ended: stop reason, the explorer's end ({t, reason} or None), sim and wall
+    duration (s), stall count and coverage (0-1, None without a world)."""
+
+    stop_reason: str | None
+    explorer_end: dict[str, Any] | None
+    sim_duration_s: float
+    wall_time_s: float
+    stalls: int
+    coverage: float | None
+
+
+@functools.lru_cache(maxsize=1)
+def code_version() -> str:
+    """Package version plus the git commit of the source tree, when known."""
+    try:
+        sha = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                             text=True, cwd=Path(__file__).parent, timeout=5).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        sha = ""
+    return f"{__version__}+{sha}" if sha else __version__
+
+
+def measure(traj: Trajectories, settings, seed: int) -> dict:
+    """The run's Kümmerle statistics on the pause-free trajectories (thesis sampling)."""
+    from slam_predict.metric.kummerle import evaluate_sampled
+
+    _, slam, gt = traj.adjusted()
+    m = settings.metric
+    result = evaluate_sampled(slam, gt, np.random.default_rng([seed, 1]), pilot=m.pilot,
+                              margin_trans=m.margin_trans, margin_rot=m.margin_rot,
+                              confidence=m.confidence)
+    info = {**result.info, "seed": [int(seed), 1]}   # `metric evaluate --seed S 1` reproduces it
+    return {**result.summary(), "info": info, "poses": int(len(gt))}
+
+
+def build_record(info: RunInfo, settings, hashes: dict[str, str], end: RunEnd,
+                 traj: Trajectories, rule, free_area_m2: float | None,
+                 timing: dict[str, float]) -> dict[str, Any]:
+    """run.json content (without ``schema``) of a finished run.
+
+    Args:
+        settings: the :class:`~slam_predict.collect.settings.CollectSettings` of the run.
+        hashes: config hashes recorded as ``config_hashes``.
+        rule: the run's :class:`~slam_predict.collect.stopping.SnapshotMSE` (its snapshots).
+        timing: wall times (s) of the run's parts.
+    """
+    return {
+        "world": info.world, "world_file": portable_path(info.world_file),
+        "run_index": info.run_index, "seed": info.seed, "code_version": code_version(),
+        "config_hashes": hashes, "settings_file": portable_path(settings.source),
+        "odometry_model": info.odometry_model or settings.sim.odom.model,
+        "odometry_error": info.odometry_error, "sensor": info.sensor,
+        "stop_reason": end.stop_reason, "explorer_end": end.explorer_end,
+        "sim_duration_s": float(end.sim_duration_s), "wall_time_s": float(end.wall_time_s),
+        "distance_m": path_length(traj.ground_truth),
+        "rotation_rad": path_rotation(traj.ground_truth),
+        "coverage": end.coverage, "stalls": int(end.stalls), "free_area_m2": free_area_m2,
+        "snapshots": [{"t": t, "mse": m}
+                      for t, m in zip(rule.times, [None] + rule.mses, strict=False)],
+        "metric": measure(traj, settings, info.seed),
+        "timing": {k: float(v) for k, v in timing.items()},
+    }
 
 
 def path_length(poses: np.ndarray) -> float:

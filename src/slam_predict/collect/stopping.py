@@ -5,9 +5,16 @@ configured map extent (xmin..xmax, ymin..ymax at ``delta``): 0 occupied, 205 unk
 Every ``interval_s`` of sim time (120 s for buildings under ``small_area_m2``) a snapshot is taken;
 the run stops when the mean squared error between two consecutive snapshots is below
 ``mse_threshold``, or after ``max_snapshots`` snapshots.
+
+The limits that also end a run (:func:`stop_reason`, in this order after the MSE rule): the
+robot is stuck (no ``STUCK_DISTANCE_M`` of ground-truth progress for ``stuck_timeout_s`` while
+the explorer still runs, :class:`StuckDetector`), ``max_sim_time_s`` of sim time, then
+``max_wall_time_s`` of wall time. The in-process episode and the ROS path's orchestrator both
+apply these two functions.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import ClassVar, Dict, List, Optional
 
@@ -15,6 +22,9 @@ import numpy as np
 
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
 from slam_predict.formats.mapserver import FREE, OCCUPIED, UNKNOWN, occupancy_to_image
+
+STUCK_DISTANCE_M = 0.1   # m of ground-truth progress that resets the stuck clock
+TIME_EPS = 1e-6          # s: sim times are compared with this tolerance
 
 
 @dataclass
@@ -108,3 +118,40 @@ class SnapshotMSE:
         if self.reason is None and len(self.times) >= self.config.max_snapshots:
             self.reason = "max_snapshots"
         return self.reason is not None
+
+
+class StuckDetector:
+    """Sim time since the robot last moved ``STUCK_DISTANCE_M`` (ground truth, m)."""
+
+    def __init__(self, t0: float = 0.0):
+        self._anchor: tuple | None = None
+        self._anchor_t = float(t0)
+
+    def add(self, t: float, x: float, y: float) -> None:
+        """The ground-truth position (m) at sim time ``t`` (s); times must not decrease."""
+        if self._anchor is None or math.hypot(x - self._anchor[0],
+                                              y - self._anchor[1]) > STUCK_DISTANCE_M:
+            self._anchor, self._anchor_t = (float(x), float(y)), float(t)
+
+    def still_for(self, t: float) -> float:
+        """Sim time (s) at ``t`` since the robot last moved ``STUCK_DISTANCE_M``."""
+        return t - self._anchor_t
+
+
+def stop_reason(stop: StopConfig, rule: SnapshotMSE, stuck: StuckDetector, elapsed_s: float,
+                wall_s: float, exploring: bool) -> str | None:
+    """Why the run ends at sim time ``elapsed_s`` after ``wall_s`` of wall time, or None.
+
+    ``rule``'s reason first, then ``stuck`` (only while ``exploring``: an explorer that has
+    stopped leaves the robot idle and the MSE rule decides), ``max_sim_time``,
+    ``wall_time_limit``.
+    """
+    if rule.reason:
+        return rule.reason
+    if exploring and stuck.still_for(elapsed_s) >= stop.stuck_timeout_s:
+        return "stuck"
+    if elapsed_s + TIME_EPS >= stop.max_sim_time_s:
+        return "max_sim_time"
+    if wall_s >= stop.max_wall_time_s:
+        return "wall_time_limit"
+    return None

@@ -3,12 +3,13 @@ poses, so the map grows only as the robot sees, with no localisation error.
 
 It has the SLAM back-end interface (:class:`slam_predict.slam.SlamBackend`:
 ``update(odom_pose, ranges, t) -> pose``, ``map()``, ``pose()``, ``map_to_odom()``) so the
-closed loop swaps it for GMapping without other changes. The map is counted the way GMapping
-counts: along each beam every cell gets a visit, the end cell a visit and a hit (beams longer
-than ``maxUrange`` are cut there and mark no hit, beams beyond ``maxRange`` or non-positive are
-dropped); a cell is unknown (−1) until visited, occupied (100) when hits/visits > occ_thresh,
-else free (0). The map frame is the world frame; the grid covers the world's bitmap plus
-``margin`` at ``delta`` m/cell.
+closed loop swaps it for GMapping without other changes. The map is counted with GMapping's own
+kernel (:func:`slam_predict.slam.gmapping.raytrace.count_beams`: GridLineTraversal's cells):
+along each beam every cell but the end gets a visit, the end cell a visit and a hit (beams
+longer than ``maxUrange`` are cut there and mark nothing at their end, beams beyond
+``maxRange`` or non-positive are dropped); a cell is unknown (−1) until visited, occupied (100)
+when hits/visits > occ_thresh, else free (0). The map frame is the world frame; the grid covers
+the world's bitmap plus ``margin`` at ``delta`` m/cell.
 
 Like GMapping, the source can process only some scans (``linearUpdate`` m / ``angularUpdate`` rad
 of odometry motion, or ``temporalUpdate`` s, since the last processed scan; the first scan is
@@ -25,8 +26,8 @@ import numpy as np
 
 from slam_predict.config import FRACTION, NON_NEGATIVE, POSITIVE, Range
 from slam_predict.geometry import compose, inverse
-from slam_predict.nav import kernels
 from slam_predict.slam import LaserGeometry, OccupancyGrid, SlamBackend
+from slam_predict.slam.gmapping.raytrace import count_beams
 from slam_predict.world.model import World
 
 
@@ -76,11 +77,11 @@ class PerfectMap(SlamBackend):
         self.laser = laser
         self.truth = truth
         cfg = self.config
-        rows, cols = world.shape
-        x_left = world.origin[0] - cols * world.resolution / 2.0 - cfg.margin
-        y_bottom = world.origin[1] - rows * world.resolution / 2.0 - cfg.margin
-        nx = int(math.ceil((cols * world.resolution + 2 * cfg.margin) / cfg.delta))
-        ny = int(math.ceil((rows * world.resolution + 2 * cfg.margin) / cfg.delta))
+        xmin, ymin, _, _ = world.extent
+        width, height = world.size_m
+        x_left, y_bottom = xmin - cfg.margin, ymin - cfg.margin
+        nx = int(math.ceil((width + 2 * cfg.margin) / cfg.delta))
+        ny = int(math.ceil((height + 2 * cfg.margin) / cfg.delta))
         self.origin = (x_left, y_bottom)
         self.hits = np.zeros((ny, nx), np.int32)
         self.visits = np.zeros((ny, nx), np.int32)
@@ -131,7 +132,7 @@ class PerfectMap(SlamBackend):
         ends_y = np.floor((laser[1] + r * by - oy) / d).astype(np.int64)
         x0 = int(math.floor((laser[0] - ox) / d))
         y0 = int(math.floor((laser[1] - oy) / d))
-        kernels.count_rays(self.hits, self.visits, x0, y0, ends_x, ends_y, hit)
+        count_beams(self.hits.T, self.visits.T, x0, y0, ends_x, ends_y, hit)  # [x, y] views
         self._pose = true_pose
         self._map_to_odom = compose(true_pose, inverse(np.asarray(odom_pose, dtype=float)))
         self._grid = None

@@ -24,6 +24,7 @@ from slam_predict.explore.explorer import ExploreConfig
 from slam_predict.explore.loop import ClosedLoop
 from slam_predict.explore.mapsource import PerfectMapConfig
 from slam_predict.nav.config import MoveBaseConfig, load_nav_config
+from slam_predict.nav.costmap import inscribed_radius
 from slam_predict.sim import SimConfig
 from slam_predict.world.model import World
 
@@ -92,7 +93,7 @@ def summarize(loop: ClosedLoop, reason: str, wall: float, settings: ExploreSetti
     """The explore.json content of a finished loop."""
     world = loop.world
     grid = loop.source.map()
-    reach = reachable_free(world, loop.navigator.global_costmap.inscribed_radius)
+    reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
     cov = coverage(world, grid, reach, loop.world_T_map)
     log = loop.log
     cmds = np.array(log.commands) if log.commands else np.zeros((0, 3))
@@ -109,7 +110,7 @@ def summarize(loop: ClosedLoop, reason: str, wall: float, settings: ExploreSetti
         "map_source": loop.map_source_name,
         "coverage": round(cov, 4),
         "reachable_free_m2": round(float(reach.sum()) * world.resolution ** 2, 2),
-        "sim_time_s": round(loop.t, 2),
+        "sim_duration_s": round(loop.t, 2),
         "wall_time_s": round(wall, 2),
         "distance_m": round(log.distance_m, 3),
         "rotation_rad": round(log.rotation_rad, 3),
@@ -123,9 +124,9 @@ def summarize(loop: ClosedLoop, reason: str, wall: float, settings: ExploreSetti
         "goal_time_limits_s": [g["time_limit"] for g in loop.explorer.log.goals],
         "navigator_goals": goals,
         "commands": command_stats(cmds, settings.nav),
-        "timing_s": {k: round(v, 3) for k, v in sorted(loop.timing.items())},
+        "timing": {k: round(v, 3) for k, v in sorted(loop.timing.items())},
         "timing_share": {k: round(v / total, 4) for k, v in sorted(loop.timing.items())},
-        "config_hashes": {"move_base": config_hash(settings.nav),
+        "config_hashes": {"nav": config_hash(settings.nav),
                           "explore": config_hash(settings.explore),
                           "sim": config_hash(settings.sim),
                           "perfect_map": config_hash(settings.perfect)},

@@ -27,7 +27,8 @@ POSE_TYPES = {
 }
 
 
-def _stamp(header) -> float:
+def header_stamp(header) -> float:
+    """A message header's stamp in s."""
     return header.stamp.sec + header.stamp.nanosec * 1e-9
 
 
@@ -82,7 +83,7 @@ def _read(reader, path: str, topic: str, tf_frames) -> Tuple[np.ndarray, np.ndar
         if conn.msgtype not in POSE_TYPES:
             raise InputError(f"topic {topic} has type {conn.msgtype}; supported: "
                              f"{', '.join(sorted(POSE_TYPES))}", path)
-        rows.append((_stamp(msg.header), *_planar(*POSE_TYPES[conn.msgtype](msg))))
+        rows.append((header_stamp(msg.header), *_planar(*POSE_TYPES[conn.msgtype](msg))))
     if not rows:
         raise InputError(f"no poses on {topic}", path)
     data = np.array(rows, dtype=float)
@@ -94,7 +95,8 @@ def _tf_rows(msg, frames) -> Iterable[tuple]:
     parent, child = frames
     for tr in msg.transforms:
         if tr.header.frame_id.lstrip("/") == parent and tr.child_frame_id.lstrip("/") == child:
-            yield (_stamp(tr.header), *_planar(tr.transform.translation, tr.transform.rotation))
+            yield (header_stamp(tr.header),
+                   *_planar(tr.transform.translation, tr.transform.rotation))
 
 
 def write_pose_bag(path: os.PathLike | str, topics: Dict[str, Tuple[np.ndarray, np.ndarray]],

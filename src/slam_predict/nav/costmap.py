@@ -100,6 +100,12 @@ def footprint_radii(footprint: np.ndarray) -> Tuple[float, float]:
     return float(inscribed), circumscribed
 
 
+def inscribed_radius(cfg: CostmapConfig) -> float:
+    """Inscribed radius (m) of the padded footprint of ``cfg``: the clearance the costmaps give
+    the robot centre (cells nearer an obstacle are INSCRIBED, never planned through)."""
+    return footprint_radii(make_footprint(cfg))[0]
+
+
 def _point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
     ab = b - a
     denom = float(ab @ ab)

@@ -361,7 +361,7 @@ def target_distance(costs, within_robot, seeds_x, seeds_y, dist, queue, cx, cy, 
 
 
 # --------------------------------------------------------------------------------------------
-# Ray tracing (costmap_2d ObstacleLayer and an occupancy counter for the map source)
+# Ray tracing (costmap_2d ObstacleLayer clearing)
 # --------------------------------------------------------------------------------------------
 @numba.njit(cache=True)
 def _bresenham_mark(grid, x0, y0, x1, y1, max_len, value):
@@ -463,40 +463,6 @@ def obstacle_update(grid, ox, oy, res, sensor_x, sensor_y, points, raytrace_rang
                 grid[my, mx] = LETHAL
 
 
-@numba.njit(cache=True)
-def count_rays(hits, visits, x0, y0, ends_x, ends_y, is_hit):
-    """Hit/visit counting along beams (GMapping's map update, on integer cells [y, x]).
-
-    Every cell from (x0, y0) up to (excluding) the end cell gets a visit; the end cell gets a
-    visit and, when ``is_hit``, a hit. Cells outside the grid are skipped.
-    """
-    ny, nx = hits.shape
-    for k in range(ends_x.shape[0]):
-        x1 = ends_x[k]
-        y1 = ends_y[k]
-        dx = abs(x1 - x0)
-        dy = abs(y1 - y0)
-        sx = 1 if x1 >= x0 else -1
-        sy = 1 if y1 >= y0 else -1
-        err = dx - dy
-        x = x0
-        y = y0
-        while x != x1 or y != y1:
-            if 0 <= x < nx and 0 <= y < ny:
-                visits[y, x] += 1
-            e2 = 2 * err
-            if e2 > -dy:
-                err -= dy
-                x += sx
-            if e2 < dx:
-                err += dx
-                y += sy
-        if 0 <= x1 < nx and 0 <= y1 < ny:
-            visits[y1, x1] += 1
-            if is_hit[k]:
-                hits[y1, x1] += 1
-
-
 def warmup() -> None:
     """Compile every kernel of the navigation stack on tiny inputs."""
     from slam_predict.nav import rollout
@@ -515,6 +481,4 @@ def warmup() -> None:
                     np.empty((6, 6)), np.empty((36, 2), np.int32), 0, 0, -1)
     obstacle_update(grid, 0.0, 0.0, 0.1, 0.05, 0.05, np.array([[0.45, 0.35]]), 3.0, 2.5,
                     True, True)
-    counts = np.zeros((6, 6), np.int32)
-    count_rays(counts, counts.copy(), 0, 0, np.array([5]), np.array([3]), np.array([True]))
     rollout.warmup()

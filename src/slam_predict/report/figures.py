@@ -19,16 +19,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from slam_predict.formats.mapserver import FREE, OCCUPIED, MapServerMap  # noqa: E402
-from slam_predict.geometry import compose, inverse, ominus  # noqa: E402
+from slam_predict.geometry import compose, inverse, ominus, world_T_map  # noqa: E402
 
 CROP_MARGIN_M = 1.0
 DPI = 100
 MAX_DISPLAY_PX = 1400
-
-
-def world_T_map(ground_truth: np.ndarray, slam: np.ndarray) -> np.ndarray:
-    """Pose (x, y, yaw) of the SLAM map frame in the world frame from the first samples."""
-    return compose(ground_truth[0], inverse(slam[0]))
 
 
 def to_origin_frame(points_map: np.ndarray, origin: Sequence[float]) -> np.ndarray:
@@ -114,7 +109,7 @@ def map_overlay_figure(grid: MapServerMap, ground_truth: np.ndarray, slam: np.nd
     """The final SLAM map with the ground-truth (world → map frame) and SLAM paths on it;
     axes in the map frame (m) when the map origin has no yaw."""
     origin = np.asarray(grid.origin, float)
-    gt_map = compose(inverse(world_T_map(ground_truth, slam)), ground_truth)
+    gt_map = compose(inverse(world_T_map(ground_truth[0], slam[0])), ground_truth)
     gt_xy = to_origin_frame(gt_map, origin)[:, :2]
     slam_xy = to_origin_frame(slam, origin)[:, :2]
     raw = 255 - grid.image if grid.negate else grid.image

@@ -5,7 +5,9 @@ tested without a master): ``tick(t)`` for every /clock message (or timer tick on
 ``set_map(grid)`` for every /map, ``resolve(lookup)`` to turn the queued sample times into poses
 once tf and the ground-truth source have them, ``set_explorer_end`` when the explorer gives up.
 
-It applies the same rules as the in-process episode (:mod:`slam_predict.collect.episode`):
+It applies the same rules as the in-process episode (:mod:`slam_predict.collect.episode`), from
+the same module (:mod:`slam_predict.collect.stopping`: :class:`SnapshotMSE`,
+:class:`StuckDetector`, :func:`stop_reason`):
 
 * a sample is queued at every multiple of ``sample_period_s`` (0.1 s; the first at t0 + 0.1 s
   as the in-process loop's first step; ticks may be missed or irregular) and holds ground truth, the SLAM pose (tf map→base_link, i.e. map→odom ∘
@@ -36,12 +38,11 @@ import numpy as np
 
 from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
 from slam_predict.collect import record as rec
-from slam_predict.collect.stopping import SnapshotMSE, StopConfig, grid_to_snapshot
+from slam_predict.collect.stopping import (TIME_EPS, SnapshotMSE, StopConfig, StuckDetector,
+                                           grid_to_snapshot, stop_reason)
 
 LOG = logging.getLogger(__name__)
-STUCK_DISTANCE_M = 0.1          # the in-process episode's progress distance
 STILL_EPS = 1e-9                # m / rad: "did not move at all" (a refused move)
-TIME_EPS = 1e-6                 # s: tick times are compared with this tolerance
 
 
 @dataclass
@@ -104,8 +105,7 @@ class RunMonitor:
         self.stalls = 0
         self._stalled = False
         self._next_k = 1
-        self._anchor: Optional[np.ndarray] = None
-        self._anchor_t = self.t0
+        self.stuck = StuckDetector()    # fed elapsed times (t − t0)
         self.wall_start = self.wall_clock()
 
     # -- inputs ----------------------------------------------------------------------------
@@ -127,7 +127,8 @@ class RunMonitor:
         elapsed = t - self.t0
         if self.rule.due(elapsed) and self.grid is not None:
             self._snapshot(elapsed)
-        reason = self._stop_reason(elapsed)
+        reason = stop_reason(self.stop, self.rule, self.stuck, elapsed,
+                             self.wall_clock() - self.wall_start, self.explorer_end is None)
         if reason:
             self.reason, self.t_stop = reason, t
             LOG.info("run stops at %.1f s: %s", elapsed, reason)
@@ -197,10 +198,6 @@ class RunMonitor:
         end = self.t_stop if self.t_stop is not None else (self.now or self.t0)
         return float(end - self.t0)
 
-    def still_for(self, elapsed: float) -> float:
-        """Time (s) since the ground truth last moved ``STUCK_DISTANCE_M``."""
-        return elapsed - (self._anchor_t - self.t0)
-
     def trajectories(self) -> rec.Trajectories:
         """The samples as :class:`~slam_predict.collect.record.Trajectories`."""
         def stack(name: str) -> np.ndarray:
@@ -224,18 +221,6 @@ class RunMonitor:
         LOG.info("snapshot %d at %.1f s (MSE %s)", len(self.rule.times), elapsed,
                  "-" if mse is None else f"{mse:.2f}")
 
-    def _stop_reason(self, elapsed: float) -> Optional[str]:
-        stop = self.stop
-        if self.rule.reason:
-            return self.rule.reason
-        if self.explorer_end is None and self.still_for(elapsed) >= stop.stuck_timeout_s:
-            return "stuck"
-        if elapsed + TIME_EPS >= stop.max_sim_time_s:
-            return "max_sim_time"
-        if self.wall_clock() - self.wall_start >= stop.max_wall_time_s:
-            return "wall_time_limit"
-        return None
-
     def _add(self, sample: Sample) -> None:
         gt = np.asarray(sample.ground_truth, float)
         odom = np.asarray(sample.odom, float)
@@ -245,8 +230,7 @@ class RunMonitor:
             if stalled and not self._stalled:
                 self.stalls += 1
             self._stalled = stalled
-        if self._anchor is None or math.hypot(*(gt[:2] - self._anchor)) > STUCK_DISTANCE_M:
-            self._anchor, self._anchor_t = gt[:2].copy(), float(sample.t)
+        self.stuck.add(float(sample.t) - self.t0, gt[0], gt[1])
         self.samples.append(Sample(float(sample.t), gt, np.asarray(sample.slam, float), odom))
 
 

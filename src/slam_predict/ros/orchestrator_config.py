@@ -85,9 +85,9 @@ class RunSetup:
 
 def read_setup(rospy_module) -> RunSetup:
     """Params → configs, world and run identity (InputError on bad input)."""
+    from slam_predict.collect.record import RunInfo
     from slam_predict.collect.settings import load_settings
     from slam_predict.errors import InputError
-    from slam_predict.ros.run_record import RunInfo
     from slam_predict.world.load import load_plan
 
     get = rospy_module.get_param

@@ -2,10 +2,9 @@
 
 Files (:mod:`slam_predict.collect.record`): ``run.json``, ``ground_truth.tum``, ``slam.tum``,
 ``odom.tum``, the CARMEN logs, ``map.pgm``/``map.yaml``/``map.png``, ``snapshots/`` and, when the
-settings ask for it, ``run.bag``. run.json has every key of the in-process record
-(:func:`slam_predict.collect.episode.run_episode`), computed the same way (metric:
-:func:`~slam_predict.collect.episode.measure` on the pause-free trajectories), plus one key
-``ros`` describing the graph (node choices, ground-truth source, dropped samples).
+settings ask for it, ``run.bag``. run.json is built by the in-process episode's builder
+(:func:`slam_predict.collect.record.build_record`: the same keys, computed the same way), plus
+one key ``ros`` describing the graph (node choices, ground-truth source, dropped samples).
 
 Differences that follow from the ROS graph (documented in docs/ros.md): ``timing`` holds wall
 times of the run's phases (the nodes' internal timings are not observable); ``coverage`` uses
@@ -16,40 +15,17 @@ of the world file with the robot file's overrides (``null`` without a world file
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import dataclasses
 from pathlib import Path
 from typing import Any, Dict, Optional
 
-import numpy as np
-
 from slam_predict.collect import record as rec
-from slam_predict.collect.episode import code_version, inscribed_radius, measure
+from slam_predict.collect.record import RunInfo
 from slam_predict.collect.settings import CollectSettings
 from slam_predict.config import config_hash, to_dict
-from slam_predict.geometry import compose, inverse
-from slam_predict.paths import portable_path
+from slam_predict.geometry import world_T_map
 from slam_predict.ros.orchestrator import RunMonitor
 from slam_predict.sim.simulator import resolve_sensor
-
-
-@dataclass
-class RunInfo:
-    """What the batch knows about a run: world name and file (may be empty), index, seed."""
-
-    world: str
-    world_file: str = ""
-    run_index: int = 0
-    seed: int = 0
-    odometry_model: str = ""
-    odometry_error: Optional[Dict[str, Any]] = None
-    ros: Dict[str, Any] = field(default_factory=dict)
-
-
-def world_T_map(traj: rec.Trajectories) -> np.ndarray:
-    """The map frame's pose in the world frame from the first sample: gt₀ ⊕ slam₀⁻¹."""
-    if len(traj.t) == 0:
-        return np.zeros(3)
-    return compose(traj.ground_truth[0], inverse(traj.slam[0]))
 
 
 def run_coverage(world, grid, settings: CollectSettings, traj: rec.Trajectories) -> Optional[float]:
@@ -57,9 +33,10 @@ def run_coverage(world, grid, settings: CollectSettings, traj: rec.Trajectories)
     if world is None or grid is None or len(traj.t) == 0:
         return None
     from slam_predict.explore.coverage import coverage, reachable_free
+    from slam_predict.nav.costmap import inscribed_radius
 
     reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
-    return coverage(world, grid, reach, world_T_map(traj))
+    return coverage(world, grid, reach, world_T_map(traj.ground_truth[0], traj.slam[0]))
 
 
 def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, world,
@@ -69,27 +46,15 @@ def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, 
     traj = monitor.trajectories()
     hashes = settings.hashes()
     hashes["stop"] = config_hash(monitor.stop)  # the stop rule actually applied
-    rule = monitor.rule
     ros = {**info.ros, "samples": int(len(traj.t)), "samples_dropped": int(monitor.dropped),
            "first_sample_t": float(traj.t[0]) if len(traj.t) else None}
-    return {
-        "world": info.world, "world_file": portable_path(info.world_file), "run_index": info.run_index,
-        "seed": info.seed, "code_version": code_version(), "config_hashes": hashes,
-        "settings_file": portable_path(settings.source),
-        "odometry_model": info.odometry_model or settings.sim.odom.model,
-        "odometry_error": info.odometry_error,
-        "sensor": None if world is None else to_dict(resolve_sensor(world, settings.sim)),
-        "stop_reason": monitor.reason, "explorer_end": monitor.explorer_end,
-        "sim_duration_s": monitor.sim_duration_s, "wall_time_s": float(wall_time_s),
-        "distance_m": rec.path_length(traj.ground_truth),
-        "rotation_rad": rec.path_rotation(traj.ground_truth),
-        "coverage": run_coverage(world, monitor.grid, settings, traj),
-        "stalls": int(monitor.stalls), "free_area_m2": free_area_m2,
-        "snapshots": [{"t": t, "mse": m} for t, m in zip(rule.times, [None] + rule.mses)],
-        "metric": measure(traj, settings, info.seed),
-        "timing": {k: float(v) for k, v in timing.items()},
-        "ros": ros,
-    }
+    end = rec.RunEnd(monitor.reason, monitor.explorer_end, monitor.sim_duration_s, wall_time_s,
+                     monitor.stalls, run_coverage(world, monitor.grid, settings, traj))
+    sensor = None if world is None else to_dict(resolve_sensor(world, settings.sim))
+    record = rec.build_record(dataclasses.replace(info, sensor=sensor), settings, hashes, end,
+                              traj, monitor.rule, free_area_m2, timing)
+    record["ros"] = ros
+    return record
 
 
 def write_record(folder: Path, record: Dict[str, Any], monitor: RunMonitor,

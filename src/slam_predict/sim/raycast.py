@@ -37,9 +37,8 @@ class GridFrame:
     @classmethod
     def of_world(cls, world) -> "GridFrame":
         """The frame of a :class:`~slam_predict.world.model.World`'s bitmap."""
-        rows, cols = world.shape
-        return cls(world.origin[0] - cols * world.resolution / 2.0,
-                   world.origin[1] + rows * world.resolution / 2.0, world.resolution)
+        xmin, _, _, ymax = world.extent
+        return cls(xmin, ymax, world.resolution)
 
 
 def jump_table(occ: np.ndarray) -> np.ndarray:

@@ -96,6 +96,14 @@ class World:
         return cols * self.resolution, rows * self.resolution
 
     @property
+    def extent(self) -> tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax) of the bitmap in world metres (its outer cell edges)."""
+        rows, cols = self.shape
+        half_w, half_h = cols * self.resolution / 2.0, rows * self.resolution / 2.0
+        ox, oy = self.origin
+        return ox - half_w, oy - half_h, ox + half_w, oy + half_h
+
+    @property
     def free_area_m2(self) -> float:
         """Free area in m²."""
         return float((~self.occupied).sum()) * self.resolution ** 2

@@ -33,10 +33,9 @@ def nice_length(max_length: float) -> float:
 
 
 def extent(world: World):
-    """(left, right, bottom, top) of the bitmap in world metres."""
-    width, height = world.size_m
-    x0, y0 = world.origin[0] - width / 2.0, world.origin[1] - height / 2.0
-    return x0, x0 + width, y0, y0 + height
+    """(left, right, bottom, top) of the bitmap in world metres (matplotlib's order)."""
+    xmin, ymin, xmax, ymax = world.extent
+    return xmin, xmax, ymin, ymax
 
 
 def _draw_ground_truth(ax, world: World) -> None:

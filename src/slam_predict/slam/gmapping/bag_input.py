@@ -20,6 +20,7 @@ from typing import Dict, List, Optional, Tuple
 import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
+from slam_predict.formats.rosbag import header_stamp
 from slam_predict.slam.gmapping.runner import SlamInput
 from slam_predict.slam.laser import laser_geometry, prepare_ranges, quaternion_matrix
 
@@ -27,10 +28,6 @@ SCAN_TYPE = "sensor_msgs/msg/LaserScan"
 ODOM_TYPE = "nav_msgs/msg/Odometry"
 TF_TOPICS = ("/tf", "/tf_static")
 TRUTH_TOPIC = "/base_pose_ground_truth"
-
-
-def _stamp(header) -> float:
-    return header.stamp.sec + header.stamp.nanosec * 1e-9
 
 
 def _frame(name: str) -> str:
@@ -109,7 +106,7 @@ def _value(transform) -> np.ndarray:
     return np.array([t.x, t.y, t.z, q.x, q.y, q.z, q.w], dtype=float)
 
 
-def _planar(translation: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+def _planar_from_matrix(translation: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     return np.array([translation[0], translation[1], np.arctan2(rotation[1, 0], rotation[0, 0])])
 
 
@@ -172,12 +169,13 @@ def _read_messages(reader, scan_topic: str, pose_topics):
             p = msg.pose.pose
             value = np.array([p.position.x, p.position.y, p.position.z, p.orientation.x,
                               p.orientation.y, p.orientation.z, p.orientation.w])
-            poses[conn.topic].append((_stamp(msg.header), value))
+            poses[conn.topic].append((header_stamp(msg.header), value))
         else:
             for tr in msg.transforms:
                 tree.add(_frame(tr.header.frame_id), _frame(tr.child_frame_id),
-                         _stamp(tr.header), _value(tr.transform), conn.topic == "/tf_static")
-    scans.sort(key=lambda m: _stamp(m.header))
+                         header_stamp(tr.header), _value(tr.transform),
+                         conn.topic == "/tf_static")
+    scans.sort(key=lambda m: header_stamp(m.header))
     for rows in poses.values():
         rows.sort(key=lambda row: row[0])
     return scans, tree, poses
@@ -197,7 +195,7 @@ def _poses_at(samples, times: np.ndarray) -> Optional[np.ndarray]:
 def _assemble(path, scans, tree: TfTree, odom, base_frame, odom_frame, max_scans) -> SlamInput:
     first = scans[0]
     laser_frame = _frame(first.header.frame_id)
-    laser, reverse = mounted_laser(tree, base_frame, laser_frame, _stamp(first.header),
+    laser, reverse = mounted_laser(tree, base_frame, laser_frame, header_stamp(first.header),
                                    first.angle_min, first.angle_increment, len(first.ranges),
                                    first.range_max, path)
     source = TfTree()
@@ -207,7 +205,7 @@ def _assemble(path, scans, tree: TfTree, odom, base_frame, odom_frame, max_scans
         source = tree
     times, poses, ranges = [], [], []
     for msg in scans:
-        t = _stamp(msg.header)
+        t = header_stamp(msg.header)
         pose = odometry_pose(source, odom_frame, base_frame, t)
         if pose is None or len(msg.ranges) != laser.beams:
             continue
@@ -243,7 +241,7 @@ def mounted_laser(tree: TfTree, base_frame: str, laser_frame: str, t: float, ang
 def odometry_pose(tree: TfTree, odom_frame: str, base_frame: str, t: float):
     """Planar pose (x, y, yaw) of ``base_frame`` in ``odom_frame`` at ``t``, or None."""
     found = tree.lookup(odom_frame, base_frame, t)
-    return None if found is None else _planar(*found)
+    return None if found is None else _planar_from_matrix(*found)
 
 
 class LiveDecoder:

@@ -22,11 +22,6 @@ PATCH = 1 << PATCH_MAGNITUDE
 Window = Tuple[int, int, int, int]  # patch index range (pxmin, pymin, pxmax, pymax), max excluded
 
 
-def c_round(value: float) -> int:
-    """C's round() (halves away from zero), as world2map uses it."""
-    return int(math.floor(value + 0.5)) if value >= 0 else -int(math.floor(-value + 0.5))
-
-
 @dataclass
 class Geometry:
     """openslam_gmapping Map geometry: centre (m), cell size (m), centre cell, size in patches."""
@@ -55,7 +50,8 @@ class Geometry:
         cx, cy = (xmin + xmax) / 2.0, (ymin + ymax) / 2.0
         nx = int(math.ceil((xmax - xmin) / delta)) >> PATCH_MAGNITUDE
         ny = int(math.ceil((ymax - ymin) / delta)) >> PATCH_MAGNITUDE
-        return cls(cx, cy, delta, c_round((cx - xmin) / delta), c_round((cy - ymin) / delta),
+        return cls(cx, cy, delta, kernels.c_round((cx - xmin) / delta),
+                   kernels.c_round((cy - ymin) / delta),
                    nx, ny)
 
     @property
@@ -65,8 +61,8 @@ class Geometry:
 
     def world_to_cell(self, x: float, y: float) -> Tuple[int, int]:
         """world2map: cell of point (x, y) m."""
-        return (c_round((x - self.cx) / self.delta) + self.sx2,
-                c_round((y - self.cy) / self.delta) + self.sy2)
+        return (kernels.c_round((x - self.cx) / self.delta) + self.sx2,
+                kernels.c_round((y - self.cy) / self.delta) + self.sy2)
 
     def cell_to_world(self, ix: float, iy: float) -> Tuple[float, float]:
         """map2world: the point (m) cell (ix, iy) is centred on."""

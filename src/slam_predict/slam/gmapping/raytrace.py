@@ -96,6 +96,16 @@ def _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit, sign):
 
 
 @nb.njit(cache=True)
+def count_beams(hits, visits, ax, ay, ends_x, ends_y, is_hit):
+    """Add beams from cell (ax, ay) to each end cell (ends_x[k], ends_y[k]) into ``hits`` /
+    ``visits`` (w, h), indexed [x, y] from cell (0, 0), GMapping's way (:func:`_count_beam`:
+    free visits along :func:`line_cells` without the end, a hit and a visit at the end when
+    ``is_hit[k]``, nothing there otherwise). Cells outside the arrays are skipped."""
+    for k in range(ends_x.shape[0]):
+        _count_beam(hits, visits, 0, 0, ax, ay, ends_x[k], ends_y[k], is_hit[k], 1)
+
+
+@nb.njit(cache=True)
 def _beam_cells(x, y, th, r, ca, sa, usable, sx2, sy2, cx, cy, delta):
     """Laser cell, end cell and whether the (cropped) beam ends in a hit."""
     d = min(r, usable)
@@ -181,3 +191,5 @@ def warmup() -> None:
     hits, visits = count_scans(poses, readings, ca, sa, 2.0, 2.0, *geo, 0, 0, 128, 128)
     occupancy_values(hits, visits, 0.25)
     line_cells(0, 0, 3, -5)
+    count_beams(hits.T, visits.T, 2, 3, np.array([5, -1]), np.array([3, 9]),
+                np.array([True, False]))

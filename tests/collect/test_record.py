@@ -1,0 +1,51 @@
+"""run.json's one builder (used by the in-process episode and the ROS path) against values
+computed directly from a synthetic run."""
+import math
+
+import numpy as np
+import pytest
+
+from slam_predict.collect import record as rec
+from slam_predict.collect.settings import load_settings
+from slam_predict.collect.stopping import SnapshotMSE, StopConfig
+
+
+def square_run(n=400):
+    """A robot driving a 2 m square (10 Hz) with SLAM drifting slowly off the ground truth."""
+    t = 0.1 * np.arange(1, n + 1)
+    side = (np.arange(n) // 100) % 4
+    step = np.stack([np.cos(side * np.pi / 2), np.sin(side * np.pi / 2)], axis=1) * 0.02
+    xy = np.cumsum(step, axis=0)
+    gt = np.column_stack([xy, side * np.pi / 2])
+    rng = np.random.default_rng(5)
+    slam = gt + np.cumsum(rng.normal(0.0, 1e-3, gt.shape), axis=0)
+    return rec.Trajectories(t, gt, slam, gt.copy())
+
+
+def test_build_record_fields(run_record_keys):
+    settings = load_settings()
+    traj = square_run()
+    rule = SnapshotMSE(StopConfig(), 60.0)
+    rule.times, rule.mses, rule.reason = [60.0, 120.0], [3.5], "map_converged"
+    info = rec.RunInfo("square", "", 2, 7, odometry_error={"model": "x"})
+    end = rec.RunEnd("map_converged", {"t": 30.0, "reason": "no_frontiers"}, 40.0, 1.5, 3, 0.9)
+    record = rec.build_record(info, settings, {"sim": "abc"}, end, traj, rule, 12.0, {"sim": 2})
+    assert set(record) == run_record_keys
+    assert record["distance_m"] == pytest.approx(0.02 * 399)
+    assert record["rotation_rad"] == pytest.approx(3 * math.pi / 2)
+    assert record["snapshots"] == [{"t": 60.0, "mse": None}, {"t": 120.0, "mse": 3.5}]
+    assert record["odometry_model"] == settings.sim.odom.model     # none given: the settings'
+    assert (record["stop_reason"], record["sim_duration_s"], record["stalls"]) == (
+        "map_converged", 40.0, 3)
+    assert record["config_hashes"] == {"sim": "abc"} and record["timing"] == {"sim": 2.0}
+    assert record["metric"]["poses"] == len(traj.t) and record["metric"]["trans_mean"] > 0
+    assert record["metric"]["info"]["seed"] == [7, 1]
+
+
+def test_build_record_of_a_run_without_snapshots():
+    """A run that ended before its first snapshot (stuck, a limit) has an empty list."""
+    rule = SnapshotMSE(StopConfig(), 60.0)
+    end = rec.RunEnd("stuck", None, 30.0, 1.0, 0, None)
+    record = rec.build_record(rec.RunInfo("square"), load_settings(), {}, end, square_run(), rule,
+                              None, {})
+    assert record["snapshots"] == [] and record["stop_reason"] == "stuck"
