@@ -21,6 +21,7 @@ from slam_predict.nav.planner_modes import (
     Resets,
     next_state,
 )
+from slam_predict.nav.rollout import footprint_cost
 from slam_predict.nav.trajectory_planner import TrajectoryPlanner
 
 STILL = (0.0, 0.0)
@@ -266,3 +267,42 @@ def test_oscillation_memory():
     assert osc.after(0.3, 0.0, (5.0, 5.0)) == osc              # driving forward: unchanged
     assert osc.reset_if_moved((1.04, 1.0), 0.05) == osc
     assert osc.reset_if_moved((1.06, 1.0), 0.05) == Oscillation(prev_xy=(1.0, 1.0))
+
+
+# ------------------------------------------------------------------ one footprint rule
+def beside_a_wall() -> Costmap:
+    """A wall at y = 1.25–1.30 m: the footprint of a robot at (1.5, 1.5, 0) touches it, the
+    footprint shrunk by 0.04 m does not."""
+    return map_with([(25, slice(None))])
+
+
+def test_check_trajectory_agrees_with_the_cycles_scoring():
+    """With escape_footprint_margin the cycle scores its samples with the shrunk footprint
+    where the footprint touches a wall; check_trajectory must judge them the same way."""
+    cm, pose = beside_a_wall(), (1.5, 1.5, 0.0)
+    tc = planner(straight_plan(x0=1.5), escape_footprint_margin=0.04)
+    best = tc.find_best_path(cm, pose, STILL)
+    assert best.cost >= 0 and best.xv > 0
+    assert tc.check_trajectory(cm, pose, STILL, best.xv, best.thetav)
+    assert len(best.points) >= 5 and best.points[-1, 0] > pose[0]      # local_plan
+
+
+def test_stopping_at_the_goal_beside_a_wall_is_checked_with_the_cycles_footprint():
+    """Within xy_goal_tolerance the robot first stops (acc limits), the stop checked by
+    check_trajectory: beside the wall it is legal for the footprint the cycle scores with."""
+    plan = straight_plan(x0=1.3, x1=1.6)
+    plan[-1, 2] = math.pi / 2                       # the goal yaw: turn after stopping
+    lp = LocalPlanner(config(escape_footprint_margin=0.04, xy_goal_tolerance=0.3), SQUARE, 0.1,
+                      RES)
+    lp.set_plan(plan)
+    cmd = lp.compute_velocity_commands(beside_a_wall(), (1.5, 1.5, 0.0), (0.3, 0.0), IDENTITY)
+    assert cmd is not None and cmd[1] == 0.0 and abs(cmd[0] - 0.15) < 1e-12
+
+
+def test_body_safe_escape_carries_its_poses():
+    """The move is rolled out with the shrunk footprint it was chosen with (local_plan)."""
+    tc, best = escaped_from_corner()
+    costs = tilted_in_a_corner().costs
+    assert len(best.points) >= 5 and best.points[-1, 0] < CORNER_POSE[0]
+    assert all(footprint_cost(costs, 0.0, 0.0, RES, x, y, th, tc.body) >= 0
+               for x, y, th in best.points)

@@ -11,7 +11,9 @@ vx ∈ [max(min_vel_x, v − a·T), max(min(max_vel_x, goal_dist/sim_time, v + a
 (vθ likewise) with T = sim_period when ``dwa`` else sim_time.
 
 The planner's modes (normal, reversing, escaping, keeping an escape move) and the rule that moves
-between them are in nav/planner_modes.py.
+between them are in nav/planner_modes.py. One footprint rule (:meth:`footprint_at`) is used by
+the cycle's scoring and by :meth:`check_trajectory`; only escape moves of the
+``escape_footprint_margin`` extension are rolled out with the shrunk footprint (the body).
 """
 from __future__ import annotations
 
@@ -91,10 +93,11 @@ class TrajectoryPlanner:
 
     # ---------------------------------------------------------------------------- scoring
     def footprint_at(self, costmap: Costmap, pose) -> np.ndarray:
-        """The footprint the cycle's samples from ``pose`` are scored with: the configured
-        one, except with ``escape_footprint_margin`` > 0 when it already touches an obstacle
-        (LETHAL or unknown under its outline) that the footprint shrunk by the margin (the body)
-        clears — then the body, so the robot can drive or turn away rather than back up blind."""
+        """The footprint samples from ``pose`` are checked with, by scoring and by
+        :meth:`check_trajectory` alike: the configured one, except with
+        ``escape_footprint_margin`` > 0 when it already touches an obstacle (LETHAL or unknown
+        under its outline) that the footprint shrunk by the margin (the body) clears — then the
+        body, so the robot can drive or turn away rather than only back up blind."""
         if (self.cfg.escape_footprint_margin <= 0
                 or self._footprint_cost(costmap, pose, self.footprint) >= 0):
             return self.footprint
@@ -137,9 +140,10 @@ class TrajectoryPlanner:
         return out[:n].copy()
 
     def check_trajectory(self, costmap: Costmap, pose, vel, vx: float, vth: float) -> bool:
-        """Is the sample legal (cost ≥ 0) with the current distance grids?"""
+        """Is the sample legal (cost ≥ 0) with the current distance grids and the footprint of
+        :meth:`footprint_at` (the rule the cycle's scoring uses)?"""
         samples = np.array([[vx, vth]])
-        cost, _ = self._score(costmap, pose, vel, samples, self.footprint)
+        cost, _ = self._score(costmap, pose, vel, samples, self.footprint_at(costmap, pose))
         return bool(cost[0] >= 0)
 
     # ------------------------------------------------------------------------ best sample
@@ -151,8 +155,9 @@ class TrajectoryPlanner:
         self.compute_maps(costmap, pose)
         footprint = self.footprint_at(costmap, pose)
         best, chosen = self._create_trajectories(costmap, pose, vel, footprint)
-        best.points = self.trajectory_points(costmap, pose, vel, best.xv, best.thetav,
-                                             self.footprint)
+        if chosen in (Chosen.BODY_SAFE, Chosen.KEPT_MOVE):
+            footprint = self.body
+        best.points = self.trajectory_points(costmap, pose, vel, best.xv, best.thetav, footprint)
         move = (best.xv, best.thetav) if chosen is Chosen.BODY_SAFE else None
         self.state = next_state(self.state, Observed(chosen, pose, move), self.resets)
         if chosen is Chosen.SAMPLE:
