@@ -9,18 +9,11 @@ import math
 import numpy as np
 from test_nav_local_planner import RES, SQUARE, narrow_corridor_facing_away, straight_plan
 
+from slam_predict.nav import planner_modes as modes
 from slam_predict.nav.config import TrajectoryPlannerConfig
 from slam_predict.nav.costmap import LETHAL, Costmap
 from slam_predict.nav.local_planner import LocalPlanner
-from slam_predict.nav.planner_modes import (
-    Chosen,
-    Mode,
-    Observed,
-    Oscillation,
-    PlannerState,
-    Resets,
-    next_state,
-)
+from slam_predict.nav.planner_modes import Mode, PlannerState
 from slam_predict.nav.rollout import footprint_cost
 from slam_predict.nav.trajectory_planner import TrajectoryPlanner
 
@@ -223,7 +216,7 @@ def test_in_place_turn_one_way_then_the_other_refuses_the_first_way():
 
 
 # --------------------------------------------------------------- the transition function
-RESETS = Resets(0.1, math.pi / 2)
+RESETS = modes.Resets(0.1, math.pi / 2)
 AT = (1.0, 1.0, 0.0)
 NEAR = (1.05, 1.0, 0.0)
 FAR = (1.2, 1.0, 0.0)
@@ -231,42 +224,44 @@ MOVE = (-0.15, -0.2)
 
 
 def test_next_state_table():
+    C = modes.Chosen
     normal = PlannerState()
     escaping = PlannerState(Mode.ESCAPING, AT)
     keeping = PlannerState(Mode.KEEPING_MOVE, AT, MOVE)
     reversing = PlannerState(Mode.REVERSING, AT)
     table = [
-        (normal, Chosen.SAMPLE, NEAR, None, normal),
-        (normal, Chosen.NO_PATH, NEAR, None, normal),
-        (normal, Chosen.BACK_UP, NEAR, None, PlannerState(Mode.ESCAPING, NEAR)),
-        (normal, Chosen.BODY_SAFE, NEAR, MOVE, PlannerState(Mode.KEEPING_MOVE, NEAR, MOVE)),
-        (normal, Chosen.REVERSE, NEAR, None, PlannerState(Mode.REVERSING, NEAR)),
-        (reversing, Chosen.REVERSE, FAR, None, reversing),
-        (reversing, Chosen.SAMPLE, NEAR, None, normal),
-        (reversing, Chosen.BACK_UP, NEAR, None, PlannerState(Mode.ESCAPING, NEAR)),
-        (escaping, Chosen.SAMPLE, NEAR, None, escaping),
-        (escaping, Chosen.SAMPLE, FAR, None, normal),
-        (escaping, Chosen.NO_PATH, NEAR, None, escaping),
-        (escaping, Chosen.BACK_UP, FAR, None, normal),
-        (escaping, Chosen.BODY_SAFE, NEAR, MOVE, keeping),
-        (keeping, Chosen.KEPT_MOVE, NEAR, None, keeping),
-        (keeping, Chosen.BACK_UP, NEAR, None, escaping),
-        (keeping, Chosen.BODY_SAFE, NEAR, (-0.15, 0.3),
+        (normal, C.SAMPLE, NEAR, None, normal),
+        (normal, C.NO_PATH, NEAR, None, normal),
+        (normal, C.BACK_UP, NEAR, None, PlannerState(Mode.ESCAPING, NEAR)),
+        (normal, C.BODY_SAFE, NEAR, MOVE, PlannerState(Mode.KEEPING_MOVE, NEAR, MOVE)),
+        (normal, C.REVERSE, NEAR, None, PlannerState(Mode.REVERSING, NEAR)),
+        (reversing, C.REVERSE, FAR, None, reversing),
+        (reversing, C.SAMPLE, NEAR, None, normal),
+        (reversing, C.BACK_UP, NEAR, None, PlannerState(Mode.ESCAPING, NEAR)),
+        (escaping, C.SAMPLE, NEAR, None, escaping),
+        (escaping, C.SAMPLE, FAR, None, normal),
+        (escaping, C.NO_PATH, NEAR, None, escaping),
+        (escaping, C.BACK_UP, FAR, None, normal),
+        (escaping, C.BODY_SAFE, NEAR, MOVE, keeping),
+        (keeping, C.KEPT_MOVE, NEAR, None, keeping),
+        (keeping, C.BACK_UP, NEAR, None, escaping),
+        (keeping, C.BODY_SAFE, NEAR, (-0.15, 0.3),
          PlannerState(Mode.KEEPING_MOVE, AT, (-0.15, 0.3))),
-        (keeping, Chosen.SAMPLE, FAR, None, normal),
+        (keeping, C.SAMPLE, FAR, None, normal),
     ]
     for before, chosen, pose, move, after in table:
-        assert next_state(before, Observed(chosen, pose, move), RESETS) == after, (before, chosen)
+        seen = modes.Observed(chosen, pose, move)
+        assert modes.next_state(before, seen, RESETS) == after, (before, chosen)
 
 
 def test_oscillation_memory():
-    osc = Oscillation().after(0.0, 0.5, (1.0, 1.0))
+    osc = modes.Oscillation().after(0.0, 0.5, (1.0, 1.0))
     assert osc.rotating_right and not osc.stuck_left
     osc = osc.after(0.0, -0.5, (1.0, 1.0))
     assert osc.stuck_right and not osc.allows(0.5) and osc.allows(-0.5)
     assert osc.after(0.3, 0.0, (5.0, 5.0)) == osc              # driving forward: unchanged
     assert osc.reset_if_moved((1.04, 1.0), 0.05) == osc
-    assert osc.reset_if_moved((1.06, 1.0), 0.05) == Oscillation(prev_xy=(1.0, 1.0))
+    assert osc.reset_if_moved((1.06, 1.0), 0.05) == modes.Oscillation(prev_xy=(1.0, 1.0))
 
 
 # ------------------------------------------------------------------ one footprint rule
