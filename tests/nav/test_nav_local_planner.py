@@ -10,8 +10,9 @@ from slam_predict.nav.config import TrajectoryPlannerConfig
 from slam_predict.nav.costmap import INSCRIBED, LETHAL, NO_INFORMATION, Costmap, InflationLayer
 from slam_predict.nav.local_planner import LocalPlanner
 from slam_predict.nav.rollout import footprint_cost, rollout
-from slam_predict.nav.trajectory_planner import (TrajectoryPlanner, adjust_plan_resolution,
-                                                 path_and_goal_cells, shrink_footprint)
+from slam_predict.nav.map_grid import adjust_plan_resolution, path_and_goal_cells
+from slam_predict.nav.planner_modes import Mode, PlannerState
+from slam_predict.nav.trajectory_planner import TrajectoryPlanner, shrink_footprint
 
 RES = 0.05
 SQUARE = np.array([[-0.21, -0.21], [-0.21, 0.21], [0.21, 0.21], [0.21, -0.21]])
@@ -201,7 +202,7 @@ def test_never_selects_a_colliding_trajectory_and_escapes_when_boxed_in():
     cfg, tc2 = open_planner(escape_vel=-0.15)
     tc2.update_plan(straight_plan(y=1.52, x0=1.52, x1=2.9))
     best = tc2.find_best_path(cm2, (1.52, 1.52, 0.0), (0.0, 0.0))
-    assert best.xv == -0.15 and tc2.escaping
+    assert best.xv == -0.15 and tc2.state.mode is Mode.ESCAPING
 
 
 def test_goal_tolerance_stop_then_rotate_then_reached():
@@ -246,7 +247,7 @@ def test_facing_away_in_a_narrow_corridor_backs_up_with_reverse_when_blocked():
     cfg, tc = open_planner(escape_vel=-0.15, reverse_when_blocked=True)
     tc.update_plan(plan)
     best = tc.find_best_path(cm, pose, (0.0, 0.0))
-    assert best.xv == -0.15 and tc.reversing and not tc.escaping
+    assert best.xv == -0.15 and tc.state.mode is Mode.REVERSING
     pts = tc.trajectory_points(cm, pose, (0.0, 0.0), best.xv, best.thetav)
     assert pts[-1, 0] < pose[0] and all(
         footprint_cost(cm.costs, 0.0, 0.0, RES, x, y, th, SQUARE) >= 0 for x, y, th in pts)
@@ -256,9 +257,9 @@ def test_facing_away_in_a_narrow_corridor_backs_up_with_reverse_when_blocked():
     assert best.xv == -0.15
     tc.update_plan(straight_plan(x0=1.5, x1=2.9))
     best = tc.find_best_path(cm, (1.45, 1.5, 0.0), (-0.15, 0.0))
-    assert best.xv == -0.15 and tc.reversing
+    assert best.xv == -0.15 and tc.state.mode is Mode.REVERSING
     best = tc.find_best_path(cm, (1.38, 1.5, 0.0), (0.0, 0.0))
-    assert best.xv > 0 and not tc.reversing
+    assert best.xv > 0 and tc.state.mode is Mode.NORMAL
 
 
 def test_escape_footprint_margin_backs_away_from_a_wall_the_blind_escape_would_hit():
@@ -283,15 +284,15 @@ def test_escape_footprint_margin_backs_away_from_a_wall_the_blind_escape_would_h
     body_tc = TrajectoryPlanner(cfg, body, 0.1, RES)
     body_tc.update_plan(plan)
     body_tc.compute_maps(cm, pose)
-    safe.escaping, safe.escape_pose = True, pose       # already escaping: no forward samples
+    safe.state = PlannerState(Mode.ESCAPING, pose)     # already escaping: no forward samples
     best = safe.find_best_path(cm, pose, (0.0, 0.0))
-    assert (best.xv, best.thetav) != (-0.15, 0.0) and best.cost >= 0 and safe.escaping
+    assert (best.xv, best.thetav) != (-0.15, 0.0) and best.cost >= 0 and safe.state.escaping
     pts = body_tc.trajectory_points(cm, pose, (0.0, 0.0), best.xv, best.thetav)
     assert len(pts) >= 5 and pts[-1, 0] < pose[0] and abs(pts[-1, 2] - pose[2]) > 0.1
     assert all(footprint_cost(costs, 0.0, 0.0, RES, x, y, th, body) >= 0 for x, y, th in pts)
-    safe.escaping = False                  # not escaping: the cycle is planned with the body
+    safe.state = PlannerState()            # not escaping: the cycle is planned with the body
     best = safe.find_best_path(cm, pose, (0.0, 0.0))
-    assert best.xv > 0 and best.cost >= 0 and safe.cycle_footprint is safe.body
+    assert best.xv > 0 and best.cost >= 0 and safe.footprint_at(cm, pose) is safe.body
     pts = body_tc.trajectory_points(cm, pose, (0.0, 0.0), best.xv, best.thetav)
     assert len(pts) >= 5 and pts[-1, 0] > pose[0] + 0.1
     assert all(footprint_cost(costs, 0.0, 0.0, RES, x, y, th, body) >= 0 for x, y, th in pts)
@@ -316,10 +317,10 @@ def test_escape_footprint_margin_escapes_forward_off_a_wall_it_has_backed_into()
     safe.update_plan(plan)
     safe.compute_maps(cm, pose)
     back = safe._escape_samples(pose, (0.0, 0.0), -0.15)
-    assert (safe._score_with(cm, pose, (0.0, 0.0), back, body)[0] < 0).all()   # no way back
-    safe.escaping, safe.escape_pose = True, pose       # escaping: no forward samples
+    assert (safe._score(cm, pose, (0.0, 0.0), back, body)[0] < 0).all()   # no way back
+    safe.state = PlannerState(Mode.ESCAPING, pose)     # escaping: no forward samples
     best = safe.find_best_path(cm, pose, (0.0, 0.0))
-    assert best.xv == 0.15 and best.cost >= 0 and safe.escaping
+    assert best.xv == 0.15 and best.cost >= 0 and safe.state.escaping
     body_tc = TrajectoryPlanner(cfg, body, 0.1, RES)
     body_tc.update_plan(plan)
     body_tc.compute_maps(cm, pose)

@@ -155,8 +155,9 @@ class TrajectoryPlannerConfig:
     touching an obstacle is taken instead, or, when no backward arc is clear (backed into a
     wall), such a forward arc at −``escape_vel``. And a cycle that starts with the footprint
     already touching an obstacle the shrunk footprint clears scores its samples with the
-    shrunk footprint (the robot drives or turns away instead of backing up blind). A move the
-    shrunk footprint chose is kept until escape_reset_dist / escape_reset_theta.
+    shrunk footprint (the robot drives or turns away instead of backing up blind), and so are
+    the stop and the rotation in place at the goal. A move the shrunk footprint chose is kept
+    until escape_reset_dist / escape_reset_theta.
     """
 
     acc_lim_x: float = 2.5

@@ -95,7 +95,7 @@ class LocalPlanner:
         best = self.tc.find_best_path(costmap, pose, vel)
         if best.cost < 0:
             return None
-        self.local_plan = self.tc.trajectory_points(costmap, pose, vel, best.xv, best.thetav)
+        self.local_plan = best.points
         return (best.xv, best.thetav)
 
     def _stop_with_acc_limits(self, costmap, pose, vel) -> Optional[Velocity]:

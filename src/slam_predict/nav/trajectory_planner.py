@@ -1,32 +1,50 @@
 """base_local_planner's TrajectoryPlanner: sample velocities, roll out, score, pick.
 
 Per control cycle (TrajectoryPlanner::findBestPath): the path- and goal-distance grids are
-computed by BFS on the local costmap from the plan cells and the local goal (the last plan
-point inside the map); then, unless escaping, vx_samples × vtheta_samples forward samples
-(vθ = 0 first, then vtheta_samples − 1 values from the window's minimum) are scored, then
-in-place rotations (|vθ| ≥ min_in_place_vel_theta, preferred when they bring the point
-``heading_lookahead`` ahead closer to the goal and the stuck flag of that side is not set),
-and finally, when nothing is legal, the escape velocity backwards. The window is
+computed by BFS on the local costmap from the plan cells and the local goal (nav/map_grid.py);
+then, unless escaping, vx_samples × vtheta_samples forward samples (vθ = 0 first, then
+vtheta_samples − 1 values from the window's minimum) are scored, then in-place rotations
+(|vθ| ≥ min_in_place_vel_theta, preferred when they bring the point ``heading_lookahead`` ahead
+closer to the goal and the stuck flag of that side is not set), and finally, when nothing is
+legal, the escape velocity backwards. The window is
 vx ∈ [max(min_vel_x, v − a·T), max(min(max_vel_x, goal_dist/sim_time, v + a·T), min_vel_x)]
 (vθ likewise) with T = sim_period when ``dwa`` else sim_time.
+
+The planner's modes (normal, reversing, escaping, keeping an escape move) and the rule that moves
+between them are in nav/planner_modes.py. One footprint rule (:meth:`footprint_at`) is used by
+the cycle's scoring and by :meth:`check_trajectory`; only escape moves of the
+``escape_footprint_margin`` extension are rolled out with the shrunk footprint (the body).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import List, Optional, Tuple
 
 import numpy as np
 
-from slam_predict.geometry import wrap_angle
-from slam_predict.nav import kernels, rollout
+from slam_predict.nav import rollout
 from slam_predict.nav.config import TrajectoryPlannerConfig
-from slam_predict.nav.costmap import INSCRIBED, NO_INFORMATION, Costmap, footprint_cells
+from slam_predict.nav.costmap import Costmap
+from slam_predict.nav.map_grid import DistanceGrids
+from slam_predict.nav.planner_modes import (
+    Chosen,
+    Mode,
+    Observed,
+    Oscillation,
+    PlannerState,
+    Resets,
+    keeps_move,
+    next_state,
+    reverse_committed,
+)
+
+Window = tuple[float, float, float, float]   # min vx, max vx (m/s), min vθ, max vθ (rad/s)
 
 
 @dataclass
 class Trajectory:
-    """A scored sample: cost (< 0 illegal: −1 collision, −2 no path), velocities, poses."""
+    """A scored sample: cost (< 0 illegal: −1 collision, −2 no path), velocities (m/s, rad/s)
+    and, for the sample :meth:`TrajectoryPlanner.find_best_path` returns, its poses."""
 
     cost: float
     xv: float
@@ -35,57 +53,36 @@ class Trajectory:
 
 
 class TrajectoryPlanner:
-    """The rollout planner with its stuck/escape state (kept across cycles and goals)."""
+    """The rollout planner with its mode and rotation memory (kept across cycles and goals)."""
 
     def __init__(self, cfg: TrajectoryPlannerConfig, footprint: np.ndarray, sim_period: float,
                  resolution: float):
         self.cfg = cfg
         self.footprint = np.ascontiguousarray(footprint, dtype=float)
         self.body = shrink_footprint(self.footprint, cfg.escape_footprint_margin)
-        self.cycle_footprint = self.footprint   # what this cycle's samples are scored with
         self.sim_period = float(sim_period)
         scale = resolution if cfg.meter_scoring else 1.0
         self.pdist = cfg.path_distance_bias * scale
         self.gdist = cfg.goal_distance_bias * scale
         self.occdist = cfg.occdist_scale * (scale if cfg.meter_scoring_occdist else 1.0)
+        self.resets = Resets(cfg.escape_reset_dist, cfg.escape_reset_theta)
         self.plan = np.empty((0, 3))
-        self.final_goal: Optional[Tuple[float, float]] = None
-        self.path_dist = np.zeros((1, 1))
-        self.goal_dist = np.zeros((1, 1))
-        self.stuck_left = self.stuck_right = False
-        self.rotating_left = self.rotating_right = False
-        self.escaping = False
-        self.reversing = False
-        self.prev_xy = (0.0, 0.0)
-        self.escape_pose = (0.0, 0.0, 0.0)
-        self.escape_move: Optional[Tuple[float, float]] = None   # kept body-safe escape
-        self.reverse_start = (0.0, 0.0)
+        self.final_goal: tuple[float, float] | None = None
+        self.grids = DistanceGrids()
+        self.state = PlannerState()
+        self.oscillation = Oscillation()
 
     # --------------------------------------------------------------------------- the plan
     def update_plan(self, plan: np.ndarray) -> None:
         """Set the (transformed, pruned) plan in the local costmap frame."""
         self.plan = np.asarray(plan, dtype=float).reshape(-1, 3)
-        self.final_goal = (float(self.plan[-1, 0]), float(self.plan[-1, 1])) if len(self.plan) else None
+        self.final_goal = ((float(self.plan[-1, 0]), float(self.plan[-1, 1])) if len(self.plan)
+                           else None)
 
     def compute_maps(self, costmap: Costmap, pose) -> None:
         """Path and goal distance grids (MapGrid::setPathCells) for the robot at ``pose``."""
-        costs = costmap.costs
-        if self.path_dist.shape != costs.shape:
-            self.path_dist = np.empty(costs.shape)
-            self.goal_dist = np.empty(costs.shape)
-            self._queue = np.empty((costs.size, 2), np.int32)
-        within = np.zeros(costs.shape, np.bool_)
-        cells = footprint_cells(costmap, pose, self.footprint)
-        if len(cells):
-            within[cells[:, 1], cells[:, 0]] = True
-        path, goal = path_and_goal_cells(costmap, self.plan)
-        cell = costmap.world_to_map(float(pose[0]), float(pose[1]))
-        cx, cy = cell if cell is not None else (0, 0)
-        radius = self.read_radius(costmap.resolution) if cell is not None else -1
-        kernels.target_distance(costs, within, path[:, 0], path[:, 1], self.path_dist,
-                                self._queue, cx, cy, radius)
-        kernels.target_distance(costs, within, goal[:, 0], goal[:, 1], self.goal_dist,
-                                self._queue, cx, cy, radius)
+        radius = self.read_radius(costmap.resolution)
+        self.grids.update(costmap, pose, self.plan, self.footprint, radius)
 
     def read_radius(self, resolution: float) -> int:
         """Cells around the robot whose path/goal distances the rollouts can read: the
@@ -95,55 +92,29 @@ class TrajectoryPlanner:
         return int(math.ceil((reach + c.heading_lookahead) / resolution)) + 3
 
     # ---------------------------------------------------------------------------- scoring
-    def _score(self, costmap: Costmap, pose, vel, samples: np.ndarray):
-        return self._score_with(costmap, pose, vel, samples, self.cycle_footprint)
+    def footprint_at(self, costmap: Costmap, pose) -> np.ndarray:
+        """The footprint samples from ``pose`` are checked with, by scoring and by
+        :meth:`check_trajectory` alike: the configured one, except with
+        ``escape_footprint_margin`` > 0 when it already touches an obstacle (LETHAL or unknown
+        under its outline) that the footprint shrunk by the margin (the body) clears — then the
+        body, so the robot can drive or turn away rather than only back up blind."""
+        if (self.cfg.escape_footprint_margin <= 0
+                or self._footprint_cost(costmap, pose, self.footprint) >= 0):
+            return self.footprint
+        if self._footprint_cost(costmap, pose, self.body) >= 0:
+            return self.body
+        return self.footprint
 
-    def _score_with(self, costmap: Costmap, pose, vel, samples: np.ndarray, footprint):
+    def _score(self, costmap: Costmap, pose, vel, samples: np.ndarray, footprint: np.ndarray):
+        """(costs (n,), end poses (n, 3)) of the samples (n, 2) rolled out with ``footprint``."""
         c = self.cfg
         return rollout.score_samples(
             np.ascontiguousarray(samples, dtype=float), float(pose[0]), float(pose[1]),
             float(pose[2]), float(vel[0]), float(vel[1]), c.acc_lim_x, c.acc_lim_theta,
             c.sim_time, c.sim_granularity, c.angular_sim_granularity, costmap.costs,
             costmap.origin[0], costmap.origin[1], costmap.resolution, footprint,
-            self.path_dist, self.goal_dist, float(costmap.costs.size), self.pdist, self.gdist,
+            self.grids.path, self.grids.goal, float(costmap.costs.size), self.pdist, self.gdist,
             self.occdist)
-
-    def trajectory_points(self, costmap: Costmap, pose, vel, vx: float, vth: float) -> np.ndarray:
-        """The poses of one rolled-out sample (for the ``local_plan`` topic)."""
-        c = self.cfg
-        out = np.empty((int(max(abs(vx) * c.sim_time / c.sim_granularity,
-                                abs(vth) / c.angular_sim_granularity) + 2), 3))
-        _, n, *_ = rollout.rollout(
-            float(pose[0]), float(pose[1]), float(pose[2]), float(vel[0]), float(vel[1]), vx, vth,
-            c.acc_lim_x, c.acc_lim_theta, c.sim_time, c.sim_granularity,
-            c.angular_sim_granularity, costmap.costs, costmap.origin[0], costmap.origin[1],
-            costmap.resolution, self.footprint, self.path_dist, self.goal_dist,
-            float(costmap.costs.size), self.pdist, self.gdist, self.occdist, out)
-        return out[:n].copy()
-
-    def check_trajectory(self, costmap: Costmap, pose, vel, vx: float, vth: float) -> bool:
-        """Is the sample legal (cost ≥ 0) with the current distance grids?"""
-        cost, _ = self._score_with(costmap, pose, vel, np.array([[vx, vth]]), self.footprint)
-        return bool(cost[0] >= 0)
-
-    # ------------------------------------------------------------------------ best sample
-    def find_best_path(self, costmap: Costmap, pose, vel) -> Trajectory:
-        """TrajectoryPlanner::findBestPath: maps, then createTrajectories; cost < 0 = none."""
-        self.compute_maps(costmap, pose)
-        self.cycle_footprint = self._choose_footprint(costmap, pose)
-        return self._create_trajectories(costmap, pose, vel)
-
-    def _choose_footprint(self, costmap: Costmap, pose) -> np.ndarray:
-        """``escape_footprint_margin`` > 0 and the footprint already touching an obstacle
-        (LETHAL or unknown under its outline) where the footprint shrunk by the margin (the
-        body) does not: plan this cycle with the body, so the robot can drive or turn away from
-        the obstacle rather than only back up blind. Else the configured footprint."""
-        if self.cfg.escape_footprint_margin <= 0 or self._footprint_cost(costmap, pose,
-                                                                         self.footprint) >= 0:
-            return self.footprint
-        if self._footprint_cost(costmap, pose, self.body) >= 0:
-            return self.body
-        return self.footprint
 
     @staticmethod
     def _footprint_cost(costmap: Costmap, pose, footprint: np.ndarray) -> float:
@@ -151,7 +122,74 @@ class TrajectoryPlanner:
                                       costmap.resolution, float(pose[0]), float(pose[1]),
                                       float(pose[2]), footprint)
 
-    def _window(self, pose, vel) -> Tuple[float, float, float, float]:
+    def trajectory_points(self, costmap: Costmap, pose, vel, vx: float, vth: float,
+                          footprint: np.ndarray | None = None) -> np.ndarray:
+        """The poses (n, 3) of one rolled-out sample up to its first illegal point, with
+        ``footprint`` (default: :meth:`footprint_at`)."""
+        c = self.cfg
+        if footprint is None:
+            footprint = self.footprint_at(costmap, pose)
+        out = np.empty((int(max(abs(vx) * c.sim_time / c.sim_granularity,
+                                abs(vth) / c.angular_sim_granularity) + 2), 3))
+        _, n, *_ = rollout.rollout(
+            float(pose[0]), float(pose[1]), float(pose[2]), float(vel[0]), float(vel[1]), vx, vth,
+            c.acc_lim_x, c.acc_lim_theta, c.sim_time, c.sim_granularity,
+            c.angular_sim_granularity, costmap.costs, costmap.origin[0], costmap.origin[1],
+            costmap.resolution, footprint, self.grids.path, self.grids.goal,
+            float(costmap.costs.size), self.pdist, self.gdist, self.occdist, out)
+        return out[:n].copy()
+
+    def check_trajectory(self, costmap: Costmap, pose, vel, vx: float, vth: float) -> bool:
+        """Is the sample legal (cost ≥ 0) with the current distance grids and the footprint of
+        :meth:`footprint_at` (the rule the cycle's scoring uses)?"""
+        samples = np.array([[vx, vth]])
+        cost, _ = self._score(costmap, pose, vel, samples, self.footprint_at(costmap, pose))
+        return bool(cost[0] >= 0)
+
+    # ------------------------------------------------------------------------ best sample
+    def find_best_path(self, costmap: Costmap, pose, vel) -> Trajectory:
+        """TrajectoryPlanner::findBestPath: maps, then createTrajectories; cost < 0 = none.
+        The returned sample carries its poses; the mode moves on by
+        :func:`~slam_predict.nav.planner_modes.next_state`."""
+        pose = (float(pose[0]), float(pose[1]), float(pose[2]))
+        self.compute_maps(costmap, pose)
+        footprint = self.footprint_at(costmap, pose)
+        best, chosen = self._create_trajectories(costmap, pose, vel, footprint)
+        if chosen in (Chosen.BODY_SAFE, Chosen.KEPT_MOVE):
+            footprint = self.body
+        best.points = self.trajectory_points(costmap, pose, vel, best.xv, best.thetav, footprint)
+        move = (best.xv, best.thetav) if chosen is Chosen.BODY_SAFE else None
+        self.state = next_state(self.state, Observed(chosen, pose, move), self.resets)
+        if chosen is Chosen.SAMPLE:
+            self.oscillation = self.oscillation.after(best.xv, best.thetav, pose[:2])
+        if chosen is not Chosen.KEPT_MOVE:
+            self.oscillation = self.oscillation.reset_if_moved(pose[:2],
+                                                               self.cfg.oscillation_reset_dist)
+        return best
+
+    def _create_trajectories(self, costmap: Costmap, pose, vel,
+                             footprint: np.ndarray) -> tuple[Trajectory, Chosen]:
+        """The cycle's command and its kind, by the mode the cycle starts in."""
+        c = self.cfg
+        if keeps_move(self.state, pose, self.resets):
+            kept = self._kept_move(costmap, pose, vel)
+            if kept is not None:
+                return kept, Chosen.KEPT_MOVE
+        window = self._window(pose, vel)
+        best = Trajectory(-1.0, 0.0, 0.0)
+        if not self.state.escaping:
+            best = self._best_forward(costmap, pose, vel, window, footprint)
+        forward = best
+        best = self._in_place(costmap, pose, vel, best, window, footprint)
+        if c.reverse_when_blocked and not self.state.escaping and best is forward:
+            reverse = self._reverse(costmap, pose, vel, best, window, footprint)
+            if reverse is not None:
+                return reverse, Chosen.REVERSE
+        if best.cost >= 0:
+            return best, Chosen.SAMPLE
+        return self._escape(costmap, pose, vel, footprint)
+
+    def _window(self, pose, vel) -> Window:
         c = self.cfg
         max_vx = c.max_vel_x
         if self.final_goal is not None:
@@ -164,82 +202,39 @@ class TrajectoryPlanner:
         min_vel_th = max(c.min_vel_theta, vel[1] - c.acc_lim_theta * period)
         return min_vel_x, max_vel_x, min_vel_th, max_vel_th
 
-    def _create_trajectories(self, costmap: Costmap, pose, vel) -> Trajectory:
+    def _vth_step(self, window: Window) -> float:
+        n = self.cfg.vtheta_samples
+        return (window[3] - window[2]) / (n - 1) if n > 1 else 0.0
+
+    def _best_forward(self, costmap, pose, vel, window: Window, footprint) -> Trajectory:
+        """The cheapest legal forward sample (the first of equal cost), or an illegal one."""
         c = self.cfg
-        kept = self._keep_escape_move(costmap, pose, vel)
-        if kept is not None:
-            return kept
-        min_vx, max_vx, min_vth, max_vth = self._window(pose, vel)
+        min_vx, max_vx, min_vth, _ = window
         dvx = (max_vx - min_vx) / (c.vx_samples - 1) if c.vx_samples > 1 else 0.0
-        dvth = (max_vth - min_vth) / (c.vtheta_samples - 1) if c.vtheta_samples > 1 else 0.0
+        samples = _forward_samples(min_vx, dvx, min_vth, self._vth_step(window), c.vx_samples,
+                                   c.vtheta_samples)
+        costs, _ = self._score(costmap, pose, vel, samples, footprint)
         best = Trajectory(-1.0, 0.0, 0.0)
-        if not self.escaping:
-            samples = _forward_samples(min_vx, dvx, min_vth, dvth, c.vx_samples, c.vtheta_samples)
-            costs, _ = self._score(costmap, pose, vel, samples)
-            for k in range(len(samples)):
-                if costs[k] >= 0 and (costs[k] < best.cost or best.cost < 0):
-                    best = Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
-        forward = best
-        best = self._in_place(costmap, pose, vel, best, min_vth, dvth)
-        if c.reverse_when_blocked and not self.escaping and best is forward:
-            reverse = self._reverse(costmap, pose, vel, best, min_vth, dvth)
-            self.reversing = reverse is not None
-            if reverse is not None:
-                return reverse
-        self.reversing = False
-        if best.cost >= 0:
-            self._update_flags(best, pose)
-            return best
-        return self._escape(costmap, pose, vel)
+        for k in range(len(samples)):
+            if costs[k] >= 0 and (costs[k] < best.cost or best.cost < 0):
+                best = Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
+        return best
 
-    def _reverse(self, costmap, pose, vel, best: Trajectory, min_vth, dvth) -> Optional[Trajectory]:
-        """``reverse_when_blocked``: no in-place rotation won and the best forward sample
-        (if any) scores worse than staying put — the robot faces away from its goal where it
-        cannot turn — or it is already reversing (kept up while it pays, and for at least
-        escape_reset_dist, so that it does not shuttle). Returns the best legal backward arc at
-        ``escape_vel`` (vθ over the window) if it scores better than staying, else None."""
+    def _in_place(self, costmap, pose, vel, best: Trajectory, window: Window,
+                  footprint) -> Trajectory:
+        """``best``, or the in-place rotation (no cost above it) whose point heading_lookahead
+        ahead is nearest the goal, its side not stuck (upstream)."""
         c = self.cfg
-        x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
-        cell = costmap.world_to_map(x, y)
-        if cell is None or c.escape_vel >= 0:
-            return None
-        here = self._footprint_cost(costmap, pose, self.cycle_footprint)
-        if here < 0:
-            return None
-        stay = (self.pdist * self.path_dist[cell[1], cell[0]]
-                + self.gdist * self.goal_dist[cell[1], cell[0]]
-                + self.occdist * max(here, float(costmap.costs[cell[1], cell[0]])))
-        if best.cost >= 0 and best.cost <= stay and not self.reversing:
-            return None
-        vths = [min_vth + k * dvth for k in range(c.vtheta_samples)] + [0.0]
-        samples = np.array([[c.escape_vel, v] for v in vths])
-        costs, _ = self._score(costmap, pose, vel, samples)
-        back = _cheapest_legal(samples, costs)
-        if back is None or (back.cost >= stay and not self._reverse_committed(x, y)):
-            return None
-        if not self.reversing:
-            self.reverse_start = (x, y)
-        self._reset_oscillation(x, y)
-        return back
-
-    def _reverse_committed(self, x: float, y: float) -> bool:
-        """Reversing and not yet escape_reset_dist from where it began: go on backing up even
-        where it no longer pays (else the robot shuttled: 2 cm back, 2 cm forward, for minutes
-        — a GMapping run of scuola_secondaria_i_grado_mera_ was stopped as stuck)."""
-        return self.reversing and math.hypot(x - self.reverse_start[0],
-                                             y - self.reverse_start[1]) < self.cfg.escape_reset_dist
-
-    def _in_place(self, costmap, pose, vel, best: Trajectory, min_vth, dvth) -> Trajectory:
-        c = self.cfg
-        raw: List[float] = []
-        vth = min_vth
+        dvth = self._vth_step(window)
+        raw: list[float] = []
+        vth = window[2]
         for _ in range(c.vtheta_samples):
             raw.append(vth)
             vth += dvth
         limited = [max(v, c.min_in_place_vel_theta) if v > 0 else min(v, -c.min_in_place_vel_theta)
                    for v in raw]
-        samples = np.array([[0.0, v] for v in limited])
-        costs, ends = self._score(costmap, pose, vel, samples)
+        costs, ends = self._score(costmap, pose, vel, np.array([[0.0, v] for v in limited]),
+                                  footprint)
         heading_dist = math.inf
         for k, v in enumerate(raw):
             if not (costs[k] >= 0 and (costs[k] <= best.cost or best.cost < 0)
@@ -250,100 +245,86 @@ class TrajectoryPlanner:
                                         ey + c.heading_lookahead * math.sin(eth))
             if cell is None:
                 continue
-            ahead = float(self.goal_dist[cell[1], cell[0]])
-            if ahead < heading_dist:
-                if (v < 0 and not self.stuck_left) or (v > 0 and not self.stuck_right):
-                    best = Trajectory(float(costs[k]), 0.0, float(limited[k]))
-                    heading_dist = ahead
+            ahead = float(self.grids.goal[cell[1], cell[0]])
+            if ahead < heading_dist and self.oscillation.allows(v):
+                best = Trajectory(float(costs[k]), 0.0, float(limited[k]))
+                heading_dist = ahead
         return best
 
-    def _update_flags(self, best: Trajectory, pose) -> None:
-        x, y = float(pose[0]), float(pose[1])
-        if not best.xv > 0:
-            if best.thetav < 0:
-                if self.rotating_right:
-                    self.stuck_right = True
-                self.rotating_left = True
-            elif best.thetav > 0:
-                if self.rotating_left:
-                    self.stuck_left = True
-                self.rotating_right = True
-            self.prev_xy = (x, y)
-        self._reset_oscillation(x, y)
-        if self._past_escape_reset(pose):
-            self.escaping = False
-
-    def _past_escape_reset(self, pose) -> bool:
-        """Farther than escape_reset_dist m or escape_reset_theta rad from the escape pose."""
-        ex, ey, eth = self.escape_pose
-        return (math.hypot(float(pose[0]) - ex, float(pose[1]) - ey) > self.cfg.escape_reset_dist
-                or abs(wrap_angle(float(pose[2]) - eth)) > self.cfg.escape_reset_theta)
-
-    def _reset_oscillation(self, x: float, y: float) -> None:
-        if math.hypot(x - self.prev_xy[0], y - self.prev_xy[1]) > self.cfg.oscillation_reset_dist:
-            self.rotating_left = self.rotating_right = False
-            self.stuck_left = self.stuck_right = False
-
-    def _escape(self, costmap, pose, vel) -> Trajectory:
-        """Nothing legal: back up slowly at escape_vel (allowed even through obstacles), or,
-        with ``escape_footprint_margin``, the body-safe move of :meth:`_body_safe_escape`."""
+    def _reverse(self, costmap, pose, vel, best: Trajectory, window: Window,
+                 footprint) -> Trajectory | None:
+        """``reverse_when_blocked``: no in-place rotation won and the best forward sample
+        (if any) scores worse than staying put — the robot faces away from its goal where it
+        cannot turn — or it is already REVERSING. Returns the best legal backward arc at
+        ``escape_vel`` (vθ over the window) if it scores better than staying or reversing is
+        still committed (:func:`~slam_predict.nav.planner_modes.reverse_committed`), else
+        None."""
         c = self.cfg
-        x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
-        costs, _ = self._score(costmap, pose, vel, np.array([[c.escape_vel, 0.0]]))
+        cell = costmap.world_to_map(pose[0], pose[1])
+        if cell is None or c.escape_vel >= 0:
+            return None
+        here = self._footprint_cost(costmap, pose, footprint)
+        if here < 0:
+            return None
+        stay = (self.pdist * self.grids.path[cell[1], cell[0]]
+                + self.gdist * self.grids.goal[cell[1], cell[0]]
+                + self.occdist * max(here, float(costmap.costs[cell[1], cell[0]])))
+        if best.cost >= 0 and best.cost <= stay and self.state.mode is not Mode.REVERSING:
+            return None
+        dvth = self._vth_step(window)
+        vths = [window[2] + k * dvth for k in range(c.vtheta_samples)] + [0.0]
+        samples = np.array([[c.escape_vel, v] for v in vths])
+        costs, _ = self._score(costmap, pose, vel, samples, footprint)
+        back = _cheapest_legal(samples, costs)
+        if back is None or (back.cost >= stay
+                            and not reverse_committed(self.state, pose, self.resets)):
+            return None
+        return back
+
+    def _escape(self, costmap, pose, vel, footprint) -> tuple[Trajectory, Chosen]:
+        """Nothing legal: back up slowly at escape_vel (allowed even through obstacles: a
+        collision cost −1 is reported as 1), or, with ``escape_footprint_margin``, the
+        body-safe move of :meth:`_body_safe_escape`."""
+        c = self.cfg
+        costs, _ = self._score(costmap, pose, vel, np.array([[c.escape_vel, 0.0]]), footprint)
         best = Trajectory(float(costs[0]), c.escape_vel, 0.0)
-        self.escape_move = None
+        chosen = Chosen.BACK_UP if best.cost > -2.0 else Chosen.NO_PATH
         if best.cost == -1.0 and c.escape_footprint_margin > 0:
             safe = self._body_safe_escape(costmap, pose, vel)
             if safe is not None:
-                best = safe
-                self.escape_move = (safe.xv, safe.thetav)
-        self._reset_oscillation(x, y)
-        if not self.escaping and best.cost > -2.0:
-            self.escape_pose = (x, y, th)
-            self.escaping = True
-        if self._past_escape_reset(pose):
-            self.escaping = False
+                best, chosen = safe, Chosen.BODY_SAFE
         if best.cost == -1.0:
             best.cost = 1.0
-        return best
+        return best, chosen
 
-    def _keep_escape_move(self, costmap, pose, vel) -> Optional[Trajectory]:
-        """The move :meth:`_body_safe_escape` chose, again, while escaping (until
-        escape_reset_dist / escape_reset_theta from the escape pose) and while the body still
-        rolls it out clear; else None (sample as usual). Choosing afresh every cycle, the
-        robot alternated between moves that undid each other (a forward arc, an in-place turn
-        back, a step back: office_1500 made no progress for 25 min)."""
-        move = self.escape_move
-        if move is None or not self.escaping:
-            self.escape_move = None
-            return None
-        if self._past_escape_reset(pose):
-            self.escape_move = None
-            return None
-        costs, _ = self._score_with(costmap, pose, vel, np.array([move]), self.body)
+    def _kept_move(self, costmap, pose, vel) -> Trajectory | None:
+        """KEEPING_MOVE: the kept body-safe move again while the body still rolls it out clear,
+        else None (the cycle samples as in ESCAPING). Choosing afresh every cycle, the robot
+        alternated between moves that undid each other (a forward arc, an in-place turn back,
+        a step back: office_1500 made no progress for 25 min)."""
+        move = self.state.move
+        costs, _ = self._score(costmap, pose, vel, np.array([move]), self.body)
         if costs[0] < 0:
-            self.escape_move = None
             return None
         return Trajectory(float(costs[0]), move[0], move[1])
 
-    def _body_safe_escape(self, costmap, pose, vel) -> Optional[Trajectory]:
-        """The straight escape collides: when the footprint shrunk by
-        ``escape_footprint_margin`` would collide on it too, the best backward arc at escape_vel
-        (vθ over the window) that the shrunk footprint rolls out without touching an obstacle,
-        scored as usual with it; when no backward arc is clear (the robot has backed into a
-        wall), the best such forward arc at −escape_vel; else None (the straight escape
-        follows, as the original). No in-place turns: a robot already touching a wall cannot
-        turn (Stage refuses the move) while its odometry turns on, so it would turn "in place"
-        for ever."""
+    def _body_safe_escape(self, costmap, pose, vel) -> Trajectory | None:
+        """The straight escape collides: when the body would collide on it too, the best
+        backward arc at escape_vel (vθ over the window) that the body rolls out without
+        touching an obstacle, scored as usual with it; when no backward arc is clear (the robot
+        has backed into a wall), the best such forward arc at −escape_vel; else None (the
+        straight escape follows, as the original). No in-place turns: a robot already touching
+        a wall cannot turn (Stage refuses the move) while its odometry turns on, so it would
+        turn "in place" for ever."""
         c = self.cfg
         backward = self._escape_samples(pose, vel, c.escape_vel)
-        costs, _ = self._score_with(costmap, pose, vel, backward, self.body)
+        costs, _ = self._score(costmap, pose, vel, backward, self.body)
         if costs[0] >= 0:
             return None
         best = _cheapest_legal(backward, costs)
         if best is None:
             forward = self._escape_samples(pose, vel, -c.escape_vel)
-            costs, _ = self._score_with(costmap, pose, vel, forward, self.body)
+            costs, _ = self._score(costmap, pose, vel, forward, self.body)
             best = _cheapest_legal(forward, costs)
         return best
 
@@ -356,7 +337,7 @@ class TrajectoryPlanner:
         return np.array([[vx, 0.0]] + [[vx, v] for v in vths if v != 0.0])
 
 
-def _cheapest_legal(samples: np.ndarray, costs: np.ndarray) -> Optional[Trajectory]:
+def _cheapest_legal(samples: np.ndarray, costs: np.ndarray) -> Trajectory | None:
     """The legal (cost ≥ 0) sample of least cost, or None."""
     legal = np.nonzero(costs >= 0)[0]
     if len(legal) == 0:
@@ -384,65 +365,3 @@ def _forward_samples(min_vx, dvx, min_vth, dvth, nvx, nvth) -> np.ndarray:
             vth += dvth
         vx += dvx
     return np.array(out, dtype=float)
-
-
-def adjust_plan_resolution(plan_xy: np.ndarray, resolution: float) -> np.ndarray:
-    """MapGrid::adjustPlanResolution: insert points so consecutive ones are ≤ resolution apart
-    (a segment of length L > resolution gets ceil(L/resolution) − 1 evenly spaced points)."""
-    plan_xy = np.asarray(plan_xy, dtype=float).reshape(-1, 2)
-    if len(plan_xy) < 2:
-        return plan_xy
-    seg = np.diff(plan_xy, axis=0)
-    length = np.hypot(seg[:, 0], seg[:, 1])
-    steps = np.where(length > resolution, np.ceil(length / resolution), 1).astype(int)
-    seg_index = np.repeat(np.arange(len(seg)), steps)
-    offsets = np.arange(len(seg_index)) - np.repeat(np.cumsum(steps) - steps, steps)
-    frac = offsets / steps[seg_index]
-    points = plan_xy[seg_index] + frac[:, None] * seg[seg_index]
-    return np.vstack([points, plan_xy[-1:]])
-
-
-def plan_cells(costmap: Costmap, plan: np.ndarray) -> np.ndarray:
-    """(n, 2) cells of the plan's first contiguous run inside the map on known cells (the seeds
-    of the path distance, MapGrid::setTargetCells)."""
-    return path_and_goal_cells(costmap, plan)[0]
-
-
-def local_goal_cell(costmap: Costmap, plan: np.ndarray) -> np.ndarray:
-    """(1, 2) local goal cell, or (0, 2) (MapGrid::setLocalGoal)."""
-    return path_and_goal_cells(costmap, plan)[1]
-
-
-def path_and_goal_cells(costmap: Costmap, plan: np.ndarray):
-    """(path cells (n, 2), local goal cell (≤ 1, 2)) of a plan on a local costmap.
-
-    Path cells: the plan's first contiguous run of points (resolution-adjusted) inside the map
-    on known cells (MapGrid::setTargetCells). Local goal (MapGrid::setLocalGoal): the last point
-    of that run, except that once the plan is more than 1 m from its start, a point in an
-    obstacle (≥ INSCRIBED) right after a free one ends the run there.
-    """
-    empty = np.empty((0, 2), np.int64)
-    if len(plan) == 0:
-        return empty, empty
-    pts = adjust_plan_resolution(np.asarray(plan, dtype=float)[:, :2], costmap.resolution)
-    ox, oy = costmap.origin
-    inside = (pts[:, 0] >= ox) & (pts[:, 1] >= oy)
-    mx = np.zeros(len(pts), np.int64)
-    my = np.zeros(len(pts), np.int64)
-    mx[inside] = ((pts[inside, 0] - ox) / costmap.resolution).astype(np.int64)
-    my[inside] = ((pts[inside, 1] - oy) / costmap.resolution).astype(np.int64)
-    inside &= (mx < costmap.size_x) & (my < costmap.size_y)
-    ok = np.zeros(len(pts), bool)
-    ok[inside] = costmap.costs[my[inside], mx[inside]] != NO_INFORMATION
-    if not ok.any():
-        return empty, empty
-    first = int(np.argmax(ok))
-    rest = ok[first:]
-    stop = first + (len(rest) if rest.all() else int(np.argmin(rest)))
-    run = np.arange(first, stop)
-    path = np.stack([mx[run], my[run]], axis=1)
-    away = np.maximum.accumulate(np.hypot(*(pts - pts[0]).T) ** 2 > 1.0)[run]
-    blocked = costmap.costs[my[run], mx[run]] >= INSCRIBED
-    ends = np.nonzero(away[1:] & blocked[1:] & ~blocked[:-1])[0]
-    k = ends[0] if len(ends) else len(run) - 1   # the point before the first such break
-    return path, path[k:k + 1]
