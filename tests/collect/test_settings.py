@@ -14,7 +14,7 @@ def test_default_settings_load_the_package_configs():
     settings = load_settings()
     assert settings.sim.odom.model == "uniform_per_run"
     assert settings.sim.laser.range_max == 80.0
-    assert settings.gmapping.particles == 40
+    assert settings.slam.params.particles == 40
 
 
 @pytest.mark.parametrize("model", ["uniform_per_run", "fixed"])

@@ -21,6 +21,7 @@ from slam_predict.config import (POSITIVE, Range, check_keys, config_hash, from_
                                  load_yaml)
 from slam_predict.explore.coverage import coverage, reachable_free, render_png
 from slam_predict.explore.explorer import ExploreConfig
+from slam_predict.explore import PERFECT
 from slam_predict.explore.loop import ClosedLoop
 from slam_predict.explore.mapsource import PerfectMapConfig
 from slam_predict.nav.config import MoveBaseConfig, load_nav_config
@@ -47,12 +48,13 @@ class ExploreSettings:
     sim: SimConfig
     perfect: PerfectMapConfig
     loop: LoopSettings
-    gmapping: Any = None
+    slam_params: Any = None    # the map source's parameters when it is a SLAM back-end
 
 
 def load_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
                   map_source: str = "perfect") -> ExploreSettings:
-    """Settings from the project's YAML files in ``config_dir`` (missing files: defaults)."""
+    """Settings from the project's YAML files in ``config_dir`` (missing files: defaults); a
+    SLAM back-end ``map_source`` takes its parameters from ``<map_source>.yaml`` there."""
     config_dir = Path(config_dir)
 
     def path(name: str) -> Optional[Path]:
@@ -67,11 +69,13 @@ def load_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
     check_keys(closed, ("perfect_map", "loop"), source)
     perfect = from_dict(PerfectMapConfig, closed.get("perfect_map"), source, "perfect_map")
     loop = from_dict(LoopSettings, closed.get("loop"), source, "loop")
-    gmapping = None
-    if map_source == "gmapping" and path("gmapping.yaml"):
-        from slam_predict.slam.gmapping.params import load_params
-        gmapping = load_params(path("gmapping.yaml"))
-    return ExploreSettings(load_nav_config(config_dir), explore, sim, perfect, loop, gmapping)
+    slam_params = None
+    if map_source != PERFECT:
+        from slam_predict import slam
+        params_file = path(f"{map_source}.yaml")
+        slam_params = (slam.load_params(map_source, params_file) if params_file
+                       else slam.params_from_dict(map_source, None))
+    return ExploreSettings(load_nav_config(config_dir), explore, sim, perfect, loop, slam_params)
 
 
 def explore_world(world: World, seed: int, settings: ExploreSettings, map_source: str = "perfect",
@@ -80,7 +84,7 @@ def explore_world(world: World, seed: int, settings: ExploreSettings, map_source
     (summary dict, the finished :class:`ClosedLoop`)."""
     limit = settings.loop.max_sim_time if max_sim_time is None else float(max_sim_time)
     loop = ClosedLoop(world, seed, settings.nav, settings.explore, settings.sim, map_source,
-                      settings.perfect, settings.gmapping)
+                      settings.perfect, settings.slam_params)
     start = time.perf_counter()
     reason = loop.run(limit)
     wall = time.perf_counter() - start

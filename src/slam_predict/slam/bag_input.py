@@ -20,7 +20,7 @@ from typing import Dict, List, Optional, Tuple
 import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
-from slam_predict.slam.gmapping.runner import SlamInput
+from slam_predict.slam.scans import SlamInput
 from slam_predict.slam.laser import laser_geometry, prepare_ranges, quaternion_matrix
 
 SCAN_TYPE = "sensor_msgs/msg/LaserScan"
