@@ -169,8 +169,11 @@ def test_record_has_the_episode_keys_and_reloads(tmp_path):
     expected = {"world", "world_file", "run_index", "seed", "code_version", "config_hashes",
                 "settings_file", "odometry_model", "odometry_error", "stop_reason",
                 "explorer_end", "sim_duration_s", "wall_time_s", "distance_m", "rotation_rad",
-                "coverage", "stalls", "free_area_m2", "snapshots", "metric", "timing", "ros"}
+                "coverage", "stalls", "free_area_m2", "snapshots", "metric", "timing", "ros",
+                "slam"}
     assert set(record) == expected
+    assert record["slam"] == {"type": "gmapping",
+                              "params_hash": record["config_hashes"]["gmapping"]}
     loaded, traj = rec.load_record(tmp_path)
     assert loaded["schema"] == rec.SCHEMA_VERSION and loaded["run_index"] == 3
     assert len(traj.t) == 300 and loaded["ros"]["samples"] == 300

@@ -196,6 +196,7 @@ def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
         record = {
             "world": spec.world, "world_file": portable_path(spec.world_path), "run_index": spec.index,
             "seed": spec.seed, "code_version": code_version(), "config_hashes": settings.hashes(),
+            "slam": settings.slam.record(),
             "settings_file": portable_path(settings.source),
             "odometry_model": settings.sim.odom.model,
             "odometry_error": loop.sim.odom_error,

@@ -73,6 +73,7 @@ def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, 
     return {
         "world": info.world, "world_file": portable_path(info.world_file), "run_index": info.run_index,
         "seed": info.seed, "code_version": code_version(), "config_hashes": hashes,
+        "slam": settings.slam.record(),
         "settings_file": portable_path(settings.source),
         "odometry_model": info.odometry_model or settings.sim.odom.model,
         "odometry_error": info.odometry_error,
