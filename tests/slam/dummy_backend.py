@@ -33,14 +33,15 @@ class DummyParams:
     map_update_interval: float = 2.0
     linear_update: float = 0.3
     angular_update: float = 0.3
+    temporal_update: float = 5.0
     max_range: float = 8.0
     RANGES: ClassVar[Dict[str, Range]] = {"delta": POSITIVE, "map_update_interval": POSITIVE,
                                           "max_range": POSITIVE}
 
 
 class DummyMapper(slam.SlamBackend):
-    """Dead-reckoning mapper: a processed scan (after ``linear_update`` m or ``angular_update``
-    rad of odometry, or the first) marks the cells its beams pass as seen free and its end
+    """Dead-reckoning mapper: a processed scan (the first, then after ``linear_update`` m or
+    ``angular_update`` rad of odometry or ``temporal_update`` s) marks the cells its beams pass as seen free and its end
     points as hit; a cell is occupied when over a quarter of its visits were hits."""
 
     name = NAME
@@ -67,6 +68,7 @@ class DummyMapper(slam.SlamBackend):
         self.visits = np.zeros((height, width), np.int32)
         self._odom = np.zeros(3)
         self._last = None
+        self._last_t = -math.inf
         self._count = 0
         self._processed = []   # (scan number, t, pose)
 
@@ -77,15 +79,15 @@ class DummyMapper(slam.SlamBackend):
     def update(self, odom_pose, scan_ranges, t: float):
         self._odom = np.asarray(odom_pose, float)
         number, self._count = self._count, self._count + 1
-        if not self._due():
+        if not self._due(float(t)):
             return None
-        self._last = self._odom.copy()
+        self._last, self._last_t = self._odom.copy(), float(t)
         self._integrate(np.asarray(scan_ranges, float))
         self._processed.append((number, float(t), self._odom.copy()))
         return self.pose()
 
-    def _due(self) -> bool:
-        if self._last is None:
+    def _due(self, t: float) -> bool:
+        if self._last is None or t - self._last_t > self.params.temporal_update:
             return True
         moved = math.hypot(*(self._odom[:2] - self._last[:2]))
         turned = abs(math.remainder(self._odom[2] - self._last[2], 2 * math.pi))
