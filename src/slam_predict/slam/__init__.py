@@ -8,7 +8,10 @@ A back-end is fed, scan by scan, the robot's odometry pose and the laser ranges:
     grid = slam.map()                               # OccupancyGrid
     slam.map_to_odom()                              # (x, y, yaw) of the odom frame in the map frame
 
-Poses are (x m, y m, yaw rad) of the robot base; ranges in m, times in s.
+Poses are (x m, y m, yaw rad) of the robot base; ranges in m, times in s. Everything callers
+outside ``slam/`` need is on :class:`SlamBackend`; back-ends outside slam_predict are loaded by
+:func:`load_plugins` (docs/architecture.md "Adding a SLAM back-end"). Offline runs over logs and
+bags: :mod:`.runner`, :mod:`.scans`, :mod:`.bag_input`.
 """
 from __future__ import annotations
 
