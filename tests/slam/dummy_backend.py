@@ -41,8 +41,9 @@ class DummyParams:
 
 class DummyMapper(slam.SlamBackend):
     """Dead-reckoning mapper: a processed scan (the first, then after ``linear_update`` m or
-    ``angular_update`` rad of odometry or ``temporal_update`` s) marks the cells its beams pass as seen free and its end
-    points as hit; a cell is occupied when over a quarter of its visits were hits."""
+    ``angular_update`` rad of odometry or ``temporal_update`` s) marks the cells its beams pass
+    as seen free and its end points as hit; a cell is occupied when over a quarter of its visits
+    were hits."""
 
     name = NAME
     label = "Dummy odometry mapper"
@@ -133,7 +134,7 @@ class DummyMapper(slam.SlamBackend):
     def trajectory(self):
         if not self._processed:
             return np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 3))
-        numbers, times, poses = zip(*self._processed)
+        numbers, times, poses = zip(*self._processed, strict=True)
         return np.arange(len(numbers)), np.array(times), np.array(poses)
 
     def stats(self) -> dict:

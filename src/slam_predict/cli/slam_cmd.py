@@ -81,8 +81,8 @@ def _backend_and_params(args: argparse.Namespace, recorded):
 
 
 def run(args: argparse.Namespace) -> int:
-    from slam_predict.slam.runner import (evaluate, read_input, recorded_run, run as run_slam,
-                                          write_run)
+    from slam_predict.slam.runner import evaluate, read_input, recorded_run, write_run
+    from slam_predict.slam.runner import run as run_slam
 
     check_out_dir(args.out, args.force, inputs=(args.input, args.config))
     recorded = recorded_run(args.input)

@@ -19,9 +19,9 @@ import numpy as np
 from slam_predict.atomic import write_text
 from slam_predict.config import (POSITIVE, Range, check_keys, config_hash, from_dict, load_config,
                                  load_yaml)
+from slam_predict.explore import PERFECT
 from slam_predict.explore.coverage import coverage, reachable_free, render_png
 from slam_predict.explore.explorer import ExploreConfig
-from slam_predict.explore import PERFECT
 from slam_predict.explore.loop import ClosedLoop
 from slam_predict.explore.mapsource import PerfectMapConfig
 from slam_predict.nav.config import MoveBaseConfig, load_nav_config

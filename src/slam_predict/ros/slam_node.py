@@ -1,5 +1,6 @@
-"""``slam_gmapping``: our SLAM node, a drop-in for the ROS slam_gmapping node, over any registered
-back-end of :mod:`slam_predict.slam` (``~type``, default ``gmapping``: :mod:`slam_predict.slam.gmapping`).
+"""``slam_gmapping``: our SLAM node, a drop-in for the ROS slam_gmapping node, over any
+registered back-end of :mod:`slam_predict.slam` (``~type``, default ``gmapping``:
+:mod:`slam_predict.slam.gmapping`).
 
 Topics, frames, parameters and timing as slam_gmapping (ros_interfaces.md §2.1–2.2), whatever
 the back-end:
@@ -21,8 +22,8 @@ the back-end:
 
 Parameters (private namespace): ``~type`` (the back-end, a name of
 :func:`slam_predict.slam.available`; an unknown one is a fatal one-line error listing them), the
-node's own :class:`NodeParams` (slam_gmapping's names), every field of the back-end's parameter
-class (for gmapping :class:`~slam_predict.slam.gmapping.params.GMappingParams`) and ``~seed``
+node's own :class:`~slam_predict.slam.SlamNodeParams` (slam_gmapping's names), every field of the
+back-end's parameter class (for gmapping :class:`~slam_predict.slam.gmapping.params.GMappingParams`) and ``~seed``
 (int; default: fresh entropy, logged). Back-ends registered outside slam_predict are loaded from
 ``$SLAM_PREDICT_EXTRA_BACKENDS`` (a launch file sets it with ``<env>``; docs/architecture.md
 "Adding a SLAM back-end"). Readings below ``range_min`` become ``range_max`` (slam_gmapping's
@@ -35,38 +36,16 @@ import logging
 import math
 import threading
 import time
-from dataclasses import dataclass
-from typing import ClassVar, Dict, Optional, Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 
-from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, Range
-from slam_predict.slam import SlamChoice
+from slam_predict.slam import SlamChoice, SlamNodeParams
 from slam_predict.slam.laser import laser_geometry, prepare_ranges, quaternion_matrix
 
 LOG = logging.getLogger(__name__)
 SCAN_QUEUE = 5
 TF_WAIT = 1.0  # s of wall time to wait for the odometry tf of a scan
-
-
-@dataclass
-class NodeParams:
-    """The node's own parameters (slam_gmapping's names and defaults; frames, s)."""
-
-    throttle_scans: int = 1
-    base_frame: str = "base_link"
-    map_frame: str = "map"
-    odom_frame: str = "odom"
-    transform_publish_period: float = 0.05
-    tf_delay: Optional[float] = None          # None: = transform_publish_period
-    RANGES: ClassVar[Dict[str, Range]] = {"throttle_scans": AT_LEAST_ONE,
-                                          "transform_publish_period": NON_NEGATIVE,
-                                          "tf_delay": NON_NEGATIVE}
-
-    @property
-    def effective_tf_delay(self) -> float:
-        """tf_delay, defaulting to transform_publish_period as slam_gmapping does (s)."""
-        return self.transform_publish_period if self.tf_delay is None else self.tf_delay
 
 
 class SlamNode:
@@ -81,7 +60,7 @@ class SlamNode:
         tf_broadcaster: a ``tf2_ros.TransformBroadcaster``.
     """
 
-    def __init__(self, slam: SlamChoice, node: NodeParams, seed: int, rospy_module, tf_buffer,
+    def __init__(self, slam: SlamChoice, node: SlamNodeParams, seed: int, rospy_module, tf_buffer,
                  tf_broadcaster):
         self.choice = slam
         self.params = node
@@ -134,7 +113,8 @@ class SlamNode:
 
     # ------------------------------------------------------------------ callbacks
     def on_scan(self, msg) -> None:
-        """laserCallback, then ``~sim_ack`` = the scan's stamp (stage_sim's lockstep waits for it)."""
+        """laserCallback, then ``~sim_ack`` = the scan's stamp (stage_sim's lockstep waits for
+        it)."""
         try:
             self._process_scan(msg)
         finally:
@@ -247,7 +227,7 @@ class SlamNode:
             transform_to_ros(pose, stamp, self.params.map_frame, self.params.odom_frame))
 
 
-def read_params(rospy_module) -> Tuple[SlamChoice, NodeParams, Optional[int]]:
+def read_params(rospy_module) -> Tuple[SlamChoice, SlamNodeParams, Optional[int]]:
     """The back-end (``~type``) with its parameters, the node's parameters, and ``~seed``
     (None if unset), from the private namespace."""
     from slam_predict import slam
@@ -261,7 +241,7 @@ def read_params(rospy_module) -> Tuple[SlamChoice, NodeParams, Optional[int]]:
                 if f.name != "type" and rospy_module.has_param("~" + f.name)}
 
     params = slam.params_from_dict(name, private(params_class), f"~ ({name} parameters)")
-    node = from_dict(NodeParams, private(NodeParams), "~ (slam_gmapping node parameters)")
+    node = from_dict(SlamNodeParams, private(SlamNodeParams), "~ (SLAM node parameters)")
     return SlamChoice(name, params), node, rospy_module.get_param("~seed", None)
 
 

@@ -18,10 +18,11 @@ from __future__ import annotations
 import importlib
 import os
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, Optional, Tuple, Union
+from typing import Any, Callable, ClassVar, Dict, Optional, Tuple, Union
 
 import numpy as np
 
+from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, Range
 from slam_predict.errors import InputError, did_you_mean
 
 
@@ -63,6 +64,27 @@ class OccupancyGrid:
     def height(self) -> int:
         """Number of rows (cells along y)."""
         return int(self.data.shape[0])
+
+
+@dataclass
+class SlamNodeParams:
+    """A SLAM ROS node's own parameters, whatever the back-end (slam_gmapping's names and
+    defaults; frames, s). GMapping's parameters extend them, as slam_gmapping's do."""
+
+    throttle_scans: int = 1
+    base_frame: str = "base_link"
+    map_frame: str = "map"
+    odom_frame: str = "odom"
+    transform_publish_period: float = 0.05
+    tf_delay: Optional[float] = None          # None: = transform_publish_period
+    RANGES: ClassVar[Dict[str, Range]] = {"throttle_scans": AT_LEAST_ONE,
+                                          "transform_publish_period": NON_NEGATIVE,
+                                          "tf_delay": NON_NEGATIVE}
+
+    @property
+    def effective_tf_delay(self) -> float:
+        """tf_delay, defaulting to transform_publish_period as slam_gmapping does (s)."""
+        return self.transform_publish_period if self.tf_delay is None else self.tf_delay
 
 
 class SlamBackend:

@@ -20,8 +20,8 @@ from typing import Dict, List, Optional, Tuple
 import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
-from slam_predict.slam.scans import SlamInput
 from slam_predict.slam.laser import laser_geometry, prepare_ranges, quaternion_matrix
+from slam_predict.slam.scans import SlamInput
 
 SCAN_TYPE = "sensor_msgs/msg/LaserScan"
 ODOM_TYPE = "nav_msgs/msg/Odometry"

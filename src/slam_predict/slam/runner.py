@@ -85,7 +85,7 @@ def recorded_run(path: os.PathLike | str) -> Optional[RecordedRun]:
     try:
         record = json.loads(run_json.read_text(encoding="utf-8"))
     except (OSError, ValueError) as exc:
-        raise InputError(f"cannot read run record: {exc}", run_json)
+        raise InputError(f"cannot read run record: {exc}", run_json) from None
     slam_type = str((record.get("slam") or {}).get("type", "gmapping"))
     sensors = record.get("sensor_logs")
     if not isinstance(sensors, dict) or slam_type not in sensors:
