@@ -11,9 +11,8 @@ the back-end:
 * publishes ``map`` (nav_msgs/OccupancyGrid, latched) and ``map_metadata`` (latched) after the
   first processed scan and then whenever a processed scan is more than the back-end's
   ``map_update_interval`` s newer than the last map; ``~entropy`` (std_msgs/Float64, latched,
-  only when > 0);
-  ``~sim_ack`` (std_msgs/Time, latched): each scan's stamp once it is handled (0 at start;
-  stage_sim's lockstep, :mod:`slam_predict.ros.lockstep`);
+  only when > 0); ``~sim_ack`` (std_msgs/Time, latched): each scan's stamp once it is handled
+  (0 at start; stage_sim's lockstep, :mod:`slam_predict.ros.lockstep`);
 * broadcasts tf ``map_frame → odom_frame`` every ``transform_publish_period`` s (0 disables),
   stamped now + ``tf_delay``; it changes only when a scan is processed (a broadcast whose stamp
   would repeat the previous one is skipped: with sim time, slam_gmapping floods tf2 with
@@ -23,8 +22,9 @@ the back-end:
 Parameters (private namespace): ``~type`` (the back-end, a name of
 :func:`slam_predict.slam.available`; an unknown one is a fatal one-line error listing them), the
 node's own :class:`~slam_predict.slam.SlamNodeParams` (slam_gmapping's names), every field of the
-back-end's parameter class (for gmapping :class:`~slam_predict.slam.gmapping.params.GMappingParams`) and ``~seed``
-(int; default: fresh entropy, logged). Back-ends registered outside slam_predict are loaded from
+back-end's parameter class (for gmapping
+:class:`~slam_predict.slam.gmapping.params.GMappingParams`) and ``~seed`` (int; default: fresh
+entropy, logged). Back-ends registered outside slam_predict are loaded from
 ``$SLAM_PREDICT_EXTRA_BACKENDS`` (a launch file sets it with ``<env>``; docs/architecture.md
 "Adding a SLAM back-end"). Readings below ``range_min`` become ``range_max`` (slam_gmapping's
 rule); NaN readings are treated the same way (slam_gmapping would register them as garbage).
