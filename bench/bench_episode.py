@@ -111,7 +111,7 @@ class Timers:
 
 def bench_settings(args):
     settings = load_settings(args.settings)
-    settings.gmapping = dataclasses.replace(settings.gmapping, particles=args.particles)
+    settings.slam.params = dataclasses.replace(settings.slam.params, particles=args.particles)
     if args.max_sim_time is not None:
         settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=args.max_sim_time)
     return settings

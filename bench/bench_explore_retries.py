@@ -32,7 +32,7 @@ def explore(world_path: Path, world_name: str, index: int, settings, max_sim_tim
     world = load_plan(world_path)
     seed = run_seed(0, world_name, index)
     loop = ClosedLoop(world, seed, settings.nav, settings.explore, settings.sim,
-                      map_source="gmapping", slam_params=settings.gmapping)
+                      map_source="gmapping", slam_params=settings.slam.params)
     start = time.perf_counter()
     reason = loop.run(max_sim_time)
     reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))

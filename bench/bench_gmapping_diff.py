@@ -2,7 +2,7 @@
 side by side.
 
 For every log and seed, the log is read once with our runner's reader
-(``slam_predict.slam.gmapping.runner.read_input``); that very input object (odometry, ranges,
+(``slam_predict.slam.runner.read_input``); that very input object (odometry, ranges,
 beam angles, laser offset, maxRange derivation) is run through our port
 (``runner.run``, in-process) and exported as "prepared scans"
 (``slam_predict.formats.prepared_scans``) for the real library, driven by
@@ -99,7 +99,7 @@ def load(log: str, config: str | None, overrides: dict):
 def _load(log: str, config: str | None, overrides_json: str):
     from slam_predict.config import load_yaml
     from slam_predict.slam.gmapping.params import params_from_dict
-    from slam_predict.slam.gmapping.runner import read_input
+    from slam_predict.slam.runner import read_input
 
     path, cfg, short = log_source(log, config)
     if collected.is_run(Path(log)):
@@ -119,10 +119,10 @@ def error_of(data, indices, poses) -> dict:
 
 
 def run_ours(data, params, seed: int) -> dict:
-    from slam_predict.slam.gmapping import runner
+    from slam_predict.slam import runner
 
     cpu0 = time.process_time()
-    result = runner.run(data, params, seed)
+    result = runner.run(data, "gmapping", params, seed)
     return {"indices": result.indices.tolist(), "poses": result.poses.tolist(),
             "neff": result.stats["neff_history"], "resamples": result.stats["resamples"],
             "cpu_s": time.process_time() - cpu0}

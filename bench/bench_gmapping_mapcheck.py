@@ -33,7 +33,7 @@ from slam_predict.slam.compare import apply_transform, map_agreement, rigid_fit 
 from slam_predict.slam.gmapping.filter import centred_laser  # noqa: E402
 from slam_predict.slam.gmapping.gridmap import MapBuilder  # noqa: E402
 from slam_predict.slam.gmapping.params import load_params, with_ranges  # noqa: E402
-from slam_predict.slam.gmapping.runner import evaluate, read_input, run  # noqa: E402
+from slam_predict.slam.runner import evaluate, read_input, run  # noqa: E402
 
 SHARED = ROOT.parent / "shared"
 TOL = 2.0  # cells
@@ -174,7 +174,7 @@ def map_icp_transform(ours_grid, ref_grid):
 
 
 def run_report(log, data, params, seed):
-    result = run(data, params, seed)
+    result = run(data, "gmapping", params, seed)
     idx, ref = result.indices, data.reference[result.indices]
     error = evaluate(result)["slam"]["trans_mean_m"]
     fitted = apply_transform(rigid_fit(result.poses, ref), result.poses)

@@ -30,8 +30,9 @@ def capped_settings(args, folder: Path) -> Path:
     import yaml
 
     data = yaml.safe_load((ROOT / "config" / "collect.yaml").read_text())
-    for key in ("robot", "gmapping", "navigation", "explore"):
+    for key in ("robot", "navigation", "explore"):
         data[key] = str((ROOT / "config" / data.get(key, ".")).resolve())
+    data["slam"]["params"] = str((ROOT / "config" / data["slam"]["params"]).resolve())
     data.setdefault("stop", {})["max_sim_time_s"] = float(args.max_sim_time)
     path = folder / "collect.yaml"
     path.write_text(yaml.safe_dump(data))

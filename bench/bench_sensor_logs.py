@@ -39,7 +39,7 @@ def episode(world: Path, out: Path, args, sensor_logs: bool) -> dict:
     settings.sensor_logs = sensor_logs
     settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=args.max_sim_time)
     if args.particles:
-        settings.gmapping = dataclasses.replace(settings.gmapping, particles=args.particles)
+        settings.slam.params = dataclasses.replace(settings.slam.params, particles=args.particles)
     spec = RunSpec(str(world), world.stem, 0, args.seed, str(out))
     cpu = time.process_time()
     record = run_episode(spec, settings)

@@ -58,4 +58,4 @@ def run_record_keys() -> frozenset:
         "world", "world_file", "run_index", "seed", "code_version", "config_hashes",
         "settings_file", "odometry_model", "odometry_error", "stop_reason", "explorer_end",
         "sim_duration_s", "wall_time_s", "distance_m", "rotation_rad", "coverage", "stalls",
-        "free_area_m2", "snapshots", "metric", "timing", "sensor"})
+        "free_area_m2", "snapshots", "metric", "timing", "sensor", "slam"})

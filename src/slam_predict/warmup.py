@@ -11,6 +11,7 @@ LOG = logging.getLogger(__name__)
 MODULES = (
     "slam_predict.sim.raycast",
     "slam_predict.slam.gmapping.kernels",
+    "slam_predict.slam.gmapping.raytrace",
     "slam_predict.nav.kernels",
     "slam_predict.features.kernels",
     "slam_predict.metric.kernels",

@@ -25,7 +25,7 @@ if not TINY.exists():
 
 def quick_settings(max_sim_time=60.0, particles=6):
     settings = load_settings()
-    settings.gmapping = dataclasses.replace(settings.gmapping, particles=particles)
+    settings.slam.params = dataclasses.replace(settings.slam.params, particles=particles)
     settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=max_sim_time,
                                         small_interval_s=30.0)
     return settings
@@ -37,10 +37,10 @@ def run(tmp_path, name, seed=3, **kwargs):
 
 
 def test_full_extent_grid_places_the_map():
-    params = load_settings().gmapping
+    extent = (-100.0, -100.0, 100.0, 100.0)   # slam_gmapping's default xmin..ymax, m
     data = np.zeros((3, 4), np.int8)
     data[0, 0] = 100
-    canvas = full_extent_grid(OccupancyGrid(data, 0.05, (1.0, -2.0)), params)
+    canvas = full_extent_grid(OccupancyGrid(data, 0.05, (1.0, -2.0)), extent)
     assert canvas.shape == (4000, 4000)
     row, col = int(round((-2.0 + 100) / 0.05)), int(round((1.0 + 100) / 0.05))
     assert canvas[row, col] == 100 and (canvas == 0).sum() == 11 and (canvas == -1).sum() == 4000 ** 2 - 12

@@ -20,7 +20,7 @@ if not TINY.exists():
 
 def test_run_json_carries_the_sensor(tmp_path):
     settings = load_settings()
-    settings.gmapping = dataclasses.replace(settings.gmapping, particles=4)
+    settings.slam.params = dataclasses.replace(settings.slam.params, particles=4)
     settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=15.0, small_interval_s=10.0)
     settings.sim = dataclasses.replace(settings.sim, laser=dataclasses.replace(
         settings.sim.laser, range_max=12.0, samples=271))

@@ -24,7 +24,7 @@ SIM_TIME = 20.0
 
 def settings(sensor_logs: bool):
     s = load_settings()
-    s.gmapping = dataclasses.replace(s.gmapping, particles=6)
+    s.slam.params = dataclasses.replace(s.slam.params, particles=6)
     s.stop = dataclasses.replace(s.stop, max_sim_time_s=SIM_TIME, small_interval_s=30.0)
     s.sensor_logs = sensor_logs
     return s

@@ -14,7 +14,7 @@ def test_default_settings_load_the_package_configs():
     settings = load_settings()
     assert settings.sim.odom.model == "uniform_per_run"
     assert settings.sim.laser.range_max == 80.0
-    assert settings.gmapping.particles == 40
+    assert settings.slam.params.particles == 40
 
 
 @pytest.mark.parametrize("model", ["uniform_per_run", "fixed"])
@@ -62,3 +62,33 @@ def test_extends_loop_and_missing_parent_are_errors(tmp_path):
     (tmp_path / "c.yaml").write_text("extends: nowhere.yaml\n")
     with pytest.raises(InputError, match="missing file"):
         load_settings(tmp_path / "c.yaml")
+
+
+def test_old_gmapping_key_is_read_with_a_deprecation_warning(tmp_path):
+    (tmp_path / "old.yaml").write_text(f"extends: {CONFIG / 'collect.yaml'}\n"
+                                       f"gmapping: {CONFIG / 'gmapping.yaml'}\n")
+    with pytest.deprecated_call(match="'gmapping: FILE' is deprecated"):
+        old = load_settings(tmp_path / "old.yaml")
+    new = load_settings()
+    assert old.slam.type == new.slam.type == "gmapping" and old.slam.params == new.slam.params
+    assert old.hashes() == new.hashes()
+    (tmp_path / "both.yaml").write_text("gmapping: gmapping.yaml\nslam: {type: gmapping}\n")
+    with pytest.raises(InputError, match="both 'slam' and the deprecated 'gmapping'"):
+        load_settings(tmp_path / "both.yaml")
+
+
+def test_slam_section_takes_a_file_inline_parameters_or_defaults(tmp_path):
+    (tmp_path / "inline.yaml").write_text(f"extends: {CONFIG / 'collect.yaml'}\n"
+                                          "slam: {params: {particles: 7}}\n")
+    assert load_settings(tmp_path / "inline.yaml").slam.params.particles == 7
+    (tmp_path / "defaults.yaml").write_text(f"extends: {CONFIG / 'collect.yaml'}\n"
+                                            "slam: {type: gmapping}\n")
+    settings = load_settings(tmp_path / "defaults.yaml")
+    assert settings.slam.params.particles == 30   # slam_gmapping's default, not the thesis' 40
+    assert settings.hashes()["gmapping"] == settings.slam.params_hash()
+    assert settings.slam.record() == {"type": "gmapping",
+                                      "params_hash": settings.slam.params_hash()}
+    (tmp_path / "bad.yaml").write_text(f"extends: {CONFIG / 'collect.yaml'}\n"
+                                       "slam: {type: gmapping, params: [1, 2]}\n")
+    with pytest.raises(InputError, match="slam.params must be"):
+        load_settings(tmp_path / "bad.yaml")

@@ -20,7 +20,7 @@ def config_dir(root, tmp_path):
 
 def test_shipped_files_load(root):
     settings = load_explore_settings(root / "config", "gmapping")
-    assert settings.nav.controller_frequency > 0 and settings.gmapping.particles >= 1
+    assert settings.nav.controller_frequency > 0 and settings.slam_params.particles >= 1
 
 
 @pytest.mark.parametrize("name,extra,message", [

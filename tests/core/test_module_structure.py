@@ -16,20 +16,9 @@ PACKAGE = Path(__file__).resolve().parents[2] / "src" / "slam_predict"
 MAX_LINES = 400
 
 # Import edges allowed for now. Each one must still exist: the test fails on a stale entry.
-ALLOWED_EDGES = {
-    # bag_input needs runner.SlamInput while runner reads bags through bag_input; the slamseam
-    # helper (issue #17 point 1) moves SlamInput and the bag reader to slam/: remove at merge.
-    ("slam_predict.slam.gmapping.bag_input", "slam_predict.slam.gmapping.runner"),
-    # kernels.warmup() imports raytrace to compile it while raytrace takes c_round from
-    # kernels (slam/ is outside the hygiene helper's area): the lead removes it, e.g. by a
-    # raytrace.warmup() listed in slam_predict.warmup.MODULES.
-    ("slam_predict.slam.gmapping.kernels", "slam_predict.slam.gmapping.raytrace"),
-}
+ALLOWED_EDGES: set = set()
 # Modules allowed over MAX_LINES for now; each must still be over it (stale entries fail).
-ALLOWED_LONG = {
-    # split by the planner helper (issue #17 point 4): remove at merge.
-    "nav/trajectory_planner.py",
-}
+ALLOWED_LONG: set = set()
 
 
 def module_name(path: Path, root: Path) -> str:

@@ -77,6 +77,18 @@ def test_component_configs_follow_the_settings_file(tmp_path):
         br.component_configs(str(settings))
 
 
+def test_the_slam_back_end_and_inline_parameters_reach_the_launch(tmp_path):
+    import yaml
+
+    settings = tmp_path / "collect.yaml"
+    settings.write_text("slam: {type: dummy, params: {delta: 0.1}}\n")
+    got = br.component_configs(str(settings))
+    assert got["slam_type"] == "dummy"
+    assert yaml.safe_load(Path(got["gmapping_config"]).read_text()) == {"type": "dummy",
+                                                                          "delta": 0.1}
+    assert br.component_configs(str(ROOT / "config" / "collect.yaml"))["slam_type"] == "gmapping"
+
+
 def test_run_spec_options_reach_the_launch(tmp_path):
     spec = RunSpec("/w/a.world", "a", 0, 5, str(tmp_path / "a" / "run_000"),
                    {"sim": "stage", "speedup": 0.0, "odom_model": "fixed"})

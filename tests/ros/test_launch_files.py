@@ -163,6 +163,18 @@ def test_an_unknown_choice_is_refused():
     assert out.returncode != 0 and "invalid_slam_choice" in out.stderr
 
 
+def test_the_slam_back_end_reaches_our_node_and_the_real_package_runs_only_gmapping():
+    p = {k: v.value for k, v in config("single_run.launch", f"world:={WORLD}", "out:=/tmp/x",
+                                       "slam_type:=dummy").params.items()}
+    assert p["/slam_gmapping/type"] == "dummy"
+    p = {k: v.value for k, v in config("single_run.launch", f"world:={WORLD}",
+                                       "out:=/tmp/x").params.items()}
+    assert p["/slam_gmapping/type"] == "gmapping"
+    out = cli("--nodes", "slam_predict", "single_run.launch", "out:=/x", "slam:=gmapping",
+              "slam_type:=dummy")
+    assert out.returncode != 0 and "invalid_slam_type" in out.stderr
+
+
 def test_batch_launch_resolves_and_passes_its_args():
     out = cli("--args", "/batch_explore", "slam_predict", "batch_explore.launch",
               "worlds:=/w", "out:=/d")

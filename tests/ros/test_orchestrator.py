@@ -1,7 +1,6 @@
 """RunMonitor (the orchestrator's logic) fed by calls: sampling, stop rule, stuck, limits, stalls."""
 from __future__ import annotations
 
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -93,7 +92,7 @@ def test_snapshot_schedule_and_mse_rule_match_snapshotmse():
     assert m.reason == "map_converged" and end == pytest.approx(360.0)
     assert m.rule.times == pytest.approx([120.0, 240.0, 360.0])
     # the same images through SnapshotMSE directly
-    canvas = SimpleNamespace(delta=0.05, xmin=-5.0, ymin=-5.0, xmax=5.0, ymax=5.0)
+    canvas = (-5.0, -5.0, 5.0, 5.0)
     ref = SnapshotMSE(stop, 120.0)
     for t, value in ((120.0, 0), (240.0, 100), (360.0, 100)):
         ref.add(t, grid_to_snapshot(full_extent_grid(grid(value), canvas)))

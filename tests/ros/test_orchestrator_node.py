@@ -171,6 +171,8 @@ def test_record_has_the_episode_keys_and_reloads(tmp_path, run_record_keys):
     write_record(tmp_path, record, monitor, settings)
     assert set(record) == run_record_keys | {"ros"}
     assert record["sensor"] == to_dict(resolve_sensor(world, settings.sim))
+    assert record["slam"] == {"type": "gmapping",
+                              "params_hash": record["config_hashes"]["gmapping"]}
     loaded, traj = rec.load_record(tmp_path)
     assert loaded["schema"] == rec.SCHEMA_VERSION and loaded["run_index"] == 3
     assert len(traj.t) == 300 and loaded["ros"]["samples"] == 300

@@ -8,7 +8,7 @@ from slam_predict.cli.main import main
 from slam_predict.errors import InputError
 from slam_predict.formats.tum import read_tum
 from slam_predict.geometry import compose
-from slam_predict.slam.gmapping.bag_input import read_bag_input
+from slam_predict.slam.bag_input import read_bag_input
 
 from slam_synthetic import cast
 

@@ -30,7 +30,7 @@ def _bench():
 def campaign(tmp_path_factory):
     folder = tmp_path_factory.mktemp("diffruns")
     settings = load_settings()
-    settings.gmapping = dataclasses.replace(settings.gmapping, particles=6)
+    settings.slam.params = dataclasses.replace(settings.slam.params, particles=6)
     settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=20.0, small_interval_s=30.0)
     settings.sensor_logs = True
     run = folder / "tiny" / "run_000"

@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 
 from slam_predict.slam.gmapping.params import load_params
-from slam_predict.slam.gmapping.runner import (evaluate, map_agreement_with_reference, map_check,
-                                               read_input, run)
+from slam_predict.slam.gmapping.runner import map_agreement_with_reference, map_check
+from slam_predict.slam.runner import evaluate, read_input, run
 
 
 def run_log(shared_dir, log, seed=1, max_scans=None):
     data = read_input(shared_dir / "data" / "slam_inputs" / f"{log}.log.gz", max_scans)
     params = load_params(shared_dir / "baselines" / f"gmapping_real_{log}.yaml")
-    return data, run(data, params, seed)
+    return data, run(data, "gmapping", params, seed)
 
 
 def test_intel_slice_beats_odometry_and_maps_agree(shared_dir):

@@ -10,7 +10,7 @@ from slam_predict.slam.gmapping.filter import GMapping
 from slam_predict.slam.gmapping.gridmap import IncrementalMap, MapBuilder, grow_geometry
 from slam_predict.slam.gmapping.maps import Geometry
 from slam_predict.slam.gmapping.params import GMappingParams, load_params, with_ranges
-from slam_predict.slam.gmapping.runner import read_input
+from slam_predict.slam.runner import read_input
 
 from slam_scan import ANGLES, scan_of
 

@@ -9,7 +9,8 @@ import pytest
 from slam_predict.geometry import compose
 from slam_predict.slam.compare import apply_transform
 from slam_predict.slam.gmapping.params import load_params
-from slam_predict.slam.gmapping.runner import map_agreement_with_reference, read_input
+from slam_predict.slam.gmapping.runner import map_agreement_with_reference
+from slam_predict.slam.runner import read_input
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""``slam-predict explore PLAN --map-source perfect|gmapping --seed N --out DIR``: frontier
+"""``slam-predict explore PLAN --map-source perfect|SLAM --seed N --out DIR``: frontier
 exploration of a floor plan in closed loop (simulator + map source + move_base + explorer), in
 sim time, without ROS.
 
@@ -6,7 +6,8 @@ PLAN is a Stage .world, a PNG/PGM image (with ``--resolution``) or a layout XML.
 DIR/explore.json (coverage of the reachable free area, sim and wall time, distance, rotation,
 stalls, stop reason, goals, timings) and DIR/explore.png (the final map with the path).
 Settings come from config/ (move_base, costmaps, planners, explore, closed_loop, robot and, for
-``gmapping``, gmapping.yaml); ``--config-dir`` points elsewhere.
+a SLAM back-end such as ``gmapping``, its ``<name>.yaml``); ``--config-dir`` points elsewhere.
+The map-source choices are ``perfect`` and :func:`slam_predict.slam.available`.
 """
 from __future__ import annotations
 
@@ -26,10 +27,12 @@ def _non_negative_int(text: str) -> int:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from slam_predict.explore import map_sources
+
     parser.add_argument("plan", metavar="PLAN", help=".world, PNG/PGM (with --resolution) or "
                                                      "layout XML")
-    parser.add_argument("--map-source", choices=("perfect", "gmapping"), default="perfect",
-                        help="map from the true poses (perfect) or from GMapping "
+    parser.add_argument("--map-source", choices=map_sources(), default="perfect",
+                        help="map from the true poses (perfect) or from a SLAM back-end "
                              "(default perfect)")
     parser.add_argument("--seed", type=_non_negative_int, default=0,
                         help="random seed (default 0)")

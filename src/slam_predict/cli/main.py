@@ -50,7 +50,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Optional[List[str]] = None) -> int:
     """Run the CLI; returns the process exit code (0 ok, 2 bad input, 1 other failure)."""
-    parser = build_parser()
+    try:
+        parser = build_parser()   # imports the SLAM back-end plugins (map-source choices)
+    except InputError as exc:
+        print(f"slam-predict: error: {exc.one_line()}", file=sys.stderr)
+        return exc.exit_code
     args = parser.parse_args(argv)
     level = (logging.WARNING, logging.INFO, logging.DEBUG)[min(args.verbose, 2)]
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")

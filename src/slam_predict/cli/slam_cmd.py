@@ -1,15 +1,16 @@
-"""``slam-predict slam run INPUT --config YAML --seed N --out DIR``: GMapping over a CARMEN log
-or a ROS bag.
+"""``slam-predict slam run INPUT --type NAME --config YAML --seed N --out DIR``: a SLAM back-end
+(GMapping by default) over a CARMEN log or a ROS bag.
 
 Writes DIR/slam.tum, DIR/slam.log, DIR/map.{yaml,pgm,png} and DIR/stats.json (see
-:mod:`slam_predict.slam.gmapping.runner`). ``--config`` takes a slam_gmapping parameter YAML
-(e.g. config/gmapping.yaml or ../shared/baselines/gmapping_real_intel.yaml); without it the
-slam_gmapping defaults are used.
+:mod:`slam_predict.slam.runner`). ``--type`` is a name of :func:`slam_predict.slam.available`
+(default: the config's ``type:``, else gmapping). ``--config`` takes the back-end's parameter
+YAML (for gmapping slam_gmapping's, e.g. config/gmapping.yaml or
+../shared/baselines/gmapping_real_intel.yaml); without it the back-end's defaults are used.
 
 A sensor log of a collected run (``RUN/sensors.bag`` or ``RUN/sensors.log.gz``, beside a
-``run.json`` with ``sensor_logs``) is replayed with the run's recorded GMapping parameters and
+``run.json`` with ``sensor_logs``) is replayed with the run's recorded back-end, parameters and
 its in-loop SLAM generator (from the run's seed), so DIR/slam.tum reproduces RUN/slam_scans.tum
-exactly; ``--config`` or ``--seed`` replace them.
+exactly; ``--type``, ``--config`` or ``--seed`` replace them.
 """
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ import argparse
 from slam_predict.cli.guards import add_force_argument, check_out_dir
 
 NAME = "slam"
-HELP = "run SLAM (GMapping) offline over a recorded log"
+HELP = "run SLAM (GMapping or another back-end) offline over a recorded log"
 
 
 def _non_negative(text: str) -> int:
@@ -36,15 +37,20 @@ def _positive(text: str) -> int:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from slam_predict import slam
+
     sub = parser.add_subparsers(dest="slam_command", metavar="ACTION", required=True)
-    run = sub.add_parser("run", help="GMapping over a CARMEN log or a ROS bag",
-                         description="Run GMapping over a CARMEN log (ODOM/FLASER/ROBOTLASER1) "
-                                     "or a ROS bag (LaserScan + tf or Odometry) as slam_gmapping "
-                                     "would.")
+    run = sub.add_parser("run", help="a SLAM back-end over a CARMEN log or a ROS bag",
+                         description="Run a SLAM back-end (default GMapping) over a CARMEN log "
+                                     "(ODOM/FLASER/ROBOTLASER1) or a ROS bag (LaserScan + tf or "
+                                     "Odometry) as its ROS node would.")
     run.add_argument("input", metavar="INPUT", help="CARMEN log (.log, .log.gz) or ROS bag")
+    run.add_argument("--type", choices=slam.available(),
+                     help="SLAM back-end (default: the config's type:, a collected run's, "
+                          "else gmapping)")
     run.add_argument("--config", metavar="YAML",
-                     help="slam_gmapping parameters (default: a collected run's recorded "
-                          "ones, else slam_gmapping's defaults)")
+                     help="the back-end's parameters (default: a collected run's recorded "
+                          "ones, else the back-end's defaults)")
     run.add_argument("--seed", type=_non_negative,
                      help="random seed (default: a collected run's SLAM generator, else 0)")
     run.add_argument("--out", required=True, metavar="DIR", help="output folder (an existing non-empty one only with --force)")
@@ -58,32 +64,44 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     bag.add_argument("--odom-frame", default="odom", help="odometry frame (default odom)")
 
 
+def _backend_and_params(args: argparse.Namespace, recorded):
+    """(back-end name, parameters) from --type/--config, else the recorded run's, else the
+    defaults."""
+    from slam_predict import slam
+    from slam_predict.config import load_yaml
+
+    if args.config:
+        values = load_yaml(args.config) or {}
+        name = args.type or slam.type_in(values)
+        return name, slam.params_from_dict(name, values, args.config)
+    if recorded is not None and args.type in (None, recorded.slam_type):
+        return recorded.slam_type, recorded.params
+    name = args.type or "gmapping"
+    return name, slam.params_from_dict(name, None)
+
+
 def run(args: argparse.Namespace) -> int:
-    from slam_predict.slam.gmapping.params import GMappingParams, load_params
-    from slam_predict.slam.gmapping.runner import (evaluate, read_input, recorded_run,
-                                                   run as run_slam, write_run)
+    from slam_predict.slam.runner import evaluate, read_input, recorded_run, write_run
+    from slam_predict.slam.runner import run as run_slam
 
     check_out_dir(args.out, args.force, inputs=(args.input, args.config))
     recorded = recorded_run(args.input)
-    params = GMappingParams()
-    if args.config:
-        params = load_params(args.config)
-    elif recorded is not None:
-        params = recorded.params
+    slam_type, params = _backend_and_params(args, recorded)
     rng, seed = None, 0 if args.seed is None else args.seed
-    if args.seed is None and recorded is not None:
+    if args.seed is None and recorded is not None and slam_type == recorded.slam_type:
         rng, seed = recorded.rng(), recorded.seed
     data = read_input(args.input, args.max_scans, scan_topic=args.scan_topic,
                       odom_topic=args.odom_topic, base_frame=args.base_frame,
                       odom_frame=args.odom_frame)
-    result = run_slam(data, params, seed, rng=rng)
+    result = run_slam(data, slam_type, params, seed, rng=rng)
     if rng is not None:
         result.stats["rng"] = f"in-loop SLAM generator of the collected run (seed {seed})"
     config = args.config or (recorded.run_json if recorded is not None else None)
     out = write_run(args.out, result, data, params, seed, config)
     stats = result.stats
-    line = (f"{stats['scans_processed']}/{len(data)} scans processed, "
-            f"{stats['resamples']} resamples, CPU {stats['cpu_s']:.1f} s -> {out}")
+    resamples = f"{stats['resamples']} resamples, " if "resamples" in stats else ""
+    line = (f"{slam_type}: {stats['scans_processed']}/{len(data)} scans processed, "
+            f"{resamples}CPU {stats['cpu_s']:.1f} s -> {out}")
     errors = evaluate(result)
     if errors:
         line += (f"; error vs reference {errors['slam']['trans_mean_m']:.3f} m "

@@ -28,14 +28,16 @@ from slam_predict.paths import portable_path
 LOG = logging.getLogger(__name__)
 
 
-def full_extent_grid(grid, params) -> np.ndarray:
-    """The SLAM grid pasted into the full xmin..xmax × ymin..ymax canvas at ``delta`` (−1 fill)."""
-    delta = params.delta
-    width = int(round((params.xmax - params.xmin) / delta))
-    height = int(round((params.ymax - params.ymin) / delta))
+def full_extent_grid(grid, extent) -> np.ndarray:
+    """The SLAM grid pasted into the full canvas ``extent`` = (xmin, ymin, xmax, ymax) m (the
+    back-end's ``map_extent``) at the grid's resolution (−1 fill)."""
+    xmin, ymin, xmax, ymax = extent
+    delta = float(grid.resolution)
+    width = int(round((xmax - xmin) / delta))
+    height = int(round((ymax - ymin) / delta))
     canvas = np.full((height, width), -1, dtype=np.int8)
-    col0 = int(round((grid.origin[0] - params.xmin) / delta))
-    row0 = int(round((grid.origin[1] - params.ymin) / delta))
+    col0 = int(round((grid.origin[0] - xmin) / delta))
+    row0 = int(round((grid.origin[1] - ymin) / delta))
     src = grid.data
     r0, c0 = max(row0, 0), max(col0, 0)
     r1, c1 = min(row0 + src.shape[0], height), min(col0 + src.shape[1], width)
@@ -80,7 +82,8 @@ def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_
         if loop.explorer.done and explorer_end is None:
             explorer_end = {"t": loop.t, "reason": str(loop.explorer.log.stop_reason)}
         if rule.due(loop.t) and loop.grid is not None:
-            snapshot = grid_to_snapshot(full_extent_grid(loop.source.map(), settings.gmapping))
+            snapshot = grid_to_snapshot(full_extent_grid(loop.source.map(),
+                                                         loop.source.map_extent))
             rule.add(loop.t, snapshot)
             rec.write_snapshot(folder, len(rule.times), snapshot)
         reason = stop_reason(settings.stop, rule, recorder.stuck, loop.t,
@@ -102,14 +105,14 @@ def _sensor_recorder(folder: Path, loop, spec):
 def _finish_sensor_logs(sensors, folder: Path, loop, settings: CollectSettings) -> Dict:
     """Close the sensor logs, write the in-loop SLAM trajectory; run.json's ``sensor_logs``."""
     from slam_predict.collect.sensorlog import SLAM_SCANS
+    from slam_predict.config import to_dict
     from slam_predict.formats.tum import write_tum
-    from slam_predict.slam.gmapping.params import params_to_dict
 
     summary = sensors.close()
     _, times, poses = loop.source.trajectory()
     write_tum(folder / SLAM_SCANS, times, poses)
     return {**summary, "slam_scans": int(len(times)),
-            "gmapping": params_to_dict(settings.gmapping)}
+            settings.slam.type: to_dict(settings.slam.params)}
 
 
 def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
@@ -122,7 +125,7 @@ def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
     settings = settings or load_settings(spec.options.get("settings"))
     world = load_plan(spec.world_path)
     loop = ClosedLoop(world, spec.seed, settings.nav, settings.explore, settings.sim,
-                      map_source="gmapping", slam_params=settings.gmapping)
+                      map_source=settings.slam.type, slam_params=settings.slam.params)
     with atomic_dir(spec.out_dir) as folder:
         sensors = _sensor_recorder(folder, loop, spec) if settings.sensor_logs else None
         try:

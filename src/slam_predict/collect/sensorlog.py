@@ -33,7 +33,7 @@ class SensorLogRecorder:
     ``sensors.log.gz`` into ``folder``."""
 
     def __init__(self, folder: Path, publisher, header: Iterable[str] = ()):
-        from slam_predict.slam.gmapping.bag_input import LiveDecoder
+        from slam_predict.slam.bag_input import LiveDecoder
 
         self.folder = Path(folder)
         self.laser = publisher.laser

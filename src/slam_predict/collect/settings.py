@@ -4,10 +4,18 @@ A settings file may ``extends: other.yaml`` (its keys override the other file's;
 of each file are relative to the file that names them) and may carry ``sim_overrides``: a partial
 ``sim`` section merged over the robot file's, e.g. ``{odom: {model: fixed}, laser: {range_max:
 60.0}}`` — how the fidelity campaign's variants (config/fidelity/) are written.
+
+The SLAM back-end is ``slam: {type: NAME, params: FILE or {…}}``: any name of
+:func:`slam_predict.slam.available`, its parameters as a YAML file (relative to the settings
+file) or inline; a file that sets ``type`` without ``params`` runs the back-end's defaults. The
+old ``gmapping: FILE`` key is still read as ``slam: {type: gmapping, params: FILE}``, with a
+deprecation warning.
 """
 from __future__ import annotations
 
+import logging
 import os
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Dict, Optional, Set
@@ -15,9 +23,13 @@ from typing import Any, Dict, Optional, Set
 from slam_predict.collect.stopping import StopConfig, check_ranges
 from slam_predict.config import config_hash, from_dict, load_config, load_yaml, to_dict
 from slam_predict.errors import InputError
+from slam_predict.slam import SlamChoice
 
+LOG = logging.getLogger(__name__)
 DEFAULT_SETTINGS = Path(__file__).resolve().parents[3] / "config" / "collect.yaml"
-FILE_KEYS = ("robot", "gmapping", "navigation", "explore")
+FILE_KEYS = ("robot", "navigation", "explore")
+FILE_DEFAULTS = ("robot.yaml", ".", "explore.yaml")
+DEFAULT_SLAM = {"type": "gmapping", "params": "gmapping.yaml"}
 
 
 @dataclass
@@ -36,11 +48,20 @@ class MetricSettings:
 
 
 @dataclass
+class SlamSection:
+    """``slam:`` of collect.yaml: a registered back-end name and its parameters (the path of a
+    YAML file, a mapping, or null for the back-end's defaults)."""
+
+    type: str = "gmapping"
+    params: Any = "gmapping.yaml"
+
+
+@dataclass
 class CollectFiles:
     """The collect.yaml file itself: references to the component configs + inline sections."""
 
     robot: str = "robot.yaml"
-    gmapping: str = "gmapping.yaml"
+    slam: SlamSection = field(default_factory=SlamSection)
     navigation: str = "."
     explore: str = "explore.yaml"
     stop: StopConfig = field(default_factory=StopConfig)
@@ -55,7 +76,7 @@ class CollectSettings:
     """Everything one run needs besides the world and the seed."""
 
     sim: Any
-    gmapping: Any
+    slam: SlamChoice
     nav: Any
     explore: Any
     stop: StopConfig
@@ -64,10 +85,14 @@ class CollectSettings:
     source: str
     sensor_logs: bool = False
 
+    def components(self) -> Dict[str, Any]:
+        """Every component config by name; the SLAM one under its back-end's name."""
+        return {"sim": self.sim, self.slam.type: self.slam.params, "nav": self.nav,
+                "explore": self.explore, "stop": self.stop, "metric": self.metric}
+
     def hashes(self) -> Dict[str, str]:
         """Short hashes of each component config, for run metadata."""
-        return {name: config_hash(getattr(self, name))
-                for name in ("sim", "gmapping", "nav", "explore", "stop", "metric")}
+        return {name: config_hash(value) for name, value in self.components().items()}
 
 
 def load_settings(path: Optional[os.PathLike | str] = None) -> CollectSettings:
@@ -75,7 +100,6 @@ def load_settings(path: Optional[os.PathLike | str] = None) -> CollectSettings:
     from slam_predict.explore.explorer import ExploreConfig
     from slam_predict.nav.config import load_nav_config
     from slam_predict.sim import SimConfig
-    from slam_predict.slam.gmapping.params import load_params
 
     path = Path(path or DEFAULT_SETTINGS)
     files = from_dict(CollectFiles, read_settings_tree(path), str(path))
@@ -86,11 +110,49 @@ def load_settings(path: Optional[os.PathLike | str] = None) -> CollectSettings:
     else:
         sim = load_config(SimConfig, robot_file, "sim")
     return CollectSettings(
-        sim=sim, gmapping=load_params(Path(files.gmapping)),
+        sim=sim, slam=load_slam(files.slam, path),
         nav=load_nav_config(Path(files.navigation)),
         explore=load_config(ExploreConfig, Path(files.explore)),
         stop=files.stop, metric=files.metric, bag=files.bag, source=str(path),
         sensor_logs=files.sensor_logs)
+
+
+def load_slam(section: SlamSection, settings_path: Path) -> SlamChoice:
+    """The back-end and its parameters a settings file's ``slam:`` names."""
+    from slam_predict import slam
+
+    try:
+        slam.backend_class(section.type)
+    except InputError as exc:
+        raise InputError(f"slam.type: {exc.problem}", settings_path) from None
+    params = section.params
+    if isinstance(params, str):
+        return SlamChoice(section.type, slam.load_params(section.type, Path(params)))
+    if params is not None and not isinstance(params, dict):
+        raise InputError("slam.params must be a file name, a mapping or null", settings_path)
+    return SlamChoice(section.type, slam.params_from_dict(section.type, params,
+                                                          f"{settings_path} slam.params"))
+
+
+def _slam_section(tree: Dict[str, Any], path: Path) -> None:
+    """Normalise one file's SLAM keys in place: the deprecated ``gmapping: FILE`` becomes
+    ``slam: {type: gmapping, params: FILE}``; a params file name is made absolute."""
+    if "gmapping" in tree:
+        if "slam" in tree:
+            raise InputError("both 'slam' and the deprecated 'gmapping' key are set", path)
+        message = (f"{path}: 'gmapping: FILE' is deprecated; write "
+                   "'slam: {type: gmapping, params: FILE}'")
+        warnings.warn(message, DeprecationWarning, stacklevel=3)
+        LOG.warning(message)
+        tree["slam"] = {"type": "gmapping", "params": tree.pop("gmapping")}
+    section = tree.get("slam")
+    if not isinstance(section, dict):
+        return
+    section = tree["slam"] = dict(section)
+    if "type" in section and "params" not in section:
+        section["params"] = None   # another back-end: not the parent's parameters
+    if isinstance(section.get("params"), str):
+        section["params"] = str(path.parent / section["params"])
 
 
 def read_settings_tree(path: Path, seen: Optional[Set[Path]] = None) -> Dict[str, Any]:
@@ -105,9 +167,10 @@ def read_settings_tree(path: Path, seen: Optional[Set[Path]] = None) -> Dict[str
     for key in FILE_KEYS:
         if key in tree:
             tree[key] = str(path.parent / str(tree[key]))
+    _slam_section(tree, path)
     if parent is None:
-        base = {key: str(path.parent / default) for key, default in
-                zip(FILE_KEYS, ("robot.yaml", "gmapping.yaml", ".", "explore.yaml"))}
+        base = {key: str(path.parent / default) for key, default in zip(FILE_KEYS, FILE_DEFAULTS)}
+        base["slam"] = dict(DEFAULT_SLAM, params=str(path.parent / DEFAULT_SLAM["params"]))
         return merge_trees(base, tree)
     parent_path = path.parent / str(parent)
     if not parent_path.is_file():
@@ -118,17 +181,36 @@ def read_settings_tree(path: Path, seen: Optional[Set[Path]] = None) -> Dict[str
 def merged_robot_file(settings_path: Path, tree: Dict[str, Any]) -> Path:
     """A robot YAML with ``sim_overrides`` applied, for nodes that read one file (ROS path);
     written atomically under ~/.cache/slam_predict/settings/, named by its content hash."""
-    import hashlib
-
     import yaml
-
-    from slam_predict.atomic import write_text
 
     robot = load_yaml(tree["robot"])
     robot["sim"] = merge_trees(robot.get("sim", {}) or {}, tree["sim_overrides"])
     text = f"# {tree['robot']} + sim_overrides of {settings_path}\n" + yaml.safe_dump(robot)
+    return _cached_file("robot", text)
+
+
+def slam_params_file(settings_path: Path, tree: Dict[str, Any]) -> Path:
+    """The SLAM node's parameter YAML for a settings tree: the ``slam.params`` file, or, for
+    inline or default parameters, a file with them and ``type`` written like
+    :func:`merged_robot_file`."""
+    import yaml
+
+    section = tree["slam"]
+    if isinstance(section.get("params"), str):
+        return Path(section["params"])
+    values = {"type": section.get("type", "gmapping"), **(section.get("params") or {})}
+    text = f"# slam parameters of {settings_path}\n" + yaml.safe_dump(values)
+    return _cached_file("slam", text)
+
+
+def _cached_file(prefix: str, text: str) -> Path:
+    """``text`` written atomically under ~/.cache/slam_predict/settings/, named by its hash."""
+    import hashlib
+
+    from slam_predict.atomic import write_text
+
     digest = hashlib.sha256(text.encode()).hexdigest()[:12]
-    out = Path.home() / ".cache" / "slam_predict" / "settings" / f"robot_{digest}.yaml"
+    out = Path.home() / ".cache" / "slam_predict" / "settings" / f"{prefix}_{digest}.yaml"
     if not out.is_file():
         out.parent.mkdir(parents=True, exist_ok=True)
         write_text(out, text)
@@ -148,5 +230,4 @@ def merge_trees(base: Dict[str, Any], override: Dict[str, Any]) -> Dict[str, Any
 
 def settings_dict(settings: CollectSettings) -> Dict[str, Any]:
     """Plain-dict form of every component config (recorded beside run.json)."""
-    return {name: to_dict(getattr(settings, name))
-            for name in ("sim", "gmapping", "nav", "explore", "stop", "metric")}
+    return {name: to_dict(value) for name, value in settings.components().items()}

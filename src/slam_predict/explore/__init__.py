@@ -5,3 +5,14 @@
 :mod:`~slam_predict.explore.loop` (simulator + map source + navigator + explorer) and
 :mod:`~slam_predict.explore.run` (one run end to end, as ``slam-predict explore``).
 """
+from __future__ import annotations
+
+from typing import Tuple
+
+PERFECT = "perfect"
+
+
+def map_sources() -> Tuple[str, ...]:
+    """The closed loop's map sources: ``perfect`` and every registered SLAM back-end."""
+    from slam_predict import slam
+    return (PERFECT,) + slam.available()

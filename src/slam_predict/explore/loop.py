@@ -30,6 +30,7 @@ from typing import Callable, Dict, List, Optional, Tuple
 import numpy as np
 
 from slam_predict.errors import InputError
+from slam_predict.explore import PERFECT, map_sources
 from slam_predict.explore.explorer import ExploreConfig, Explorer
 from slam_predict.explore.mapsource import PerfectMap, PerfectMapConfig
 from slam_predict.formats.stage_stream import StagePublisher, StepMessages
@@ -41,7 +42,6 @@ from slam_predict.slam import LaserGeometry
 from slam_predict.world.model import World
 
 LOG = logging.getLogger(__name__)
-MAP_SOURCES = ("perfect", "gmapping")
 
 
 class NavigatorClient:
@@ -85,7 +85,7 @@ class ClosedLoop:
         world: the environment (its start pose is the robot's).
         seed: fixes every random draw of the run.
         nav: move_base configuration; explore: explorer configuration; sim: simulator.
-        map_source: ``perfect`` or ``gmapping``.
+        map_source: ``perfect`` or a SLAM back-end of :func:`map_sources`.
         perfect: perfect map source settings; slam_params: the SLAM back-end's parameters
             (``None`` = its defaults).
     """
@@ -93,9 +93,9 @@ class ClosedLoop:
     def __init__(self, world: World, seed: int, nav: MoveBaseConfig, explore: ExploreConfig,
                  sim: SimConfig, map_source: str = "perfect",
                  perfect: Optional[PerfectMapConfig] = None, slam_params=None):
-        if map_source not in MAP_SOURCES:
+        if map_source not in map_sources():
             raise InputError(f"unknown map source '{map_source}' (expected "
-                             f"{' or '.join(MAP_SOURCES)})")
+                             f"{' or '.join(map_sources())})")
         sim_ss, explore_ss, slam_ss = loop_seeds(seed)
         self.world = world
         self.seed = seed
@@ -107,13 +107,13 @@ class ClosedLoop:
         self.publisher = StagePublisher.of(self.sim)
         self.observers: List[Callable[[StepMessages], None]] = []
         self.decoder = None
-        if map_source == "perfect":
+        if map_source == PERFECT:
             perfect = perfect or PerfectMapConfig()
             self.source = PerfectMap(world, laser, lambda: self._scan_truth, perfect)
             self.map_update_interval = perfect.map_update_interval
             self.world_T_map = np.zeros(3)
         else:
-            from slam_predict.slam.gmapping.bag_input import LiveDecoder
+            from slam_predict.slam.bag_input import LiveDecoder
             self.decoder = LiveDecoder(self.publisher.laser)
             laser = self.decoder.laser
             self.source, self.map_update_interval = _make_slam(map_source, slam_params, laser,
@@ -228,11 +228,11 @@ def _with_speed(cfg: ExploreConfig, max_vel_x: float) -> ExploreConfig:
 
 def _make_slam(name: str, params, laser: LaserGeometry, rng):
     """A SLAM back-end from the registry of :mod:`slam_predict.slam` and its map interval."""
+    from slam_predict import slam
     try:
-        from slam_predict import slam
-        from slam_predict.slam.gmapping.params import GMappingParams
-        backend = slam.create(name, params=params if params is not None else GMappingParams(),
-                              laser=laser, rng=rng)
+        if params is None:
+            params = slam.backend_class(name).default_params()
+        backend = slam.create(name, params=params, laser=laser, rng=rng)
     except ImportError as exc:
         raise InputError(f"map source '{name}' is not available ({exc})") from None
-    return backend, float(getattr(backend.params, "map_update_interval", 5.0))
+    return backend, backend.map_update_interval

@@ -19,6 +19,7 @@ import numpy as np
 from slam_predict.atomic import write_text
 from slam_predict.config import (POSITIVE, Range, check_keys, config_hash, from_dict, load_config,
                                  load_yaml)
+from slam_predict.explore import PERFECT
 from slam_predict.explore.coverage import coverage, reachable_free, render_png
 from slam_predict.explore.explorer import ExploreConfig
 from slam_predict.explore.loop import ClosedLoop
@@ -48,13 +49,14 @@ class ExploreSettings:
     sim: SimConfig
     perfect: PerfectMapConfig
     loop: LoopSettings
-    gmapping: Any = None
+    slam_params: Any = None    # the map source's parameters when it is a SLAM back-end
 
 
 def load_explore_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
                           map_source: str = "perfect") -> ExploreSettings:
     """``explore``'s settings from the YAML files in ``config_dir``; a missing file means its
-    defaults (unlike :func:`collect.settings.load_settings`, where every file must exist)."""
+    defaults (unlike :func:`collect.settings.load_settings`, where every file must exist); a
+    SLAM back-end ``map_source`` takes its parameters from ``<map_source>.yaml`` there."""
     config_dir = Path(config_dir)
 
     def path(name: str) -> Optional[Path]:
@@ -69,11 +71,13 @@ def load_explore_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
     check_keys(closed, ("perfect_map", "loop"), source)
     perfect = from_dict(PerfectMapConfig, closed.get("perfect_map"), source, "perfect_map")
     loop = from_dict(LoopSettings, closed.get("loop"), source, "loop")
-    gmapping = None
-    if map_source == "gmapping" and path("gmapping.yaml"):
-        from slam_predict.slam.gmapping.params import load_params
-        gmapping = load_params(path("gmapping.yaml"))
-    return ExploreSettings(load_nav_config(config_dir), explore, sim, perfect, loop, gmapping)
+    slam_params = None
+    if map_source != PERFECT:
+        from slam_predict import slam
+        params_file = path(f"{map_source}.yaml")
+        slam_params = (slam.load_params(map_source, params_file) if params_file
+                       else slam.params_from_dict(map_source, None))
+    return ExploreSettings(load_nav_config(config_dir), explore, sim, perfect, loop, slam_params)
 
 
 def explore_world(world: World, seed: int, settings: ExploreSettings, map_source: str = "perfect",
@@ -82,7 +86,7 @@ def explore_world(world: World, seed: int, settings: ExploreSettings, map_source
     (summary dict, the finished :class:`ClosedLoop`)."""
     limit = settings.loop.max_sim_time if max_sim_time is None else float(max_sim_time)
     loop = ClosedLoop(world, seed, settings.nav, settings.explore, settings.sim, map_source,
-                      settings.perfect, settings.gmapping)
+                      settings.perfect, settings.slam_params)
     start = time.perf_counter()
     reason = loop.run(limit)
     wall = time.perf_counter() - start

@@ -215,11 +215,16 @@ def plot(items: List[Prediction], title: str) -> Optional[bytes]:
     return predicted_vs_measured(points, UNITS, LABELS, title)
 
 
+def slam_config_hash(run) -> Optional[str]:
+    """A run's SLAM identity: run.json ``slam.params_hash``, or ``config_hashes.gmapping`` in
+    records written before the ``slam`` entry."""
+    return run.value("slam", "params_hash") or run.value("config_hashes", "gmapping")
+
+
 def setup_notes(entry: ModelEntry, campaign: Campaign) -> List[str]:
-    """Warn when the campaign's GMapping configuration is not the one the model learnt from."""
+    """Warn when the campaign's SLAM configuration is not the one the model learnt from."""
     card_hash = str(entry.card.get("slam_config_hash", ""))
-    hashes = {str(run.value("config_hashes", "gmapping")) for run in campaign.runs
-              if run.value("config_hashes", "gmapping")}
+    hashes = {str(h) for h in map(slam_config_hash, campaign.runs) if h}
     if hashes and not card_hash:
         return [f"the model's card does not record the GMapping configuration it learnt "
                 f"from: it cannot be checked against this campaign's "

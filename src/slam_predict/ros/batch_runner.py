@@ -86,7 +86,7 @@ def component_configs(settings_path=None) -> Dict[str, str]:
     the nodes run with the configs whose hashes the record states. ``sim_overrides`` are
     merged into a robot file written beside the settings' cache (the node reads one file)."""
     from slam_predict.collect.settings import (DEFAULT_SETTINGS, CollectFiles, merged_robot_file,
-                                               read_settings_tree)
+                                               read_settings_tree, slam_params_file)
     from slam_predict.config import from_dict
 
     path = Path(settings_path or DEFAULT_SETTINGS).resolve()
@@ -96,7 +96,8 @@ def component_configs(settings_path=None) -> Dict[str, str]:
     if tree.get("sim_overrides"):
         robot = str(merged_robot_file(path, tree))
     return {"settings": str(path), "robot_config": robot,
-            "gmapping_config": tree["gmapping"],
+            "gmapping_config": str(slam_params_file(path, tree)),
+            "slam_type": tree["slam"]["type"],
             "nav_config_dir": str(Path(tree["navigation"]).resolve()),
             "explore_config": tree["explore"]}
 

@@ -31,7 +31,6 @@ import math
 import time
 from collections import deque
 from dataclasses import dataclass, field
-from types import SimpleNamespace
 from typing import Callable, ClassVar, Deque, Dict, List, Optional
 
 import numpy as np
@@ -79,7 +78,7 @@ class RunMonitor:
 
     Args:
         stop: the stop-rule settings; interval_s: snapshot interval for this building (s).
-        extent: (xmin, ymin, xmax, ymax) m of the snapshot canvas (GMapping's map extent).
+        extent: (xmin, ymin, xmax, ymax) m of the snapshot canvas (the SLAM back-end's map extent).
         settings: sampling; t0: elapsed-time origin (s); wall_clock: monotonic seconds.
         on_snapshot: called with (index from 1, image) for each snapshot taken.
     """
@@ -207,11 +206,8 @@ class RunMonitor:
 
     # -- internals -------------------------------------------------------------------------
     def _snapshot(self, elapsed: float) -> None:
-        xmin, ymin, xmax, ymax = self.extent
-        canvas = SimpleNamespace(delta=float(self.grid.resolution), xmin=xmin, ymin=ymin,
-                                 xmax=xmax, ymax=ymax)
         from slam_predict.collect.episode import full_extent_grid
-        image = grid_to_snapshot(full_extent_grid(self.grid, canvas))
+        image = grid_to_snapshot(full_extent_grid(self.grid, self.extent))
         self.rule.add(elapsed, image)
         while self.rule.next_time <= elapsed + TIME_EPS:  # late first map: no burst of snapshots
             self.rule.next_time += self.interval_s

@@ -215,10 +215,13 @@ def run(setup: RunSetup, rospy_module, tf_buffer, use_sim_time: bool) -> dict:
 
     wall_start = time.monotonic()
     t0 = 0.0 if use_sim_time else rospy_module.get_time()
-    stop, g = setup.stop, setup.settings.gmapping
+    from slam_predict import slam
+
+    stop, choice = setup.stop, setup.settings.slam
+    extent = slam.backend_class(choice.type).extent_of(choice.params)
     with atomic_dir(setup.out) as folder:
         monitor = RunMonitor(stop, stop.interval_for(setup.free_area_m2 or float("inf")),
-                             (g.xmin, g.ymin, g.xmax, g.ymax), setup.config.sampling, t0,
+                             extent, setup.config.sampling, t0,
                              on_snapshot=lambda i, image: rec.write_snapshot(folder, i, image))
         gt = GroundTruthSource(setup.config.ground_truth, rospy_module)
         node = OrchestratorNode(monitor, setup.config, gt, rospy_module, tf_buffer)

@@ -8,16 +8,21 @@ A back-end is fed, scan by scan, the robot's odometry pose and the laser ranges:
     grid = slam.map()                               # OccupancyGrid
     slam.map_to_odom()                              # (x, y, yaw) of the odom frame in the map frame
 
-Poses are (x m, y m, yaw rad) of the robot base; ranges in m, times in s.
+Poses are (x m, y m, yaw rad) of the robot base; ranges in m, times in s. Everything callers
+outside ``slam/`` need is on :class:`SlamBackend`; back-ends outside slam_predict are loaded by
+:func:`load_plugins` (docs/architecture.md "Adding a SLAM back-end"). Offline runs over logs and
+bags: :mod:`.runner`, :mod:`.scans`, :mod:`.bag_input`.
 """
 from __future__ import annotations
 
 import importlib
+import os
 from dataclasses import dataclass
-from typing import Callable, Dict, Optional, Tuple, Union
+from typing import Any, Callable, ClassVar, Dict, Optional, Tuple, Union
 
 import numpy as np
 
+from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, Range
 from slam_predict.errors import InputError, did_you_mean
 
 
@@ -61,10 +66,79 @@ class OccupancyGrid:
         return int(self.data.shape[0])
 
 
+@dataclass
+class SlamNodeParams:
+    """A SLAM ROS node's own parameters, whatever the back-end (slam_gmapping's names and
+    defaults; frames, s). GMapping's parameters extend them, as slam_gmapping's do."""
+
+    throttle_scans: int = 1
+    base_frame: str = "base_link"
+    map_frame: str = "map"
+    odom_frame: str = "odom"
+    transform_publish_period: float = 0.05
+    tf_delay: Optional[float] = None          # None: = transform_publish_period
+    RANGES: ClassVar[Dict[str, Range]] = {"throttle_scans": AT_LEAST_ONE,
+                                          "transform_publish_period": NON_NEGATIVE,
+                                          "tf_delay": NON_NEGATIVE}
+
+    @property
+    def effective_tf_delay(self) -> float:
+        """tf_delay, defaulting to transform_publish_period as slam_gmapping does (s)."""
+        return self.transform_publish_period if self.tf_delay is None else self.tf_delay
+
+
 class SlamBackend:
-    """Interface of a SLAM back-end (see the module docstring)."""
+    """Interface of a SLAM back-end (see the module docstring).
+
+    A back-end class is its own factory: ``cls(params=..., laser=..., rng=...)``. Its parameter
+    object is built by :meth:`params_from_dict` (strict; an optional ``type:`` entry naming the
+    back-end is accepted) and must carry ``map_update_interval`` (s, how often a ROS node or the
+    closed loop republishes the map). What callers outside ``slam/`` need is here; nothing else
+    of a back-end may be assumed.
+    """
 
     name = "abstract"
+    label = "abstract"        # human-readable name, e.g. "GMapping"
+    params = None             # the parameter object the instance runs with
+
+    # --- parameters (class level: callers build them before any instance exists)
+    @classmethod
+    def params_from_dict(cls, data, source: str = "<config>"):
+        """The back-end's parameter object from a mapping (unknown keys rejected)."""
+        raise NotImplementedError
+
+    @classmethod
+    def default_params(cls):
+        """The back-end's default parameters."""
+        return cls.params_from_dict({}, f"{cls.name} defaults")
+
+    @classmethod
+    def extent_of(cls, params) -> Tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax) m of the largest map ``params`` let the back-end publish:
+        the canvas of the stop rule's snapshots."""
+        raise NotImplementedError
+
+    @classmethod
+    def warmup(cls) -> None:
+        """Load (compile at worst) the back-end's numba kernels, e.g. before a ROS node's first
+        lockstep ack; default: nothing to load."""
+
+    # --- what callers read from a running back-end
+    @property
+    def map_extent(self) -> Tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax) m, see :meth:`extent_of`."""
+        return self.extent_of(self.params)
+
+    @property
+    def map_update_interval(self) -> float:
+        """s between two map publications (as slam_gmapping's ``map_update_interval``)."""
+        return float(self.params.map_update_interval)
+
+    @property
+    def beam_angles(self) -> np.ndarray:
+        """The beam angles (rad) of the laser the back-end was built for: a scan must have as
+        many readings."""
+        raise NotImplementedError
 
     def update(self, odom_pose, scan_ranges, t: float) -> Optional[np.ndarray]:
         """Feed one scan with the odometry pose at its time; the new map-frame pose if the scan
@@ -83,11 +157,30 @@ class SlamBackend:
         """The odom frame's pose in the map frame."""
         raise NotImplementedError
 
+    def trajectory(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(processed-scan numbers (K,), times s (K,), map-frame robot poses (K, 3)): the
+        back-end's final estimate at each processed scan, oldest first."""
+        raise NotImplementedError
+
+    def entropy(self) -> float:
+        """Pose uncertainty published on ``~entropy`` (only when > 0; default none)."""
+        return 0.0
+
+    def stats(self) -> dict:
+        """Run statistics for ``slam run``'s stats.json (e.g. ``resamples``; the runner adds
+        ``scans_processed`` when missing)."""
+        return {}
+
 
 # name -> factory, or "module:attribute" resolved on first use (keeps imports light)
 _REGISTRY: Dict[str, Union[str, Callable[..., SlamBackend]]] = {
     "gmapping": "slam_predict.slam.gmapping.filter:GMapping",
 }
+# Modules (or .py files) that register more back-ends, comma-separated; imported once, on the
+# first look-up, as are the ``slam_predict.slam_backends`` entry points of installed packages.
+EXTRA_BACKENDS_ENV = "SLAM_PREDICT_EXTRA_BACKENDS"
+ENTRY_POINT_GROUP = "slam_predict.slam_backends"
+_plugins_loaded = False
 
 
 def register(name: str, factory: Union[str, Callable[..., SlamBackend]]) -> None:
@@ -97,13 +190,31 @@ def register(name: str, factory: Union[str, Callable[..., SlamBackend]]) -> None
     _REGISTRY[name] = factory
 
 
+def unregister(name: str) -> None:
+    """Remove a registered back-end (tests that register their own)."""
+    _REGISTRY.pop(name, None)
+
+
+def load_plugins() -> None:
+    """Import the back-end modules named by ``$SLAM_PREDICT_EXTRA_BACKENDS`` and the
+    ``slam_predict.slam_backends`` entry points (once); each registers its back-ends."""
+    global _plugins_loaded
+    if _plugins_loaded:
+        return
+    _plugins_loaded = True
+    from slam_predict.slam.plugins import import_plugins
+    import_plugins(os.environ.get(EXTRA_BACKENDS_ENV, ""), ENTRY_POINT_GROUP)
+
+
 def available() -> Tuple[str, ...]:
     """Registered back-end names."""
+    load_plugins()
     return tuple(sorted(_REGISTRY))
 
 
-def create(name: str, **kwargs) -> SlamBackend:
-    """Instantiate the back-end registered as ``name`` with ``kwargs``."""
+def backend_class(name: str):
+    """The factory registered as ``name`` (InputError with a did-you-mean when unknown)."""
+    load_plugins()
     if name not in _REGISTRY:
         raise InputError(f"unknown SLAM type '{name}'" + did_you_mean(name, _REGISTRY))
     factory = _REGISTRY[name]
@@ -111,4 +222,43 @@ def create(name: str, **kwargs) -> SlamBackend:
         module, attr = factory.split(":")
         factory = getattr(importlib.import_module(module), attr)
         _REGISTRY[name] = factory
-    return factory(**kwargs)
+    return factory
+
+
+def create(name: str, **kwargs) -> SlamBackend:
+    """Instantiate the back-end registered as ``name`` with ``kwargs``."""
+    return backend_class(name)(**kwargs)
+
+
+def params_from_dict(name: str, data, source: str = "<config>"):
+    """Parameters of back-end ``name`` from a mapping (``None``: its defaults)."""
+    cls = backend_class(name)
+    return cls.default_params() if data is None else cls.params_from_dict(data, source)
+
+
+def load_params(name: str, path: os.PathLike | str):
+    """Parameters of back-end ``name`` from a YAML file (a ``type:`` in it must agree)."""
+    from slam_predict.config import load_yaml
+    return params_from_dict(name, load_yaml(path) or {}, os.fspath(path))
+
+
+def type_in(data, default: str = "gmapping") -> str:
+    """The back-end a SLAM parameter mapping names with ``type:`` (``default`` when absent)."""
+    return str(data.get("type", default)) if isinstance(data, dict) else default
+
+
+@dataclass
+class SlamChoice:
+    """A configured back-end: its registered name and its parameter object."""
+
+    type: str
+    params: Any
+
+    def params_hash(self) -> str:
+        """Short hash of the parameters (as run.json's ``config_hashes``)."""
+        from slam_predict.config import config_hash
+        return config_hash(self.params)
+
+    def record(self) -> Dict[str, str]:
+        """run.json's ``slam`` entry: the back-end's name and its parameters' hash."""
+        return {"type": self.type, "params_hash": self.params_hash()}

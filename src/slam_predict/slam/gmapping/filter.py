@@ -22,7 +22,7 @@ from slam_predict.slam import LaserGeometry, OccupancyGrid, SlamBackend
 from slam_predict.slam.gmapping import kernels
 from slam_predict.slam.gmapping.maps import Geometry, ParticleMap, PatchPool
 from slam_predict.slam.gmapping.motion import draw_from_motion, travelled
-from slam_predict.slam.gmapping.params import GMappingParams, with_ranges
+from slam_predict.slam.gmapping.params import GMappingParams, params_from_dict, with_ranges
 from slam_predict.slam.gmapping.tree import TrajectoryTree
 
 LOG = logging.getLogger(__name__)
@@ -237,7 +237,21 @@ class GMapping(SlamBackend):
     """
 
     name = "gmapping"
+    label = "GMapping"
     incremental_map = True  # False: rebuild the published map from scratch at every map()
+
+    @classmethod
+    def params_from_dict(cls, data, source: str = "<config>") -> GMappingParams:
+        return params_from_dict(data, source)
+
+    @classmethod
+    def warmup(cls) -> None:
+        kernels.warmup()
+
+    @classmethod
+    def extent_of(cls, params: GMappingParams):
+        """slam_gmapping's initial map: (xmin, ymin, xmax, ymax) m."""
+        return (params.xmin, params.ymin, params.xmax, params.ymax)
 
     def __init__(self, params: GMappingParams, laser: LaserGeometry,
                  rng: Optional[np.random.Generator] = None):
@@ -248,11 +262,17 @@ class GMapping(SlamBackend):
         matched = range_sensor_angles(angles) if self.params.range_sensor_angles else angles
         self.filter = GridSlamProcessor(self.params, matched,
                                         rng if rng is not None else np.random.default_rng())
+        self._angles = angles
         self.builder = MapBuilder(self.params, angles)
         self.published = IncrementalMap(self.builder)
         self._map_to_odom = np.zeros(3)
         self._odom = np.zeros(3)
         self.last_processed = False
+
+    @property
+    def beam_angles(self) -> np.ndarray:
+        """The scan's beam angles (rad) in the centred laser frame."""
+        return self._angles
 
     def laser_pose(self, odom_pose) -> np.ndarray:
         """The (centred) laser pose in the odom frame for a robot odometry pose."""
@@ -323,4 +343,7 @@ class GMapping(SlamBackend):
             "patches_in_use": f.pool.in_use if f.pool is not None else 0,
             "patch_pool_mib": (f.pool.nbytes / 2 ** 20) if f.pool is not None else 0.0,
             "tree_nodes": f.tree.size if f.pool is not None else 0,
+            "neff_history": [round(v, 3) for v in f.neff_history],
+            "maxRange": self.params.maxRange,
+            "maxUrange": self.params.maxUrange,
         }

@@ -418,9 +418,8 @@ def release_table(table, ref, free_stack, free_top):
 
 
 def warmup() -> None:
-    """Compile (or load from the numba cache) every kernel on a tiny input."""
-    from slam_predict.slam.gmapping import raytrace
-
+    """Compile (or load from the numba cache) every kernel on a tiny input (raytrace.py's are
+    warmed by its own ``warmup``, listed in :data:`slam_predict.warmup.MODULES`)."""
     table = np.full((2, 2), -1, dtype=np.int32)
     acc = np.zeros((4, PATCH_CELLS, 2), dtype=np.float32)
     hits = np.zeros((4, PATCH_CELLS), dtype=np.int32)
@@ -441,4 +440,3 @@ def warmup() -> None:
     first_outside(bounds, 0, 0.0, 0.0, 0.05, 32, 32, 2, 2)
     retain_table(table, ref)
     release_table(table, ref, free_stack, free_top)
-    raytrace.warmup()

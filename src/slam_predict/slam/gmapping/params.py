@@ -21,6 +21,7 @@ from typing import Any, ClassVar, Dict, Mapping, Optional, Tuple
 from slam_predict.config import (AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, PROBABILITY, Range,
                                  from_dict, load_yaml, to_dict)
 from slam_predict.errors import InputError
+from slam_predict.slam import SlamNodeParams
 
 _Str = str  # the field ``str`` (a motion-noise parameter) shadows the builtin in the class body
 
@@ -33,16 +34,10 @@ PATCH_MAGNITUDE = 5  # patches of 32 x 32 cells
 
 
 @dataclass
-class GMappingParams:
-    """slam_gmapping parameters (defaults = slam_gmapping's code defaults)."""
+class GMappingParams(SlamNodeParams):
+    """slam_gmapping parameters (defaults = slam_gmapping's code defaults); the ROS wrapper's
+    frames, throttle_scans, transform_publish_period and tf_delay come first (the base class)."""
 
-    # --- ROS wrapper
-    throttle_scans: int = 1
-    base_frame: _Str = "base_link"
-    map_frame: _Str = "map"
-    odom_frame: _Str = "odom"
-    transform_publish_period: float = 0.05
-    tf_delay: Optional[float] = None          # None: = transform_publish_period
     map_update_interval: float = 5.0
     # --- laser
     maxRange: Optional[float] = None          # None: first scan's range_max - 0.01
@@ -112,11 +107,6 @@ class GMappingParams:
         for name in ("srr", "srt", "str", "stt"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0")
-
-    @property
-    def effective_tf_delay(self) -> float:
-        """tf_delay, defaulting to transform_publish_period as slam_gmapping does (s)."""
-        return self.transform_publish_period if self.tf_delay is None else self.tf_delay
 
 
 def params_from_dict(data: Optional[Mapping[str, Any]], source: _Str = "<config>") -> GMappingParams:

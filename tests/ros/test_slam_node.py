@@ -16,7 +16,8 @@ from sensor_msgs.msg import LaserScan  # noqa: E402
 from slam_predict.geometry import compose, yaw_to_quaternion  # noqa: E402
 from slam_predict.ros.conversions.geometry import time_to_ros, transform_from_ros  # noqa: E402
 from slam_predict.ros.conversions.slam import grid_from_ros  # noqa: E402
-from slam_predict.ros.slam_gmapping_node import SlamGMappingNode, read_params  # noqa: E402
+from slam_predict.ros.slam_node import SlamNode, read_params  # noqa: E402
+from slam_predict.slam import SlamChoice, SlamNodeParams  # noqa: E402
 from slam_predict.slam.gmapping.params import GMappingParams  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "slam"))
@@ -91,7 +92,7 @@ def drive(upside_down, steps=60, ack=False):
     params = GMappingParams(particles=8, xmin=-10, ymin=-10, xmax=10, ymax=10,
                             linearUpdate=0.3, angularUpdate=0.2, map_update_interval=1.0)
     fake, tf = FakeRospy(), FakeTf(upside_down)
-    node = SlamGMappingNode(params, 3, fake, tf, tf)
+    node = SlamNode(SlamChoice("gmapping", params), SlamNodeParams(), 3, fake, tf, tf)
     node.start = None  # the wiring needs a ROS master; publishers are made below
     names = ("map", "map_metadata", "entropy") + (("ack",) if ack else ())
     node._pubs = {k: fake.Publisher(k, None) for k in names}
@@ -148,14 +149,21 @@ def test_upside_down_laser_gives_the_same_map():
 
 
 def test_no_map_before_the_first_scan():
-    node = SlamGMappingNode(GMappingParams(), 0, FakeRospy(), None, None)
+    node = SlamNode(SlamChoice("gmapping", GMappingParams()), SlamNodeParams(), 0, FakeRospy(),
+                    None, None)
     assert node.on_get_map(None) is None
 
 
 def test_params_come_from_the_private_namespace():
-    fake = FakeRospy({"~particles": 12, "~xmin": -20, "~seed": 7, "~type": "gmapping"})
-    params, seed = read_params(fake)
+    fake = FakeRospy({"~particles": 12, "~xmin": -20, "~seed": 7, "~type": "gmapping",
+                      "~base_frame": "base_footprint", "~throttle_scans": 2})
+    choice, node, seed = read_params(fake)
+    params = choice.params
+    assert choice.type == "gmapping" and isinstance(params, GMappingParams)
     assert params.particles == 12 and params.xmin == -20.0 and seed == 7
+    assert node.base_frame == "base_footprint" and node.throttle_scans == 2
     from slam_predict.errors import InputError
     with pytest.raises(InputError, match="particles"):
         read_params(FakeRospy({"~particles": "x"}))
+    with pytest.raises(InputError, match="unknown SLAM type 'gmaping'.*did you mean 'gmapping'"):
+        read_params(FakeRospy({"~type": "gmaping"}))

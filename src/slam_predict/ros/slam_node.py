@@ -1,25 +1,33 @@
-"""``slam_gmapping``: a drop-in for the ROS slam_gmapping node, on :mod:`slam_predict.slam.gmapping`.
+"""``slam_gmapping``: our SLAM node, a drop-in for the ROS slam_gmapping node, over any
+registered back-end of :mod:`slam_predict.slam` (``~type``, default ``gmapping``:
+:mod:`slam_predict.slam.gmapping`).
 
-Topics, frames, parameters and timing as slam_gmapping (ros_interfaces.md §2.1–2.2):
+Topics, frames, parameters and timing as slam_gmapping (ros_interfaces.md §2.1–2.2), whatever
+the back-end:
 
 * subscribes ``scan`` (sensor_msgs/LaserScan, queue 5); the odometry is tf ``odom_frame →
   base_frame`` at the scan's stamp, the laser's mounting tf ``base_frame → laser frame`` is read
   once at the first scan (the laser must be planar, upright or upside down);
 * publishes ``map`` (nav_msgs/OccupancyGrid, latched) and ``map_metadata`` (latched) after the
-  first processed scan and then whenever a processed scan is more than ``map_update_interval``
-  s newer than the last map; ``~entropy`` (std_msgs/Float64, latched, only when > 0);
-  ``~sim_ack`` (std_msgs/Time, latched): each scan's stamp once it is handled (0 at start;
-  stage_sim's lockstep, :mod:`slam_predict.ros.lockstep`);
+  first processed scan and then whenever a processed scan is more than the back-end's
+  ``map_update_interval`` s newer than the last map; ``~entropy`` (std_msgs/Float64, latched,
+  only when > 0); ``~sim_ack`` (std_msgs/Time, latched): each scan's stamp once it is handled
+  (0 at start; stage_sim's lockstep, :mod:`slam_predict.ros.lockstep`);
 * broadcasts tf ``map_frame → odom_frame`` every ``transform_publish_period`` s (0 disables),
   stamped now + ``tf_delay``; it changes only when a scan is processed (a broadcast whose stamp
   would repeat the previous one is skipped: with sim time, slam_gmapping floods tf2 with
   TF_REPEATED_DATA warnings there);
 * service ``dynamic_map`` (nav_msgs/GetMap).
 
-Every slam_gmapping parameter is read from the private namespace (see
-:class:`~slam_predict.slam.gmapping.params.GMappingParams`), plus ``~seed`` (int; default: fresh
-entropy, logged). Readings below ``range_min`` become ``range_max`` (slam_gmapping's rule); NaN
-readings are treated the same way (slam_gmapping would register them as garbage).
+Parameters (private namespace): ``~type`` (the back-end, a name of
+:func:`slam_predict.slam.available`; an unknown one is a fatal one-line error listing them), the
+node's own :class:`~slam_predict.slam.SlamNodeParams` (slam_gmapping's names), every field of the
+back-end's parameter class (for gmapping
+:class:`~slam_predict.slam.gmapping.params.GMappingParams`) and ``~seed`` (int; default: fresh
+entropy, logged). Back-ends registered outside slam_predict are loaded from
+``$SLAM_PREDICT_EXTRA_BACKENDS`` (a launch file sets it with ``<env>``; docs/architecture.md
+"Adding a SLAM back-end"). Readings below ``range_min`` become ``range_max`` (slam_gmapping's
+rule); NaN readings are treated the same way (slam_gmapping would register them as garbage).
 """
 from __future__ import annotations
 
@@ -32,7 +40,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from slam_predict.slam.gmapping.params import GMappingParams
+from slam_predict.slam import SlamChoice, SlamNodeParams
 from slam_predict.slam.laser import laser_geometry, prepare_ranges, quaternion_matrix
 
 LOG = logging.getLogger(__name__)
@@ -40,20 +48,22 @@ SCAN_QUEUE = 5
 TF_WAIT = 1.0  # s of wall time to wait for the odometry tf of a scan
 
 
-class SlamGMappingNode:
-    """slam_gmapping's behaviour around a :class:`GMapping` back-end.
+class SlamNode:
+    """slam_gmapping's behaviour around any SLAM back-end.
 
     Args:
-        params: the slam_gmapping parameters.
-        seed: seed of the filter's random generator.
+        slam: the back-end's name and parameters.
+        node: the node's own parameters (frames, throttling, tf period).
+        seed: seed of the back-end's random generator.
         rospy_module: the ``rospy`` module (injected so tests can use a fake).
         tf_buffer: a ``tf2_ros.Buffer`` (``lookup_transform``, ``can_transform``).
         tf_broadcaster: a ``tf2_ros.TransformBroadcaster``.
     """
 
-    def __init__(self, params: GMappingParams, seed: int, rospy_module, tf_buffer,
+    def __init__(self, slam: SlamChoice, node: SlamNodeParams, seed: int, rospy_module, tf_buffer,
                  tf_broadcaster):
-        self.params = params
+        self.choice = slam
+        self.params = node
         self.seed = seed
         self.rospy = rospy_module
         self.tf_buffer = tf_buffer
@@ -103,7 +113,8 @@ class SlamGMappingNode:
 
     # ------------------------------------------------------------------ callbacks
     def on_scan(self, msg) -> None:
-        """laserCallback, then ``~sim_ack`` = the scan's stamp (stage_sim's lockstep waits for it)."""
+        """laserCallback, then ``~sim_ack`` = the scan's stamp (stage_sim's lockstep waits for
+        it)."""
         try:
             self._process_scan(msg)
         finally:
@@ -126,20 +137,20 @@ class SlamGMappingNode:
             LOG.warning("no %s -> %s transform at %.3f: scan skipped", self.params.odom_frame,
                         self.params.base_frame, stamp)
             return
-        if len(msg.ranges) != self.slam.filter.angles.size:
+        if len(msg.ranges) != self.slam.beam_angles.size:
             LOG.warning("scan with %d ranges, expected %d: skipped", len(msg.ranges),
-                        self.slam.filter.angles.size)
+                        self.slam.beam_angles.size)
             return
         ranges = prepare_ranges(msg.ranges, msg.range_min, msg.range_max, self.reverse)
         if self.slam.update(odom[0], ranges, stamp) is None:
             return
         with self._lock:
             self.map_to_odom = self.slam.map_to_odom()
-        if self.map_msg is None or stamp - self.last_map_update > self.params.map_update_interval:
+        if self.map_msg is None or stamp - self.last_map_update > self.slam.map_update_interval:
             self.update_map(stamp)
 
     def _init_mapper(self, msg) -> bool:
-        from slam_predict.slam.gmapping.filter import GMapping
+        from slam_predict import slam
 
         lookup = self._lookup(self.params.base_frame, msg.header.frame_id, msg.header.stamp)
         if lookup is None:
@@ -152,9 +163,9 @@ class SlamGMappingNode:
         if laser is None:
             LOG.warning("laser %s is not planar: initialisation postponed", msg.header.frame_id)
             return False
-        self.slam = GMapping(self.params, laser, np.random.default_rng(self.seed))
-        LOG.info("GMapping initialised: %d beams, maxRange %.2f m, maxUrange %.2f m, seed %d",
-                 laser.beams, self.slam.params.maxRange, self.slam.params.maxUrange, self.seed)
+        self.slam = slam.create(self.choice.type, params=self.choice.params, laser=laser,
+                                rng=np.random.default_rng(self.seed))
+        LOG.info("%s initialised: %d beams, seed %d", self.slam.label, laser.beams, self.seed)
         return True
 
     def _lookup(self, parent: str, child: str, stamp):
@@ -174,7 +185,7 @@ class SlamGMappingNode:
         return np.array([t.x, t.y, yaw]), np.array([t.x, t.y, t.z]), rotation
 
     def update_map(self, stamp: float) -> None:
-        """updateMap: rebuild from the best trajectory, publish entropy, map and metadata."""
+        """updateMap: the back-end's map; publish entropy, map and metadata."""
         from std_msgs.msg import Float64
 
         from slam_predict.ros.conversions.slam import grid_to_ros
@@ -216,16 +227,22 @@ class SlamGMappingNode:
             transform_to_ros(pose, stamp, self.params.map_frame, self.params.odom_frame))
 
 
-def read_params(rospy_module) -> Tuple[GMappingParams, Optional[int]]:
-    """slam_gmapping parameters from the private namespace, and ``~seed`` (None if unset)."""
+def read_params(rospy_module) -> Tuple[SlamChoice, SlamNodeParams, Optional[int]]:
+    """The back-end (``~type``) with its parameters, the node's parameters, and ``~seed``
+    (None if unset), from the private namespace."""
+    from slam_predict import slam
     from slam_predict.config import from_dict
 
-    values = {}
-    for f in dataclasses.fields(GMappingParams):
-        if rospy_module.has_param("~" + f.name):
-            values[f.name] = rospy_module.get_param("~" + f.name)
-    seed = rospy_module.get_param("~seed", None)
-    return from_dict(GMappingParams, values, "~ (slam_gmapping parameters)"), seed
+    name = str(rospy_module.get_param("~type", "gmapping"))
+    params_class = type(slam.backend_class(name).default_params())
+
+    def private(cls) -> dict:
+        return {f.name: rospy_module.get_param("~" + f.name) for f in dataclasses.fields(cls)
+                if f.name != "type" and rospy_module.has_param("~" + f.name)}
+
+    params = slam.params_from_dict(name, private(params_class), f"~ ({name} parameters)")
+    node = from_dict(SlamNodeParams, private(SlamNodeParams), "~ (SLAM node parameters)")
+    return SlamChoice(name, params), node, rospy_module.get_param("~seed", None)
 
 
 def main(argv=None) -> int:
@@ -238,18 +255,19 @@ def main(argv=None) -> int:
     rospy.init_node("slam_gmapping", argv=argv)
     logging.basicConfig(level=logging.INFO, format="[slam_gmapping] %(levelname)s %(message)s")
     try:
-        params, seed = read_params(rospy)
+        choice, node_params, seed = read_params(rospy)
     except InputError as exc:
         rospy.logfatal(f"slam_gmapping: {exc.one_line()}")
         return 2
     if seed is None:
         seed = int(np.random.SeedSequence().entropy % (2 ** 31))
-    rospy.loginfo(f"slam_gmapping: seed {seed}")
+    rospy.loginfo(f"slam_gmapping: back-end {choice.type}, seed {seed}")
     tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
     tf2_ros.TransformListener(tf_buffer)
-    from slam_predict.ros.lockstep import warm
-    warm("slam_predict.slam.gmapping.kernels")   # before the first ~sim_ack
-    node = SlamGMappingNode(params, int(seed), rospy, tf_buffer, tf2_ros.TransformBroadcaster())
+    from slam_predict import slam
+    slam.backend_class(choice.type).warmup()   # before the first ~sim_ack
+    node = SlamNode(choice, node_params, int(seed), rospy, tf_buffer,
+                    tf2_ros.TransformBroadcaster())
     node.start()
     rospy.spin()
     return 0

@@ -21,8 +21,8 @@ import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.formats.rosbag import header_stamp
-from slam_predict.slam.gmapping.runner import SlamInput
 from slam_predict.slam.laser import laser_geometry, prepare_ranges, quaternion_matrix
+from slam_predict.slam.scans import SlamInput
 
 SCAN_TYPE = "sensor_msgs/msg/LaserScan"
 ODOM_TYPE = "nav_msgs/msg/Odometry"
