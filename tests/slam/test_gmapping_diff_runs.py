@@ -12,7 +12,7 @@ import pytest
 from slam_predict.collect.batch import RunSpec
 from slam_predict.collect.episode import run_episode
 from slam_predict.collect.settings import load_settings
-from slam_predict.slam.gmapping import runner
+from slam_predict.slam import runner
 from slam_predict.slam.gmapping.params import params_to_dict
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -70,7 +70,7 @@ def test_in_loop_errors_score_the_in_loop_trajectory_like_both_sides(campaign):
     assert own["slam_scans"] == record["sensor_logs"]["slam_scans"]
     # the replay with the run's own generator is the in-loop run: the bench scores it the same
     recorded = runner.recorded_run(run / "sensors.log.gz")
-    result = runner.run(data, params, recorded.seed, rng=recorded.rng())
+    result = runner.run(data, "gmapping", params, recorded.seed, rng=recorded.rng())
     error = bench.error_of(data, result.indices, result.poses)
     # (slam_scans.tum holds the poses as text: equal up to its round-off)
     assert own["scans_trans_m"] == pytest.approx(error["trans_mean_m"], rel=1e-9)
