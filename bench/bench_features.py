@@ -79,7 +79,7 @@ def bench_thesis(data: Path) -> None:
           "| ours at 0.10 m/px | 0.10 / 0.05 | rooms 0.05 / 0.10 |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     key = "voronoi_traversal_distance"
-    for a, b, c in zip(doc, compat, coarse):
+    for a, b, c in zip(doc, compat, coarse, strict=False):
         theirs = a["theirs"]["Voronoi distance"]
         print(f"| {a['env']} | {'yes' if a['faithful'] else 'no'} | {theirs:.1f} | "
               f"{a['ours'][key]:.1f} | {a['ours'][key] / theirs:.2f} | {b['ours'][key]:.1f} | "
@@ -110,12 +110,12 @@ def bench_thesis(data: Path) -> None:
     print(f"\nFaithful buildings only ({faithful.sum()}): R² ours {np.median(r2_ours_f):.3f} / "
           f"{np.mean(r2_ours_f):.3f}, thesis' column {np.median(r2_theirs_f):.3f} / "
           f"{np.mean(r2_theirs_f):.3f} (median / mean of 20 splits).")
-    ratio = np.array([c["ours"][key] / a["ours"][key] for a, c in zip(doc, coarse)])
+    ratio = np.array([c["ours"][key] / a["ours"][key] for a, c in zip(doc, coarse, strict=False)])
     print(f"\nResolution 0.10 vs 0.05 m/px over {len(ratio)} buildings: "
           f"{np.mean(np.abs(ratio - 1) <= 0.05):.0%} within 5 %, median |Δ| "
           f"{np.median(np.abs(ratio - 1)):.1%}, worst {np.max(np.abs(ratio - 1)):.1%}.")
     delta = np.array([abs(a["ours"]["num_spaces"] - c["ours"]["num_spaces"])
-                      for a, c in zip(doc, coarse)])
+                      for a, c in zip(doc, coarse, strict=False)])
     print(f"Room count 0.10 vs 0.05 m/px: equal in {int(np.sum(delta == 0))} of {len(delta)}, "
           f"within ±1 in {int(np.sum(delta <= 1))}, worst {int(delta.max())}.")
 

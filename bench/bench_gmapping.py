@@ -89,7 +89,7 @@ def real_logs(args) -> None:
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
         done = list(pool.map(lambda job: run_one(job[0], job[1], out), jobs))
     results: dict = {}
-    for (log, _), stats in zip(jobs, done):
+    for (log, _), stats in zip(jobs, done, strict=False):
         results.setdefault(log, []).append(stats)
     print(table(results, baseline))
     for log in args.logs:

@@ -15,7 +15,11 @@ import numpy as np
 from slam_predict.formats.carmen import read_log, write_log
 from slam_predict.formats.tum import read_tum, write_tum
 from slam_predict.metric import (
-    associate, evaluate_against_reference, evaluate_all_pairs, evaluate_sampled)
+    associate,
+    evaluate_against_reference,
+    evaluate_all_pairs,
+    evaluate_sampled,
+)
 
 
 def timed(label: str, func, repeat: int = 3):

@@ -25,8 +25,8 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Dict, List, Sequence
 
 ROOT = Path(__file__).resolve().parents[1]
 IGNORED_KEYS = {"wall_time_s", "timing", "code_version", "created", "settings_file", "source",
@@ -59,7 +59,7 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     return parser.parse_args(argv)
 
 
-def selected_cases(spec: str) -> List[tuple]:
+def selected_cases(spec: str) -> list[tuple]:
     if spec == "all":
         return CASES
     names = QUICK if spec == "quick" else set(spec.split(","))
@@ -111,10 +111,10 @@ def run_case(tree: Path, case: tuple, out: Path) -> float:
     return time.perf_counter() - start
 
 
-def flatten(value, prefix: str = "") -> Dict[str, object]:
+def flatten(value, prefix: str = "") -> dict[str, object]:
     """JSON value -> {dotted.key.path: leaf}, without the ignored keys."""
     if isinstance(value, dict):
-        flat: Dict[str, object] = {}
+        flat: dict[str, object] = {}
         for key, item in value.items():
             if key in IGNORED_KEYS:
                 continue
@@ -123,7 +123,7 @@ def flatten(value, prefix: str = "") -> Dict[str, object]:
     return {prefix.rstrip("."): value}
 
 
-def renamed(flat: Dict[str, object], renames: Dict[str, str]) -> Dict[str, object]:
+def renamed(flat: dict[str, object], renames: dict[str, str]) -> dict[str, object]:
     out = {}
     for key, value in flat.items():
         for old, new in renames.items():
@@ -134,7 +134,7 @@ def renamed(flat: Dict[str, object], renames: Dict[str, str]) -> Dict[str, objec
     return out
 
 
-def compare_file(ref: Path, new: Path, renames: Dict[str, str]) -> List[str]:
+def compare_file(ref: Path, new: Path, renames: dict[str, str]) -> list[str]:
     if ref.suffix == ".json":
         a = renamed(flatten(json.loads(ref.read_text())), renames)
         b = flatten(json.loads(new.read_text()))
@@ -160,7 +160,7 @@ def _without_version(data: bytes) -> bytes:
     return b"\n".join(ln for ln in lines if not (ln.startswith(b"#") and b"slam_predict" in ln))
 
 
-def _csv_rows(path: Path) -> List[List[str]]:
+def _csv_rows(path: Path) -> list[list[str]]:
     """CSV rows without wall-time columns."""
     import csv
     with path.open() as fh:
@@ -171,7 +171,7 @@ def _csv_rows(path: Path) -> List[List[str]]:
     return [[row[i] for i in keep if i < len(row)] for row in rows]
 
 
-def compare_trees(ref: Path, new: Path, renames: Dict[str, str]) -> List[str]:
+def compare_trees(ref: Path, new: Path, renames: dict[str, str]) -> list[str]:
     problems = []
     ref_files = {p.relative_to(ref) for p in ref.rglob("*") if p.is_file()}
     new_files = {p.relative_to(new) for p in new.rglob("*") if p.is_file()}

@@ -21,14 +21,13 @@ import sys
 import tempfile
 import time
 from pathlib import Path
-from typing import Optional
 
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_PLAN = ROOT / "worlds" / "office_1500.world"
 
 
 def run_cli(plan: str, model: str, setting: str, cache: str,
-            resolution: Optional[float] = None) -> tuple:
+            resolution: float | None = None) -> tuple:
     """(wall time s, parsed JSON) of one ``slam-predict predict --json`` process."""
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
     cmd = [sys.executable, "-m", "slam_predict.cli.main", "predict", plan, "--model", model,
@@ -43,10 +42,13 @@ def run_cli(plan: str, model: str, setting: str, cache: str,
     return wall, json.loads(proc.stdout)
 
 
-def breakdown(plan: str, model: str, resolution: Optional[float] = None) -> dict:
+def breakdown(plan: str, model: str, resolution: float | None = None) -> dict:
     """Seconds spent loading, computing features and predicting, in this (warm) process."""
-    from slam_predict.learn.predict import (check_feature_version, compute_plan_features,
-                                            predict_features)
+    from slam_predict.learn.predict import (
+        check_feature_version,
+        compute_plan_features,
+        predict_features,
+    )
     from slam_predict.learn.store import default_models_dir, resolve_store
     from slam_predict.world.load import load_plan
 

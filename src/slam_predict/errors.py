@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import difflib
 import os
-from typing import Iterable, Optional
+from collections.abc import Iterable
 
 
 class InputError(Exception):
@@ -17,8 +17,8 @@ class InputError(Exception):
 
     exit_code = 2
 
-    def __init__(self, problem: str, path: Optional[os.PathLike | str] = None,
-                 line: Optional[int] = None):
+    def __init__(self, problem: str, path: os.PathLike | str | None = None,
+                 line: int | None = None):
         self.problem = problem
         self.path = None if path is None else os.fspath(path)
         self.line = line

@@ -14,8 +14,8 @@ from __future__ import annotations
 import gzip
 import hashlib
 import re
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable, Dict, List
 
 import cv2
 import numpy as np
@@ -126,8 +126,8 @@ class Files:
         return self._make(name, text)
 
 
-Row = Callable[[Files], List[str]]
-ROWS: List = []
+Row = Callable[[Files], list[str]]
+ROWS: list = []
 
 
 def row(case_id: str, make_argv: Row, pattern: str, *marks) -> None:
@@ -145,7 +145,7 @@ UNCREATABLE = ("cannot be created", "under_file",
                r"--out cannot be created: .*existing\.txt is a file")
 
 
-def outputs(command: List[str], kind: str) -> None:
+def outputs(command: list[str], kind: str) -> None:
     """The --out rows of a command writing a ``kind`` ('folder' or 'file'); ``command`` is its
     argv without --out."""
     name = " ".join(w for w in command[:2] if w.isalpha())
@@ -153,7 +153,7 @@ def outputs(command: List[str], kind: str) -> None:
         row(f"{name}: --out {label}", cmd(*command, "--out", "{" + attr + "}"), pattern)
 
 
-def _expand(command: List[str], files: Files) -> List[str]:
+def _expand(command: list[str], files: Files) -> list[str]:
     """Words of the form '{attr}' become ``files.attr``."""
     return [getattr(files, w[1:-1]) if w.startswith("{") and w.endswith("}") else w
             for w in command]
@@ -327,7 +327,7 @@ row("features: --overlay exists", cmd("features", "{plan}", "--resolution", "0.1
     r"existing\.txt: --overlay file exists; use --force")
 
 
-def snapshot(folder: Path) -> Dict[str, str]:
+def snapshot(folder: Path) -> dict[str, str]:
     """Relative path → content hash ('dir' for folders) of everything under ``folder``."""
     state = {}
     for path in sorted(folder.rglob("*")):

@@ -12,8 +12,7 @@ import pytest
 
 from slam_predict.collect.batch import RunSpec
 from slam_predict.collect.episode import full_extent_grid, run_episode
-from slam_predict.collect.record import (FILES, SCHEMA_VERSION, _plain, load_record,
-                                         without_timing)
+from slam_predict.collect.record import FILES, SCHEMA_VERSION, _plain, load_record, without_timing
 from slam_predict.collect.settings import load_settings
 from slam_predict.slam import OccupancyGrid
 

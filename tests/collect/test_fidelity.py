@@ -6,8 +6,12 @@ import pytest
 from scipy.stats import spearmanr
 
 from slam_predict.cli.main import main
-from slam_predict.collect.fidelity import (ACCEPTANCE, acceptance_lines, compare_campaign,
-                                           read_thesis_table)
+from slam_predict.collect.fidelity import (
+    ACCEPTANCE,
+    acceptance_lines,
+    compare_campaign,
+    read_thesis_table,
+)
 
 THESIS_HEADER = ("dataset, Voronoi distance, Voronoi rotation, totalLen, totalRot, "
                  "transError.mean.mean, transError.mean.std, rotError.mean.mean, rotError.mean.std\n")

@@ -2,9 +2,18 @@
 the order of the limits that end a run."""
 import numpy as np
 
-from slam_predict.collect.stopping import (FREE, OCCUPIED, STUCK_DISTANCE_M, UNKNOWN,
-                                           SnapshotMSE, StopConfig, StuckDetector,
-                                           grid_to_snapshot, snapshot_mse, stop_reason)
+from slam_predict.collect.stopping import (
+    FREE,
+    OCCUPIED,
+    STUCK_DISTANCE_M,
+    UNKNOWN,
+    SnapshotMSE,
+    StopConfig,
+    StuckDetector,
+    grid_to_snapshot,
+    snapshot_mse,
+    stop_reason,
+)
 
 
 def test_grid_to_snapshot_map_saver_values():

@@ -1,11 +1,16 @@
 """cli.guards: output folder/file checks and numeric options, before any work."""
 from __future__ import annotations
 
-
 import pytest
 
-from slam_predict.cli.guards import (check_at_least, check_creatable, check_out_dir,
-                                     check_out_file, check_positive, plural)
+from slam_predict.cli.guards import (
+    check_at_least,
+    check_creatable,
+    check_out_dir,
+    check_out_file,
+    check_positive,
+    plural,
+)
 from slam_predict.errors import InputError
 
 

@@ -38,7 +38,7 @@ def ref_mask(data):
 def ref_clusters(mask):
     seen = np.zeros(mask.shape, bool)
     clusters = []
-    for r, c in zip(*np.nonzero(mask)):
+    for r, c in zip(*np.nonzero(mask), strict=False):
         if seen[r, c]:
             continue
         queue, cells = deque([(r, c)]), []

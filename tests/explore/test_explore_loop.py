@@ -3,7 +3,6 @@ command limits, stalls, determinism; CI runs tiny and office_500, the sweep is s
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 import pytest

@@ -133,7 +133,7 @@ def test_range_rules_follow_gmapping():
 def slow_processed(poses, times, lin, ang, per):
     """slam_gmapping's scan selection written out: motion summed since the last processed."""
     out, dist, turn, last_t = [], 0.0, 0.0, None
-    for k, (pose, t) in enumerate(zip(poses, times)):
+    for k, (pose, t) in enumerate(zip(poses, times, strict=False)):
         if k:
             dist += math.hypot(*(pose[:2] - poses[k - 1][:2]))
             turn += abs(math.remainder(pose[2] - poses[k - 1][2], 2 * math.pi))
@@ -154,11 +154,11 @@ def test_gmapping_update_rule_selects_the_scans_slam_gmapping_processes():
     cfg = PerfectMapConfig(margin=0.5, linearUpdate=1.0, angularUpdate=0.25,
                            temporalUpdate=5.0)
     source = PerfectMap(world, laser, lambda: np.array([-3.0, 0.0, 0.0]), cfg)
-    got = [k for k, (pose, t) in enumerate(zip(poses, times))
+    got = [k for k, (pose, t) in enumerate(zip(poses, times, strict=False))
            if source.update(pose, np.array([1.0, 1.0]), float(t)) is not None]
     want = slow_processed(poses, times, 1.0, 0.25, 5.0)
     assert got == want and 5 < len(got) < 150
     every = PerfectMap(world, laser, lambda: np.array([-3.0, 0.0, 0.0]),
                        PerfectMapConfig(margin=0.5))
     assert all(every.update(p, np.array([1.0, 1.0]), float(t)) is not None
-               for p, t in zip(poses, times))
+               for p, t in zip(poses, times, strict=False))

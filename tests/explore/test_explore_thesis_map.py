@@ -6,8 +6,17 @@ import math
 import numpy as np
 import pytest
 
-from slam_predict.explore.thesis_map import LETHAL, NO_INFORMATION, Costmap, backoff_goal, \
-    coarsen, explorer_costmap, frontier_cells, inflate, seen_mask
+from slam_predict.explore.thesis_map import (
+    LETHAL,
+    NO_INFORMATION,
+    Costmap,
+    backoff_goal,
+    coarsen,
+    explorer_costmap,
+    frontier_cells,
+    inflate,
+    seen_mask,
+)
 from slam_predict.slam import OccupancyGrid
 
 
@@ -85,7 +94,7 @@ def test_seen_mask_matches_the_slow_rule():
     cm = Costmap(cost, (0.0, 0.0), 0.1)
     points = rng.uniform(0.0, 3.0, size=(60, 2))
     got = seen_mask(cm, points, 6)
-    for (x, y), flag in zip(points, got):
+    for (x, y), flag in zip(points, got, strict=False):
         r, c = int(y // 0.1), int(x // 0.1)
         cells = [(r, c + k) for k in range(1, 7)] + [(r, c - k) for k in range(1, 7)] + \
             [(r + k, c) for k in range(1, 7)] + [(r - k, c) for k in range(1, 7)]

@@ -6,13 +6,11 @@ ground-truth rooms are the carved rectangles.
 """
 from __future__ import annotations
 
-from typing import List, Tuple
-
 import numpy as np
 
 from slam_predict.world.model import Door, Room, World
 
-Rect = Tuple[float, float, float, float]  # x0, y0, x1, y1 in plan metres
+Rect = tuple[float, float, float, float]  # x0, y0, x1, y1 in plan metres
 
 
 class Plan:
@@ -22,26 +20,26 @@ class Plan:
         self.res = res
         self.width, self.height = width_m, height_m
         self.occ = np.ones((int(round(height_m / res)), int(round(width_m / res))), bool)
-        self.rooms: List[Tuple[str, Rect]] = []
-        self.doors: List[Tuple[Rect, Tuple[str, str]]] = []
+        self.rooms: list[tuple[str, Rect]] = []
+        self.doors: list[tuple[Rect, tuple[str, str]]] = []
 
     def _carve(self, rect: Rect) -> None:
         x0, y0, x1, y1 = (int(round(v / self.res)) for v in rect)
         self.occ[y0:y1, x0:x1] = False
 
-    def room(self, name: str, rect: Rect) -> "Plan":
+    def room(self, name: str, rect: Rect) -> Plan:
         """Carve a free rectangle and record it as a ground-truth room."""
         self._carve(rect)
         self.rooms.append((name, rect))
         return self
 
-    def door(self, rect: Rect, rooms: Tuple[str, str]) -> "Plan":
+    def door(self, rect: Rect, rooms: tuple[str, str]) -> Plan:
         """Carve an opening through a wall between two rooms."""
         self._carve(rect)
         self.doors.append((rect, rooms))
         return self
 
-    def world_xy(self, x: float, y: float) -> Tuple[float, float]:
+    def world_xy(self, x: float, y: float) -> tuple[float, float]:
         """World coordinates (m) of plan point (x, y)."""
         return x - self.width / 2.0, self.height / 2.0 - y
 

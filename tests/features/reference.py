@@ -6,12 +6,11 @@ from __future__ import annotations
 
 import heapq
 import math
-from typing import Dict, List, Tuple
 
 import numpy as np
 
 
-def digital_line(r0: int, c0: int, r1: int, c1: int) -> List[Tuple[int, int]]:
+def digital_line(r0: int, c0: int, r1: int, c1: int) -> list[tuple[int, int]]:
     """Pixels of the digital line from (r0, c0) (excluded) to (r1, c1) (included)."""
     n = max(abs(r1 - r0), abs(c1 - c0))
     return [(r0 + math.floor((r1 - r0) * i / n + 0.5), c0 + math.floor((c1 - c0) * i / n + 0.5))
@@ -23,16 +22,16 @@ def visible(occupied, a, b) -> bool:
     return not any(occupied[r][c] for r, c in digital_line(a[0], a[1], b[0], b[1]))
 
 
-def adjacency(n: int, edges, weights) -> List[List[Tuple[int, float]]]:
+def adjacency(n: int, edges, weights) -> list[list[tuple[int, float]]]:
     """Sorted neighbour lists (neighbour, weight) of an undirected graph."""
-    adj: List[Dict[int, float]] = [dict() for _ in range(n)]
-    for (a, b), w in zip(edges, weights):
+    adj: list[dict[int, float]] = [dict() for _ in range(n)]
+    for (a, b), w in zip(edges, weights, strict=False):
         adj[a][b] = w
         adj[b][a] = w
     return [sorted(d.items()) for d in adj]
 
 
-def dijkstra(adj, src: int, dst: int) -> List[int]:
+def dijkstra(adj, src: int, dst: int) -> list[int]:
     """Minimum-weight path; ties: the first improvement found wins, heap pops (dist, node)."""
     dist = {src: 0.0}
     pred = {}
@@ -53,7 +52,7 @@ def dijkstra(adj, src: int, dst: int) -> List[int]:
     return _unwind(pred, src, dst)
 
 
-def bfs(adj, src: int, dst: int) -> List[int]:
+def bfs(adj, src: int, dst: int) -> list[int]:
     """Fewest-hops path, neighbours visited in increasing index order."""
     pred = {src: -1}
     queue = [src]
@@ -67,7 +66,7 @@ def bfs(adj, src: int, dst: int) -> List[int]:
     return _unwind(pred, src, dst)
 
 
-def _unwind(pred, src, dst) -> List[int]:
+def _unwind(pred, src, dst) -> list[int]:
     path = [dst]
     while path[-1] != src:
         path.append(pred[path[-1]])
@@ -141,7 +140,7 @@ def guo_hall(mask: np.ndarray) -> np.ndarray:
         changed = False
         for it in range(2):
             marks = []
-            for r, c in zip(*np.nonzero(img)):
+            for r, c in zip(*np.nonzero(img), strict=False):
                 p2, p3, p4, p5 = px(r - 1, c), px(r - 1, c + 1), px(r, c + 1), px(r + 1, c + 1)
                 p6, p7, p8, p9 = px(r + 1, c), px(r + 1, c - 1), px(r, c - 1), px(r - 1, c - 1)
                 cross = ((not p2) and (p3 or p4)) + ((not p4) and (p5 or p6)) + \

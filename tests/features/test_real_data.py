@@ -10,8 +10,12 @@ import os
 import numpy as np
 import pytest
 
-from slam_predict.features.validation import (downsampled, ipa_room_scores, single_feature_r2,
-                                              thesis_rows)
+from slam_predict.features.validation import (
+    downsampled,
+    ipa_room_scores,
+    single_feature_r2,
+    thesis_rows,
+)
 from slam_predict.features.vector import FeaturesConfig, compute_features
 from slam_predict.world.generator import generate
 

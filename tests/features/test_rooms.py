@@ -4,8 +4,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from slam_predict.features.rooms import (RoomsConfig, ground_truth_rooms, merge_small,
-                                         rooms_of, segment)
+from slam_predict.features.rooms import (
+    RoomsConfig,
+    ground_truth_rooms,
+    merge_small,
+    rooms_of,
+    segment,
+)
 from slam_predict.world.model import World
 
 from .plans import corridor_with_rooms, four_rooms_cycle, ring_corridor, single_room
@@ -36,7 +41,7 @@ def test_corridor_with_k_rooms(k):
     rooms = segment(world.occupied, world.resolution)
     assert rooms.count == k + 1
     areas = rooms.areas_m2()
-    for room, mask in zip(world.rooms, _truth_masks(world)):
+    for room, mask in zip(world.rooms, _truth_masks(world), strict=False):
         assert _best_iou(rooms.labels, mask) > 0.9
         if room.id != "corridor":  # 4 m × 4 m rooms
             label = np.bincount(rooms.labels[mask]).argmax()
@@ -101,7 +106,7 @@ def test_room_behind_a_door_narrower_than_the_segmentation_grid_is_kept():
     world = corridor_with_rooms(3, door=0.3).world()
     rooms = segment(world.occupied, world.resolution)
     assert rooms.count == 4
-    for room, mask in zip(world.rooms, _truth_masks(world)):
+    for room, mask in zip(world.rooms, _truth_masks(world), strict=False):
         assert _best_iou(rooms.labels, mask) > 0.9, room.id
     tiny = corridor_with_rooms(1, door=0.3, room=0.8).world()  # 0.64 m² closet: merged
     assert segment(tiny.occupied, tiny.resolution).count == 1

@@ -5,8 +5,12 @@ import networkx as nx
 import pytest
 
 from slam_predict.features.rooms import RoomsConfig, rooms_of, segment
-from slam_predict.features.topology import (TopologyConfig, room_pairs, topology_graph,
-                                            topology_metrics)
+from slam_predict.features.topology import (
+    TopologyConfig,
+    room_pairs,
+    topology_graph,
+    topology_metrics,
+)
 
 from .plans import corridor_with_rooms, four_rooms_cycle, single_room
 

@@ -8,8 +8,12 @@ import numpy as np
 import pytest
 
 from slam_predict.features import kernels, traversal
-from slam_predict.features.traversal import (TraversalConfig, polyline_turning,
-                                             simplify_polyline, traverse)
+from slam_predict.features.traversal import (
+    TraversalConfig,
+    polyline_turning,
+    simplify_polyline,
+    traverse,
+)
 from slam_predict.features.voronoi import VoronoiConfig, VoronoiGraph, voronoi_graph
 
 from . import reference
@@ -41,7 +45,7 @@ def test_line_of_sight_matches_reference(seed):
 def test_digital_line_is_symmetric_in_extent():
     line = reference.digital_line(0, 0, 3, 7)
     assert line[-1] == (3, 7) and len(line) == 7
-    assert all(abs(r1 - r0) <= 1 and c1 - c0 == 1 for (r0, c0), (r1, c1) in zip(line, line[1:]))
+    assert all(abs(r1 - r0) <= 1 and c1 - c0 == 1 for (r0, c0), (r1, c1) in zip(line, line[1:], strict=False))
 
 
 def _random_graph(rng, occ, n=40):
@@ -89,7 +93,7 @@ def test_shortest_paths_match_networkx(seed):
     for _ in range(20):
         a, b = (int(v) for v in rng.choice(graph.order, 2, replace=False))
         path = kernels.dijkstra_path(indptr, indices, weights, a, b)
-        length = sum(g[u][v]["weight"] for u, v in zip(path[:-1], path[1:]))
+        length = sum(g[u][v]["weight"] for u, v in zip(path[:-1], path[1:], strict=False))
         assert length == pytest.approx(nx.dijkstra_path_length(g, a, b))
         hops = kernels.bfs_path(indptr, indices, a, b)
         assert len(hops) - 1 == nx.shortest_path_length(g, a, b)
@@ -102,9 +106,9 @@ def test_every_node_is_seen_and_path_follows_edges():
                       0.0, TraversalConfig(laser_range_m=3.0))
     index = {tuple(p): i for i, p in enumerate(graph.rc)}
     edges = {tuple(e) for e in graph.edges}
-    steps = [(index[tuple(a)], index[tuple(b)]) for a, b in zip(result.path_rc, result.path_rc[1:])]
+    steps = [(index[tuple(a)], index[tuple(b)]) for a, b in zip(result.path_rc, result.path_rc[1:], strict=False)]
     assert all((min(s), max(s)) in edges for s in steps)
-    length = sum(np.hypot(*(a - b)) for a, b in zip(result.path_rc, result.path_rc[1:]))
+    length = sum(np.hypot(*(a - b)) for a, b in zip(result.path_rc, result.path_rc[1:], strict=False))
     assert result.distance == pytest.approx(length * world.resolution)
 
 

@@ -9,9 +9,15 @@ import pytest
 
 from slam_predict.config import from_dict, load_config, to_dict
 from slam_predict.errors import InputError
-from slam_predict.features.vector import (REGISTRY, FeaturesConfig, compute_features,
-                                          compute_with_context, feature_version, phase_worlds,
-                                          working_world)
+from slam_predict.features.vector import (
+    REGISTRY,
+    FeaturesConfig,
+    compute_features,
+    compute_with_context,
+    feature_version,
+    phase_worlds,
+    working_world,
+)
 
 from .plans import corridor_with_rooms, four_rooms_cycle
 
@@ -94,7 +100,7 @@ def test_phase_worlds_match_reference():
     world = working_world(corridor_with_rooms(2).world(), 0.1)
     grids = phase_worlds(world, 4)
     assert grids[0] is world and len(grids) == 4 and len(phase_worlds(world, 2)) == 2
-    for grid, (rows, cols) in zip(grids[1:], ((1, 1), (1, 0), (0, 1))):
+    for grid, (rows, cols) in zip(grids[1:], ((1, 1), (1, 0), (0, 1)), strict=False):
         np.testing.assert_array_equal(grid.occupied, _shifted_reference(world.occupied, rows, cols))
         assert grid.origin == world.origin and grid.resolution == world.resolution
     # the building stays in place: the start pose's cell is free on every grid

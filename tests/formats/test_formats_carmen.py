@@ -86,7 +86,7 @@ def _assert_same(a, b, range_atol):
     np.testing.assert_array_equal(a.odometry.poses, b.odometry.poses)
     np.testing.assert_array_equal(a.odometry.tv, b.odometry.tv)
     assert len(a.scans) == len(b.scans)
-    for sa, sb in zip(a.scans, b.scans):
+    for sa, sb in zip(a.scans, b.scans, strict=False):
         assert sa.kind == sb.kind and sa.timestamp == sb.timestamp
         np.testing.assert_allclose(sa.ranges, sb.ranges, atol=range_atol, rtol=0)
         np.testing.assert_array_equal(sa.pose, sb.pose)

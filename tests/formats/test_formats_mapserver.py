@@ -7,7 +7,13 @@ import yaml
 
 from slam_predict.errors import InputError
 from slam_predict.formats.mapserver import (
-    decode_pgm, encode_pgm, occupancy_to_image, read_map, write_map, write_occupancy)
+    decode_pgm,
+    encode_pgm,
+    occupancy_to_image,
+    read_map,
+    write_map,
+    write_occupancy,
+)
 
 
 def test_occupancy_to_image_map_saver_values_and_flip():

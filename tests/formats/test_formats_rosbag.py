@@ -54,7 +54,7 @@ def bag(tmp_path):
     with Writer(path) as writer:
         odom = writer.add_connection("/odom", "nav_msgs/msg/Odometry", typestore=STORE)
         tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", typestore=STORE)
-        for ti, p in zip(t[::-1], poses[::-1]):          # written out of order on purpose
+        for ti, p in zip(t[::-1], poses[::-1], strict=False):          # written out of order on purpose
             ns = int(round(ti * 1e9))
             writer.write(odom, ns, STORE.serialize_ros1(_odometry(ti, p), odom.msgtype))
             writer.write(tf, ns, STORE.serialize_ros1(_tf(ti, p + 1.0, "odom", "base_link"), tf.msgtype))

@@ -9,8 +9,11 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.formats.prepared_scans import (FILTER_PARAMS, prepared_scans_text,
-                                                 read_driver_output)
+from slam_predict.formats.prepared_scans import (
+    FILTER_PARAMS,
+    prepared_scans_text,
+    read_driver_output,
+)
 from slam_predict.slam import LaserGeometry
 from slam_predict.slam.gmapping.params import GMappingParams, with_ranges
 

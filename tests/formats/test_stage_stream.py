@@ -10,8 +10,12 @@ import pytest
 from slam_predict.formats.carmen import CarmenLogWriter, read_log, scan_line
 from slam_predict.formats.carmen_records import LaserScan
 from slam_predict.formats.sensor_bag import SensorBagWriter
-from slam_predict.formats.stage_stream import (LaserDescription, StagePublisher, ros_time,
-                                               stamp_seconds)
+from slam_predict.formats.stage_stream import (
+    LaserDescription,
+    StagePublisher,
+    ros_time,
+    stamp_seconds,
+)
 from slam_predict.slam.bag_input import LiveDecoder, TfTree, read_bag_input
 
 SPEC = SimpleNamespace(fov=math.radians(270.0), samples=541, range_min=0.1, range_max=5.6)

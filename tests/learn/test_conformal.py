@@ -74,8 +74,11 @@ def test_bad_parameters():
 def test_plain_form_reproduces_the_fitted_model(method):
     from sklearn.ensemble import GradientBoostingRegressor, RandomForestRegressor
 
-    from slam_predict.learn.estimators import (ElasticNetGridCV, FRegressionVoting,
-                                               SingleFeatureLinear)
+    from slam_predict.learn.estimators import (
+        ElasticNetGridCV,
+        FRegressionVoting,
+        SingleFeatureLinear,
+    )
     from slam_predict.learn.plain import plain_form, predict_plain
 
     X, y = data(40, 4)

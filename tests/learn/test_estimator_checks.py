@@ -4,8 +4,12 @@ from __future__ import annotations
 from sklearn.ensemble import RandomForestRegressor
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
-from slam_predict.learn.estimators import (ConformalRegressor, ElasticNetGridCV,
-                                           FRegressionVoting, SingleFeatureLinear)
+from slam_predict.learn.estimators import (
+    ConformalRegressor,
+    ElasticNetGridCV,
+    FRegressionVoting,
+    SingleFeatureLinear,
+)
 
 ESTIMATORS = [
     SingleFeatureLinear(feature=0),

@@ -10,9 +10,15 @@ from sklearn.model_selection import GridSearchCV, KFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 
-from slam_predict.learn.estimators import (ElasticNetGridCV, FRegressionVoting,
-                                           SingleFeatureLinear, draw_subsets, f_scores,
-                                           most_voted, selection_ranks)
+from slam_predict.learn.estimators import (
+    ElasticNetGridCV,
+    FRegressionVoting,
+    SingleFeatureLinear,
+    draw_subsets,
+    f_scores,
+    most_voted,
+    selection_ranks,
+)
 
 
 def synthetic(n=60, f=8, seed=0, noise=0.3):

@@ -1,11 +1,15 @@
 """Timestamp association, pause removal and truncated-line repair."""
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 
-from slam_predict.metric import associate, dedupe_consecutive, drop_truncated_last_line, nearest_within
+from slam_predict.metric import (
+    associate,
+    dedupe_consecutive,
+    drop_truncated_last_line,
+    nearest_within,
+)
 
 
 def _brute_force(t_a, t_b, tol):

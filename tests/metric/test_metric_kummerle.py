@@ -6,14 +6,19 @@ import math
 
 import numpy as np
 import pytest
+from metric_trajgen import perturbed, random_walk
 
 from slam_predict.metric import (
-    ErrorKind, MetricResult, RelationMetric, Variant, evaluate_against_reference,
-    evaluate_all_pairs, evaluate_sampled)
+    ErrorKind,
+    MetricResult,
+    RelationMetric,
+    Variant,
+    evaluate_against_reference,
+    evaluate_all_pairs,
+    evaluate_sampled,
+)
 from slam_predict.metric.relations import random_forward_pairs, relation_errors
 from slam_predict.metric.stats import StreamingStatistics, compute_statistics
-
-from metric_trajgen import perturbed, random_walk
 
 
 def test_statistics_of_four_series_hand_computed():

@@ -9,12 +9,10 @@ import pytest
 from evo.core import lie_algebra as lie
 from evo.core import metrics
 from evo.core.trajectory import PosePath3D
+from metric_trajgen import perturbed, random_walk
 
 from slam_predict.geometry import yaw_to_quaternion
-from slam_predict.metric.relations import (
-    consecutive_pairs, random_forward_pairs, relation_errors)
-
-from metric_trajgen import perturbed, random_walk
+from slam_predict.metric.relations import consecutive_pairs, random_forward_pairs, relation_errors
 
 
 def test_hand_computed_translation_error():

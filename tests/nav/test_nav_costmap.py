@@ -10,9 +10,17 @@ import pytest
 from scipy import ndimage
 
 from slam_predict.nav.config import CostmapConfig
-from slam_predict.nav.costmap import (FREE, INSCRIBED, LETHAL, NO_INFORMATION, InflationLayer,
-                                      footprint_radii, inscribed_radius, make_footprint,
-                                      static_costs)
+from slam_predict.nav.costmap import (
+    FREE,
+    INSCRIBED,
+    LETHAL,
+    NO_INFORMATION,
+    InflationLayer,
+    footprint_radii,
+    inscribed_radius,
+    make_footprint,
+    static_costs,
+)
 from slam_predict.nav.layered import LayeredCostmap
 
 

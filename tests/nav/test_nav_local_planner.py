@@ -9,9 +9,9 @@ import pytest
 from slam_predict.nav.config import TrajectoryPlannerConfig
 from slam_predict.nav.costmap import INSCRIBED, LETHAL, NO_INFORMATION, Costmap, InflationLayer
 from slam_predict.nav.local_planner import LocalPlanner
-from slam_predict.nav.rollout import footprint_cost, rollout
 from slam_predict.nav.map_grid import adjust_plan_resolution, path_and_goal_cells
 from slam_predict.nav.planner_modes import Mode, PlannerState
+from slam_predict.nav.rollout import footprint_cost, rollout
 from slam_predict.nav.trajectory_planner import TrajectoryPlanner, shrink_footprint
 
 RES = 0.05

@@ -8,9 +8,16 @@ import numpy as np
 import pytest
 
 from slam_predict.nav.config import load_nav_config
-from slam_predict.nav.navigator import (TEXT_NEW_GOAL, TEXT_NO_CONTROL, TEXT_NO_PLAN,
-                                        TEXT_OSCILLATING, TEXT_REACHED, GoalStatus, Navigator,
-                                        State)
+from slam_predict.nav.navigator import (
+    TEXT_NEW_GOAL,
+    TEXT_NO_CONTROL,
+    TEXT_NO_PLAN,
+    TEXT_OSCILLATING,
+    TEXT_REACHED,
+    GoalStatus,
+    Navigator,
+    State,
+)
 
 RES = 0.05
 IDENTITY = np.zeros(3)

@@ -8,8 +8,14 @@ import numpy as np
 import pytest
 
 from slam_predict.nav.config import MoveBaseConfig, NavfnConfig
-from slam_predict.nav.costmap import (FREE, INSCRIBED, LETHAL, NO_INFORMATION, Costmap,
-                                      InflationLayer)
+from slam_predict.nav.costmap import (
+    FREE,
+    INSCRIBED,
+    LETHAL,
+    NO_INFORMATION,
+    Costmap,
+    InflationLayer,
+)
 from slam_predict.nav.planner import GlobalPlanner, navfn_cell_costs
 
 RES = 0.05
@@ -81,7 +87,7 @@ def world(cell) -> tuple:
 
 def free_cells(costs: np.ndarray):
     ys, xs = np.nonzero(costs[1:-1, 1:-1] < INSCRIBED)
-    return list(zip(xs + 1, ys + 1))
+    return list(zip(xs + 1, ys + 1, strict=False))
 
 
 def path_cells(plan, costmap):
@@ -141,7 +147,7 @@ def test_cost_within_1_percent_of_optimum(seed, kind):
         assert plan.cost <= 1.01 * ref + 1e-9
         cells_on = path_cells(plan, costmap)
         recomputed = sum(math.hypot(*(b - a)) * weights[b[1], b[0]]
-                         for a, b in zip(cells_on[:-1], cells_on[1:]))
+                         for a, b in zip(cells_on[:-1], cells_on[1:], strict=False))
         assert recomputed == pytest.approx(plan.cost)
 
 

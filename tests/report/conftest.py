@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 from html.parser import HTMLParser
-from typing import Dict, List
 
 import pytest
 
@@ -20,11 +19,11 @@ class Page(HTMLParser):
 
     def __init__(self, text: str):
         super().__init__(convert_charrefs=True)
-        self.tables: List[Dict] = []
-        self.images: List[Dict[str, str]] = []
-        self.tags: List[str] = []
-        self.headings: List[str] = []
-        self.notes: List[str] = []
+        self.tables: list[dict] = []
+        self.images: list[dict[str, str]] = []
+        self.tags: list[str] = []
+        self.headings: list[str] = []
+        self.notes: list[str] = []
         self._cell = None
         self._heading = None
         self._in_notes = 0
@@ -79,7 +78,7 @@ class Page(HTMLParser):
         if self._li is not None:
             self._li += data
 
-    def table(self, header_start: List[str], section: str = "") -> Dict:
+    def table(self, header_start: list[str], section: str = "") -> dict:
         """The first table whose header starts with ``header_start`` (below heading
         ``section`` if given)."""
         for table in self.tables:
@@ -88,9 +87,9 @@ class Page(HTMLParser):
                 return table
         raise AssertionError(f"no table with header {header_start} in '{section}'")
 
-    def rows_by_first(self, table: Dict) -> Dict[str, Dict[str, str]]:
+    def rows_by_first(self, table: dict) -> dict[str, dict[str, str]]:
         """Rows of a table as {first cell: {column: text}}."""
-        return {row[0]: dict(zip(table["header"], row)) for row in table["rows"]}
+        return {row[0]: dict(zip(table["header"], row, strict=False)) for row in table["rows"]}
 
 
 @pytest.fixture

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import shutil
 from pathlib import Path
-from typing import Dict
 
 import numpy as np
 
@@ -48,7 +47,7 @@ def occupancy(shape=(60, 80)) -> np.ndarray:
     return grid
 
 
-def run_record(world: str, index: int, trans: float, rot: float) -> Dict:
+def run_record(world: str, index: int, trans: float, rot: float) -> dict:
     return {
         "world": world, "world_file": f"worlds/{world}.world", "run_index": index,
         "seed": 1000 + index, "code_version": "0.1.0+test", "config_hashes": HASHES,

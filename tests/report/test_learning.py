@@ -43,7 +43,7 @@ def fmt(value: float, component: str) -> str:
 def test_predictions_next_to_measured(page, model_dir):
     store = ModelStore(model_dir)
     table = page.table(["world", "runs", "component"])
-    rows = {(r[0], r[2]): dict(zip(table["header"], r)) for r in table["rows"]}
+    rows = {(r[0], r[2]): dict(zip(table["header"], r, strict=False)) for r in table["rows"]}
     assert len(rows) == 6  # 2 worlds x 3 components: rot_std has no model (R² ≤ 0)
     assert any("rot_std: not predicted, no model of" in n for n in page.notes)
     for world, errors in ERRORS.items():
@@ -70,7 +70,7 @@ def test_predictions_next_to_measured(page, model_dir):
 def test_card_metrics_and_regression_plot(page, model_dir):
     card = json.loads((model_dir / "card.json").read_text())
     table = page.table(["component", "unit", "model"])
-    rows = {(r[0], r[2]): dict(zip(table["header"], r)) for r in table["rows"]}
+    rows = {(r[0], r[2]): dict(zip(table["header"], r, strict=False)) for r in table["rows"]}
     for component, comp in card["components"].items():
         best = comp["best"]
         metrics = comp["models"][best]["metrics"]
@@ -111,7 +111,7 @@ def test_campaign_of_summary_csv_only(campaign_dir, model_dir, tmp_path, parse):
     (data / "summary.csv").write_text("\n".join([lines[0], lines[1], ",".join(beta)]) + "\n")
     page = parse(build_report(data, model_dir, feature_fn=mid_range_features))
     table = page.table(["world", "runs", "component"])
-    rows = {(r[0], r[2]): dict(zip(table["header"], r)) for r in table["rows"]}
+    rows = {(r[0], r[2]): dict(zip(table["header"], r, strict=False)) for r in table["rows"]}
     assert rows[("alpha", "trans_mean")]["measured (mean over runs)"] == "0.2000"
     assert rows[("beta", "trans_std")]["measured (mean over runs)"] == "—"
     assert rows[("beta", "trans_std")]["measured inside"] == "—"

@@ -135,6 +135,7 @@ def test_a_run_ends_when_every_process_of_its_launch_has_exited(tmp_path):
 
 def test_a_stop_request_ends_the_run_wait(tmp_path):
     import time
+
     from slam_predict.collect import interrupt
     launch = _FakeLaunch(on_check=lambda n: n == 2 and interrupt.request_stop())
     try:

@@ -9,12 +9,20 @@ import pytest
 pytest.importorskip("nav_msgs.msg", reason="ROS 1 python messages not installed")
 
 from slam_predict.geometry import wrap_angle  # noqa: E402
-from slam_predict.ros.conversions.geometry import (clock_from_ros, clock_to_ros,  # noqa: E402
-                                                   odometry_from_ros, odometry_to_ros,
-                                                   pose_from_ros, pose_to_ros, time_from_ros,
-                                                   time_to_ros, transform_from_ros,
-                                                   transform_to_ros, twist_from_ros,
-                                                   twist_to_ros)
+from slam_predict.ros.conversions.geometry import (  # noqa: E402
+    clock_from_ros,
+    clock_to_ros,
+    odometry_from_ros,
+    odometry_to_ros,
+    pose_from_ros,
+    pose_to_ros,
+    time_from_ros,
+    time_to_ros,
+    transform_from_ros,
+    transform_to_ros,
+    twist_from_ros,
+    twist_to_ros,
+)
 
 RNG = np.random.default_rng(1)
 POSES = np.column_stack([RNG.uniform(-50, 50, (40, 2)), RNG.uniform(-np.pi, np.pi, 40)])

@@ -6,8 +6,7 @@ import pytest
 
 pytest.importorskip("nav_msgs.msg", reason="ROS message packages (nav_msgs) not installed")
 
-from slam_predict.ros.conversions.map import (OccupancyMap, occupancy_from_ros,  # noqa: E402
-                                              occupancy_to_ros)
+from slam_predict.ros.conversions.map import OccupancyMap, occupancy_from_ros, occupancy_to_ros  # noqa: E402
 from slam_predict.ros.world_map_node import WorldMapServer  # noqa: E402
 from slam_predict.world.model import World  # noqa: E402
 

@@ -66,7 +66,7 @@ def test_frontier_markers_round_trip():
     assert msg.markers[0].action == msg.markers[0].DELETEALL
     back = conv.frontiers_from_ros(msg)
     assert len(back) == 3
-    for (cells, goal), f in zip(back, frontiers):
+    for (cells, goal), f in zip(back, frontiers, strict=False):
         np.testing.assert_allclose(cells, f.cells)
         np.testing.assert_allclose(goal, f.goal)
     assert msg.markers[3].color.r == 1.0 and msg.markers[1].color.b == 1.0

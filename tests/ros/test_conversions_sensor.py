@@ -11,8 +11,7 @@ pytest.importorskip("sensor_msgs.msg", reason="ROS 1 python messages not install
 
 from sensor_msgs.msg import LaserScan  # noqa: E402
 
-from slam_predict.ros.conversions.sensor import (ScanData, scan_data, scan_from_ros,  # noqa: E402
-                                                 scan_to_ros)
+from slam_predict.ros.conversions.sensor import ScanData, scan_data, scan_from_ros, scan_to_ros  # noqa: E402
 from slam_predict.world.model import LaserSpec  # noqa: E402
 
 

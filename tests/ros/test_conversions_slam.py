@@ -11,8 +11,12 @@ pytest.importorskip("nav_msgs.msg", reason="ROS message packages (nav_msgs) not 
 from nav_msgs.msg import OccupancyGrid as RosGrid  # noqa: E402
 from nav_msgs.srv import GetMapResponse  # noqa: E402
 
-from slam_predict.ros.conversions.slam import (get_map_response, grid_from_ros,  # noqa: E402
-                                               grid_to_ros, metadata_to_ros)
+from slam_predict.ros.conversions.slam import (  # noqa: E402
+    get_map_response,
+    grid_from_ros,
+    grid_to_ros,
+    metadata_to_ros,
+)
 from slam_predict.slam import OccupancyGrid  # noqa: E402
 
 

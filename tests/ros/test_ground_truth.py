@@ -11,10 +11,8 @@ from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped  # noqa: E4
 from slam_predict.config import from_dict  # noqa: E402
 from slam_predict.errors import InputError  # noqa: E402
 from slam_predict.geometry import compose  # noqa: E402
-from slam_predict.ros.conversions.geometry import (odometry_to_ros, pose_to_ros,  # noqa: E402
-                                                   time_to_ros)
-from slam_predict.ros.ground_truth import (GroundTruthConfig, GroundTruthSource,  # noqa: E402
-                                          PoseHistory)
+from slam_predict.ros.conversions.geometry import odometry_to_ros, pose_to_ros, time_to_ros  # noqa: E402
+from slam_predict.ros.ground_truth import GroundTruthConfig, GroundTruthSource, PoseHistory  # noqa: E402
 from slam_predict.ros.orchestrator import Unavailable  # noqa: E402
 
 

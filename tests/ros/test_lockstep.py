@@ -7,8 +7,7 @@ import pytest
 
 pytest.importorskip("std_msgs.msg", reason="ROS 1 python messages not installed")
 
-from slam_predict.ros.lockstep import (ACK_EPSILON, IDLE_FOREVER, SimTicker,  # noqa: E402
-                                       next_tick)
+from slam_predict.ros.lockstep import ACK_EPSILON, IDLE_FOREVER, SimTicker, next_tick  # noqa: E402
 
 
 class FakeAck:
@@ -48,7 +47,7 @@ def test_ticker_runs_once_per_period_at_sim_steps_and_acks_just_before_the_next(
     assert calls == pytest.approx(reference_ticks(clock, 0.2))
     # an ack covers exactly the steps before the next tick: a lockstep simulator at t waits
     # (ack < t) iff a tick is due at t
-    for t, until in zip(calls, ack.values):
+    for t, until in zip(calls, ack.values, strict=False):
         assert until == pytest.approx(next_tick(t, 0.2) - ACK_EPSILON)
 
 
@@ -116,8 +115,8 @@ def test_ticker_thread_in_lockstep_with_a_simulator_and_stopping_from_its_own_ti
     (stage_sim with lag 0). The ticker thread must tick exactly at the period's multiples, never
     leave the simulator waiting (a lost ack = a deadlock of the graph), and a tick that stops
     the ticker (the explorer's end) must ack "idle forever" without hanging the thread."""
-    from rosgraph_msgs.msg import Clock
     import rospy
+    from rosgraph_msgs.msg import Clock
 
     fake, ack, calls = FakeClockRospy(), ThreadAck(), []
     ticker = SimTicker(fake, 0.2, None, ack)

@@ -1,7 +1,6 @@
 """RunMonitor (the orchestrator's logic) fed by calls: sampling, stop rule, stuck, limits, stalls."""
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 

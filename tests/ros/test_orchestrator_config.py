@@ -6,8 +6,11 @@ from pathlib import Path
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.ros.orchestrator_config import (DEFAULT_CONFIG, load_orchestrator_config,
-                                                  read_setup)
+from slam_predict.ros.orchestrator_config import (
+    DEFAULT_CONFIG,
+    load_orchestrator_config,
+    read_setup,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = str(ROOT / "worlds" / "tiny.world")

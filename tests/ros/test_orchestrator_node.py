@@ -14,18 +14,17 @@ import rospy  # noqa: E402
 from rosgraph_msgs.msg import Log  # noqa: E402
 
 from slam_predict.collect import record as rec  # noqa: E402
+from slam_predict.collect.record import RunInfo  # noqa: E402
 from slam_predict.collect.settings import load_settings  # noqa: E402
 from slam_predict.collect.stopping import StopConfig  # noqa: E402
 from slam_predict.config import to_dict  # noqa: E402
 from slam_predict.geometry import compose  # noqa: E402
-from slam_predict.ros.conversions.geometry import (time_from_ros, time_to_ros,  # noqa: E402
-                                                   transform_to_ros)
+from slam_predict.ros.conversions.geometry import time_from_ros, time_to_ros, transform_to_ros  # noqa: E402
 from slam_predict.ros.conversions.slam import grid_to_ros  # noqa: E402
 from slam_predict.ros.ground_truth import GroundTruthConfig, GroundTruthSource  # noqa: E402
 from slam_predict.ros.orchestrator import RunMonitor, Sample  # noqa: E402
 from slam_predict.ros.orchestrator_config import OrchestratorConfig  # noqa: E402
 from slam_predict.ros.orchestrator_node import OrchestratorNode  # noqa: E402
-from slam_predict.collect.record import RunInfo  # noqa: E402
 from slam_predict.ros.run_record import build_record, write_record  # noqa: E402
 from slam_predict.sim.simulator import resolve_sensor  # noqa: E402
 from slam_predict.slam import OccupancyGrid  # noqa: E402
@@ -52,7 +51,7 @@ class FakeTfBuffer:
         t = time_from_ros(stamp)
         if t == 0.0:
             return stamps[-1], poses[-1]
-        for s, p in zip(stamps, poses):
+        for s, p in zip(stamps, poses, strict=False):
             if abs(s - t) < 1e-9:
                 return s, p
         return None

@@ -5,9 +5,9 @@ import time
 import unittest
 from pathlib import Path
 
+import actionlib
 import numpy as np
 import rosgraph
-import actionlib
 import rospy
 import rostest
 import tf2_ros
@@ -29,7 +29,6 @@ from slam_predict.ros.conversions.nav import goal_to_ros
 from slam_predict.ros.conversions.slam import NumpyOccupancyGrid, grid_from_ros
 from slam_predict.world.load import load_plan
 from slam_predict.world.start import clearance_m
-
 
 CONFIG = Path(__file__).resolve().parents[2] / "config"
 RVIZ = CONFIG / "slam_predict.rviz"

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
 from ray_reference import footprint_overlap_area
 from sim_worlds import office_world
+
 from slam_predict.sim import OdomConfig, RobotOverrides, SimConfig, Simulator
 from slam_predict.sim.raycast import GridFrame, footprint_collides
 from slam_predict.world.model import LaserSpec, World

@@ -67,7 +67,7 @@ def test_drive_writes_carmen_and_tum(room, tmp_path):
     np.testing.assert_allclose(scan.ranges, sim.scan_from(true_poses[k]), atol=6e-4)
     # odometry error: bias drawn within the world file's bounds, odometry ≠ truth
     bias, bound = meta["odom_error"]["bias"], meta["odom_error"]["bound"]
-    assert all(abs(b) <= e for b, e in zip(bias, bound))
+    assert all(abs(b) <= e for b, e in zip(bias, bound, strict=False))
     drift = ominus(true_poses[-1], world.start_pose) - odom_poses[-1]
     assert 0 < np.hypot(*drift[:2]) < 0.01 * meta["distance_m"] * 3
 

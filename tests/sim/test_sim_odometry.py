@@ -5,8 +5,8 @@ import math
 
 import numpy as np
 import pytest
-
 from sim_worlds import box_world
+
 from slam_predict.geometry import ominus, wrap_angle
 from slam_predict.sim import OdomConfig, RobotOverrides, SimConfig, Simulator
 from slam_predict.sim.odometry import UniformPerRun, make_odometry, world_error

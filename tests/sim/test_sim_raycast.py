@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from ray_reference import fine_step_ranges, geos_ranges, occupied_geometry, slab_ranges
 from sim_worlds import box_world, office_world, random_free_poses
+
 from slam_predict.sim import raycast
 from slam_predict.sim.raycast import GridFrame
 from slam_predict.world.bitmap import load_occupancy

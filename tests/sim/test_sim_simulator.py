@@ -5,9 +5,9 @@ import math
 
 import numpy as np
 import pytest
-
 from ray_reference import slab_ranges
 from sim_worlds import box_world, office_world
+
 from slam_predict.config import from_dict, load_config, to_dict
 from slam_predict.errors import InputError
 from slam_predict.geometry import compose
@@ -113,7 +113,7 @@ def test_same_seed_same_run_and_reset_restores_start():
     for _ in range(2):
         sim = sim_in(world, seed=42, odom=OdomConfig(model="gaussian_per_step"))
         runs.append([sim.step(0.6, 0.3 * math.sin(k / 7)) for k in range(60)])
-    for a, b in zip(*runs):
+    for a, b in zip(*runs, strict=False):
         np.testing.assert_array_equal(a.odom_pose, b.odom_pose)
         np.testing.assert_array_equal(a.scan, b.scan)
     sim.reset()

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar, Dict
+from typing import ClassVar
 
 import numpy as np
 
@@ -35,7 +35,7 @@ class DummyParams:
     angular_update: float = 0.3
     temporal_update: float = 5.0
     max_range: float = 8.0
-    RANGES: ClassVar[Dict[str, Range]] = {"delta": POSITIVE, "map_update_interval": POSITIVE,
+    RANGES: ClassVar[dict[str, Range]] = {"delta": POSITIVE, "map_update_interval": POSITIVE,
                                           "max_range": POSITIVE}
 
 

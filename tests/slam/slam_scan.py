@@ -1,6 +1,5 @@
 """Shared synthetic-scan helpers for the SLAM tests."""
 import numpy as np
-
 from slam_synthetic import cast
 
 ANGLES = np.radians(np.arange(-90.0, 90.0, 1.0))

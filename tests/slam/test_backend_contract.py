@@ -7,17 +7,16 @@ import subprocess
 import sys
 from pathlib import Path
 
+import dummy_backend  # noqa: F401  (registers "dummy", as a user's back-end module would)
 import numpy as np
 import pytest
+from slam_scan import ANGLES, scan_of
+from test_interface import drive
 
 from slam_predict import slam
 from slam_predict.cli.main import main
 from slam_predict.geometry import compose
 from slam_predict.slam import LaserGeometry, OccupancyGrid
-
-import dummy_backend  # noqa: F401  (registers "dummy", as a user's back-end module would)
-from slam_scan import ANGLES, scan_of
-from test_interface import drive
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = ROOT / "worlds" / "tiny.world"

@@ -3,14 +3,13 @@ import math
 
 import numpy as np
 import pytest
+from slam_synthetic import cast
 
 from slam_predict.cli.main import main
 from slam_predict.errors import InputError
 from slam_predict.formats.tum import read_tum
 from slam_predict.geometry import compose
 from slam_predict.slam.bag_input import read_bag_input
-
-from slam_synthetic import cast
 
 ANGLES = np.radians(np.linspace(-120.0, 120.0, 241))
 TFMSG = "geometry_msgs/TransformStamped[] transforms"

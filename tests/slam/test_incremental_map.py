@@ -3,6 +3,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from slam_scan import ANGLES, scan_of
 
 from slam_predict.slam import LaserGeometry
 from slam_predict.slam.gmapping import kernels
@@ -11,8 +12,6 @@ from slam_predict.slam.gmapping.gridmap import IncrementalMap, MapBuilder, grow_
 from slam_predict.slam.gmapping.maps import Geometry
 from slam_predict.slam.gmapping.params import GMappingParams, load_params, with_ranges
 from slam_predict.slam.runner import read_input
-
-from slam_scan import ANGLES, scan_of
 
 
 def same_grid(a, b):

@@ -1,14 +1,13 @@
 """The SLAM interface and registry; the gmapping back-end on a synthetic drive."""
 import numpy as np
 import pytest
+from slam_scan import ANGLES, scan_of
 
 from slam_predict.errors import InputError
 from slam_predict.geometry import compose, inverse
 from slam_predict.slam import LaserGeometry, SlamBackend, available, create, register
 from slam_predict.slam.compare import apply_transform, map_agreement, rigid_fit
 from slam_predict.slam.gmapping.params import GMappingParams
-
-from slam_scan import ANGLES, scan_of
 
 
 def test_registry_by_name():

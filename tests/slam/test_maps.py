@@ -1,10 +1,9 @@
 """Copy-on-write patch maps: sharing, private copies before writes, growth, pool reuse."""
 import numpy as np
 import pytest
+from slam_scan import ANGLES, CA, SA, scan_of
 
 from slam_predict.slam.gmapping.maps import Geometry, ParticleMap, PatchPool
-
-from slam_scan import ANGLES, CA, SA, scan_of
 
 
 def fresh(capacity=4):

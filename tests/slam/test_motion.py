@@ -3,8 +3,7 @@ import numpy as np
 import pytest
 
 from slam_predict.geometry import compose
-from slam_predict.slam.gmapping.motion import (draw_from_motion, noise_stds, odometry_step,
-                                               travelled)
+from slam_predict.slam.gmapping.motion import draw_from_motion, noise_stds, odometry_step, travelled
 
 
 @pytest.mark.parametrize("step", [(0.5, 0.1, 0.2), (-0.3, 0.0, -0.6), (0.0, 0.0, 0.4)])

@@ -3,13 +3,12 @@ import math
 
 import numpy as np
 import pytest
+from slam_scan import ANGLES, scan_of
 
 from slam_predict.slam.gmapping import raytrace
 from slam_predict.slam.gmapping.gridmap import MapBuilder
 from slam_predict.slam.gmapping.maps import Geometry
 from slam_predict.slam.gmapping.params import GMappingParams, with_ranges
-
-from slam_scan import ANGLES, scan_of
 
 
 def slow_line(x0, y0, x1, y1):
@@ -48,9 +47,9 @@ def test_line_cells_match_bresenham(seed):
 def slow_rebuild(params, poses, readings, geometry):
     """Dict-of-cells reference of updateMap's registration (generateMap=true)."""
     hits, visits = {}, {}
-    for (x, y, th), ranges in zip(poses, readings):
+    for (x, y, th), ranges in zip(poses, readings, strict=False):
         start = geometry.world_to_cell(x, y)
-        for r, a in zip(ranges, ANGLES):
+        for r, a in zip(ranges, ANGLES, strict=False):
             if r > params.maxRange or r == 0.0:
                 continue
             d = min(r, params.maxUrange)

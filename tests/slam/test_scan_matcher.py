@@ -3,12 +3,11 @@ import math
 
 import numpy as np
 import pytest
+from slam_synthetic import cast
 
 from slam_predict.slam.gmapping import kernels
 from slam_predict.slam.gmapping.maps import Geometry, ParticleMap, PatchPool
 from slam_predict.slam.gmapping.params import FREE_CELL_RATIO
-
-from slam_synthetic import cast
 
 ANGLES = np.radians(np.arange(-90.0, 90.0, 1.0))
 CA, SA = np.cos(ANGLES), np.sin(ANGLES)
@@ -60,7 +59,7 @@ def slow_score_and_likelihood(pmap, pose, ranges, usable, sigma=0.05, lsigma=0.0
     delta = pmap.geometry.delta
     s = l_sum = 0.0
     s_only = 0.0
-    for r, a in zip(ranges, ANGLES):
+    for r, a in zip(ranges, ANGLES, strict=False):
         if r > usable:
             continue
         dx, dy = math.cos(th + a), math.sin(th + a)

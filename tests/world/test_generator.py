@@ -73,7 +73,7 @@ def test_deterministic_from_seed():
     assert np.array_equal(a.occupied, b.occupied)
     assert np.allclose(a.start_pose, b.start_pose)
     assert [r.id for r in a.rooms] == [r.id for r in b.rooms]
-    assert all(np.allclose(r.polygon, s.polygon) for r, s in zip(a.rooms, b.rooms))
+    assert all(np.allclose(r.polygon, s.polygon) for r, s in zip(a.rooms, b.rooms, strict=False))
     c = generate("office", 400.0, 8)
     assert c.occupied.shape != a.occupied.shape or not np.array_equal(c.occupied, a.occupied)
 
@@ -169,9 +169,9 @@ def test_ground_truth_json_round_trip(tmp_path):
     rooms, doors = read_ground_truth(tmp_path / "w.json")
     world = generate("school", 400.0, 5)
     assert [r.id for r in rooms] == [r.id for r in world.rooms]
-    assert all(np.allclose(a.polygon, b.polygon, atol=1e-4) for a, b in zip(rooms, world.rooms))
+    assert all(np.allclose(a.polygon, b.polygon, atol=1e-4) for a, b in zip(rooms, world.rooms, strict=False))
     assert [d.rooms for d in doors] == [d.rooms for d in world.doors]
-    assert all(np.allclose(a.segment, b.segment, atol=1e-4) for a, b in zip(doors, world.doors))
+    assert all(np.allclose(a.segment, b.segment, atol=1e-4) for a, b in zip(doors, world.doors, strict=False))
 
 
 def test_bad_ground_truth_json(tmp_path):

@@ -20,7 +20,7 @@ def space_xml(sid, label, polygon, portals=()):
     """One <space>: outline walls split at each portal point; portals = [(point, other id)]."""
     pts = "".join(f'<point x="{x}" y="{y}" />' for x, y in list(polygon) + [polygon[0]])
     segs, refs = [], []
-    for i, (a, b) in enumerate(zip(polygon, list(polygon[1:]) + [polygon[0]])):
+    for i, (a, b) in enumerate(zip(polygon, list(polygon[1:]) + [polygon[0]], strict=False)):
         segs.append(f'<linesegment id="{sid}w{i}"><point x="{a[0]}" y="{a[1]}" />'
                     f'<point x="{b[0]}" y="{b[1]}" /><class>WALL</class></linesegment>')
     for k, ((x, y), other) in enumerate(portals):

@@ -9,8 +9,13 @@ from PIL import Image
 from slam_predict.errors import InputError
 from slam_predict.world import bitmap
 from slam_predict.world.model import World
-from slam_predict.world.plausibility import (check_scale, free_area_m2, free_extent_m,
-                                             reachability, unreachable_warning)
+from slam_predict.world.plausibility import (
+    check_scale,
+    free_area_m2,
+    free_extent_m,
+    reachability,
+    unreachable_warning,
+)
 from slam_predict.world.start import resolve_start
 
 

@@ -12,7 +12,6 @@ import argparse
 import signal
 import sys
 from pathlib import Path
-from typing import Dict, List
 
 from slam_predict.cli.guards import check_at_least, check_creatable
 from slam_predict.errors import InputError
@@ -42,9 +41,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "its campaign.json records (the change is kept in its history)")
 
 
-def find_worlds(items: List[str]) -> Dict[str, str]:
+def find_worlds(items: list[str]) -> dict[str, str]:
     """World name (file stem) → path, for .world files and folders of them."""
-    worlds: Dict[str, str] = {}
+    worlds: dict[str, str] = {}
     for item in items:
         path = Path(item)
         if path.is_dir():
@@ -73,7 +72,7 @@ def parse_runs(text: str):
     return int(text)
 
 
-def load_worlds(worlds: Dict[str, str]) -> None:
+def load_worlds(worlds: dict[str, str]) -> None:
     """Parse every world of the batch once, before any run starts (one error line each)."""
     from slam_predict.world.load import load_plan
 
@@ -88,11 +87,11 @@ def load_worlds(worlds: Dict[str, str]) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from slam_predict.collect.batch import Batch, BatchConfig
-    from slam_predict.words import plural
     from slam_predict.collect.campaign import check_out_folder, identity, open_campaign
     from slam_predict.collect.record import code_version
     from slam_predict.collect.settings import load_settings
     from slam_predict.collect.summary import write_summary
+    from slam_predict.words import plural
 
     runs = parse_runs(args.runs)
     check_at_least(args.jobs, 1, "--jobs")

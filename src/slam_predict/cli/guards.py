@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import argparse
 import os
-from typing import Iterable, Optional, Union
+from collections.abc import Iterable
+from typing import Union
 
 from slam_predict.errors import InputError
 from slam_predict.words import plural  # noqa: F401  (re-exported for the commands)
@@ -49,7 +50,7 @@ def check_creatable(path: PathArg, option: str = "--out") -> None:
 
 
 def check_out_dir(path: PathArg, force: bool, option: str = "--out",
-                  inputs: Iterable[Optional[PathArg]] = ()) -> None:
+                  inputs: Iterable[PathArg | None] = ()) -> None:
     """InputError unless ``path`` is a folder the command may create (or, with ``force``,
     replace): an existing non-empty folder is only replaced with ``--force``, and never when
     it holds the current folder or one of the command's ``inputs`` (None entries skipped)."""
@@ -73,7 +74,7 @@ def _has_entries(folder: str, option: str) -> bool:
                          folder) from None
 
 
-def _refuse_replacing_inputs(path: str, option: str, inputs: Iterable[Optional[PathArg]]) -> None:
+def _refuse_replacing_inputs(path: str, option: str, inputs: Iterable[PathArg | None]) -> None:
     """InputError when replacing folder ``path`` would delete the current folder or an input."""
     folder = os.path.realpath(path)
     for item, what in [(os.getcwd(), "the current folder")] + [
@@ -96,13 +97,13 @@ def check_out_file(path: PathArg, force: bool, option: str = "--out") -> None:
     check_creatable(path, option)
 
 
-def check_at_least(value: Optional[Number], minimum: Number, option: str) -> None:
+def check_at_least(value: Number | None, minimum: Number, option: str) -> None:
     """InputError when ``value`` (None = not given) is below ``minimum``."""
     if value is not None and not value >= minimum:
         raise InputError(f"{option} must be ≥ {minimum:g}, got {value:g}")
 
 
-def check_positive(value: Optional[Number], option: str) -> None:
+def check_positive(value: Number | None, option: str) -> None:
     """InputError when ``value`` (None = not given) is not > 0 (NaN included)."""
     if value is not None and not value > 0:
         raise InputError(f"{option} must be > 0, got {value:g}")

@@ -13,8 +13,12 @@ import argparse
 import logging
 import os
 
-from slam_predict.cli.guards import (add_force_argument, check_at_least, check_out_dir,
-                                     check_out_file)
+from slam_predict.cli.guards import (
+    add_force_argument,
+    check_at_least,
+    check_out_dir,
+    check_out_file,
+)
 from slam_predict.errors import InputError
 
 NAME = "learn"
@@ -171,9 +175,9 @@ def run_evaluate(args: argparse.Namespace) -> int:
 
 
 def run_train(args: argparse.Namespace) -> int:
+    from slam_predict.learn.dataset import read_meta
     from slam_predict.learn.results import run_evaluation, write_evaluation
     from slam_predict.learn.store import default_models_dir
-    from slam_predict.learn.dataset import read_meta
     from slam_predict.learn.train import check_trainable, train_store
 
     check_at_least(args.jobs, 1, "--jobs")

@@ -10,7 +10,6 @@ import argparse
 import importlib
 import logging
 import sys
-from typing import List, Optional
 
 from slam_predict import __version__
 from slam_predict.errors import InputError
@@ -48,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: Optional[List[str]] = None) -> int:
+def main(argv: list[str] | None = None) -> int:
     """Run the CLI; returns the process exit code (0 ok, 2 bad input, 1 other failure)."""
     try:
         parser = build_parser()   # imports the SLAM back-end plugins (map-source choices)

@@ -12,8 +12,13 @@ import argparse
 import json
 import os
 
-from slam_predict.cli.guards import (add_force_argument, check_out_dir, check_out_file,
-                                     check_positive, plural)
+from slam_predict.cli.guards import (
+    add_force_argument,
+    check_out_dir,
+    check_out_file,
+    check_positive,
+    plural,
+)
 from slam_predict.errors import InputError
 
 INDEX_NAME = "thesis_worlds.csv"

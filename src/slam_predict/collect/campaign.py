@@ -22,7 +22,7 @@ import json
 import logging
 import os
 from pathlib import Path
-from typing import Any, Dict, List, Optional
+from typing import Any
 
 from slam_predict.atomic import write_text
 from slam_predict.collect.store import RUN_JSON, RunStore, run_seed
@@ -39,7 +39,7 @@ class CampaignMismatch(InputError):
     """A resume whose seed or settings differ from the campaign's (exit 2)."""
 
 
-def identity(settings, base_seed: int, code_version: str) -> Dict[str, Any]:
+def identity(settings, base_seed: int, code_version: str) -> dict[str, Any]:
     """The campaign.json content describing a collection with ``settings`` and ``base_seed``."""
     from slam_predict.collect.settings import settings_dict
     from slam_predict.paths import portable_path
@@ -61,10 +61,10 @@ def json_plain(value: Any) -> Any:
     return json.loads(json.dumps(value))
 
 
-def differences(old: Any, new: Any, prefix: str = "") -> List[str]:
+def differences(old: Any, new: Any, prefix: str = "") -> list[str]:
     """Key paths where two JSON-like trees differ, as ``'path: old -> new'``."""
     if isinstance(old, dict) and isinstance(new, dict):
-        out: List[str] = []
+        out: list[str] = []
         for key in sorted(set(old) | set(new), key=str):
             path = f"{prefix}.{key}" if prefix else str(key)
             if key not in old:
@@ -77,13 +77,13 @@ def differences(old: Any, new: Any, prefix: str = "") -> List[str]:
     return [] if old == new else [f"{prefix}: {old!r} -> {new!r}"]
 
 
-def describe(found: List[str]) -> str:
+def describe(found: list[str]) -> str:
     """The first few differences on one line."""
     more = f" (and {len(found) - MAX_LISTED} more)" if len(found) > MAX_LISTED else ""
     return "; ".join(found[:MAX_LISTED]) + more
 
 
-def mismatch(recorded: Dict[str, Any], current: Dict[str, Any]) -> Optional[str]:
+def mismatch(recorded: dict[str, Any], current: dict[str, Any]) -> str | None:
     """Why a resume with ``current`` does not continue the campaign ``recorded``, or None."""
     if recorded.get("base_seed") != current["base_seed"]:
         return (f"the campaign was collected with --seed {recorded.get('base_seed')}, "
@@ -94,7 +94,7 @@ def mismatch(recorded: Dict[str, Any], current: Dict[str, Any]) -> Optional[str]
     return None
 
 
-def open_campaign(root: Path, current: Dict[str, Any], force: bool = False) -> Dict[str, Any]:
+def open_campaign(root: Path, current: dict[str, Any], force: bool = False) -> dict[str, Any]:
     """Check a (new, resumed or legacy) campaign folder against ``current`` and write
     campaign.json; raises :class:`CampaignMismatch` for a refused resume."""
     path = Path(root) / CAMPAIGN_JSON
@@ -114,12 +114,12 @@ def open_campaign(root: Path, current: Dict[str, Any], force: bool = False) -> D
     return _write(path, {**current, "history": history})
 
 
-def _adopt(root: Path, current: Dict[str, Any], force: bool) -> Dict[str, Any]:
+def _adopt(root: Path, current: dict[str, Any], force: bool) -> dict[str, Any]:
     """campaign.json for a new folder, or for one collected before campaign.json existed."""
     problem, where, runs = legacy_mismatch(RunStore(root), current)
     if problem and not force:
         raise CampaignMismatch(problem + HINT, where)
-    extra: Dict[str, Any] = {"created": _now()}
+    extra: dict[str, Any] = {"created": _now()}
     if runs:
         extra["adopted"] = {"runs": runs, **({"reason": problem} if problem else {})}
     if problem:
@@ -127,7 +127,7 @@ def _adopt(root: Path, current: Dict[str, Any], force: bool) -> Dict[str, Any]:
     return _write(root / CAMPAIGN_JSON, {**current, **extra})
 
 
-def legacy_mismatch(store: RunStore, current: Dict[str, Any]):
+def legacy_mismatch(store: RunStore, current: dict[str, Any]):
     """For a folder without campaign.json: (why its run records do not match ``current`` or
     None, the run.json concerned, how many records there are)."""
     problem, where, count = None, None, 0
@@ -141,8 +141,8 @@ def legacy_mismatch(store: RunStore, current: Dict[str, Any]):
     return problem, where, count
 
 
-def record_mismatch(record: Dict[str, Any], world: str, index: int,
-                    current: Dict[str, Any]) -> Optional[str]:
+def record_mismatch(record: dict[str, Any], world: str, index: int,
+                    current: dict[str, Any]) -> str | None:
     """Why one run.json was not collected with ``current``'s seed and settings, or None."""
     seed = record.get("seed")
     if seed is not None and int(seed) != run_seed(current["base_seed"], world, index):
@@ -177,7 +177,7 @@ def is_campaign(root: Path) -> bool:
             or any(root.glob("*/run_[0-9][0-9][0-9]")) or any(root.glob("*/.run_*.tmp")))
 
 
-def read_campaign(path: Path) -> Dict[str, Any]:
+def read_campaign(path: Path) -> dict[str, Any]:
     """campaign.json's content; InputError when unreadable."""
     try:
         data = json.loads(Path(path).read_text())
@@ -188,10 +188,10 @@ def read_campaign(path: Path) -> Dict[str, Any]:
     return data
 
 
-def _write(path: Path, content: Dict[str, Any]) -> Dict[str, Any]:
+def _write(path: Path, content: dict[str, Any]) -> dict[str, Any]:
     write_text(path, json.dumps(content, indent=1, sort_keys=True) + "\n")
     return content
 
 
 def _now() -> str:
-    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    return datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")

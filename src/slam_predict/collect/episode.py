@@ -13,7 +13,6 @@ from __future__ import annotations
 import logging
 import time
 from pathlib import Path
-from typing import Dict, List, Optional
 
 import numpy as np
 
@@ -50,10 +49,10 @@ class Recorder:
     """Per-step trajectories (10 Hz) and the stuck detector."""
 
     def __init__(self):
-        self.t: List[float] = []
-        self.gt: List[np.ndarray] = []
-        self.slam: List[np.ndarray] = []
-        self.odom: List[np.ndarray] = []
+        self.t: list[float] = []
+        self.gt: list[np.ndarray] = []
+        self.slam: list[np.ndarray] = []
+        self.odom: list[np.ndarray] = []
         self.stuck = StuckDetector()
 
     def add(self, loop) -> None:
@@ -74,7 +73,7 @@ def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_
     rule = SnapshotMSE(settings.stop, settings.stop.interval_for(free_area_m2))
     recorder = Recorder()
     wall_start = time.perf_counter()
-    explorer_end: Optional[Dict] = None
+    explorer_end: dict | None = None
     while True:
         interrupt.check()   # SIGINT/SIGTERM or a dead batch process: discard the run
         loop.step()
@@ -102,7 +101,7 @@ def _sensor_recorder(folder: Path, loop, spec):
     return recorder
 
 
-def _finish_sensor_logs(sensors, folder: Path, loop, settings: CollectSettings) -> Dict:
+def _finish_sensor_logs(sensors, folder: Path, loop, settings: CollectSettings) -> dict:
     """Close the sensor logs, write the in-loop SLAM trajectory; run.json's ``sensor_logs``."""
     from slam_predict.collect.sensorlog import SLAM_SCANS
     from slam_predict.config import to_dict
@@ -115,7 +114,7 @@ def _finish_sensor_logs(sensors, folder: Path, loop, settings: CollectSettings) 
             settings.slam.type: to_dict(settings.slam.params)}
 
 
-def run_episode(spec, settings: Optional[CollectSettings] = None) -> Dict:
+def run_episode(spec, settings: CollectSettings | None = None) -> dict:
     """Run one exploration (a :class:`~slam_predict.collect.batch.RunSpec`); returns run.json."""
     from slam_predict.explore.coverage import coverage, reachable_free
     from slam_predict.explore.loop import ClosedLoop

@@ -12,7 +12,6 @@ from __future__ import annotations
 import csv
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, List, Optional
 
 import numpy as np
 
@@ -33,7 +32,7 @@ class Bar:
     low: float
     high: float
 
-    def value(self, comparison: "Comparison") -> float:
+    def value(self, comparison: Comparison) -> float:
         kind, _, key = self.figure.partition(":")
         if kind == "spearman":
             return comparison.spearman(key)
@@ -41,7 +40,7 @@ class Bar:
             return comparison.median_ratio(key)
         return comparison.size_trend()
 
-    def holds(self, comparison: "Comparison") -> bool:
+    def holds(self, comparison: Comparison) -> bool:
         value = self.value(comparison)
         return bool(np.isfinite(value) and self.low <= value <= self.high)
 
@@ -61,7 +60,7 @@ class Comparison:
     """One campaign against the thesis table."""
 
     name: str
-    rows: List[Dict[str, float]] = field(default_factory=list)   # per shared building
+    rows: list[dict[str, float]] = field(default_factory=list)   # per shared building
 
     def values(self, key: str, side: str) -> np.ndarray:
         """Our (side 'ours') or the thesis' (side 'theirs') values of ``key``, by building."""
@@ -100,7 +99,7 @@ class Comparison:
         return int(sum(row["runs"] for row in self.rows))
 
 
-def read_thesis_table(path: Path) -> Dict[str, Dict[str, float]]:
+def read_thesis_table(path: Path) -> dict[str, dict[str, float]]:
     """The thesis stats table by building name; InputError when unreadable or incomplete."""
     path = Path(path)
     try:
@@ -115,8 +114,8 @@ def read_thesis_table(path: Path) -> Dict[str, Dict[str, float]]:
             for row in rows}
 
 
-def compare_campaign(folder: Path, thesis: Dict[str, Dict[str, float]],
-                     min_runs: int = 1, name: Optional[str] = None) -> Comparison:
+def compare_campaign(folder: Path, thesis: dict[str, dict[str, float]],
+                     min_runs: int = 1, name: str | None = None) -> Comparison:
     """Compare the buildings of campaign ``folder`` that the thesis table also holds."""
     folder = Path(folder)
     if not folder.is_dir():
@@ -138,13 +137,13 @@ def compare_campaign(folder: Path, thesis: Dict[str, Dict[str, float]],
     return comparison
 
 
-def _free_area(records: List[Dict]) -> float:
+def _free_area(records: list[dict]) -> float:
     """The building's free area (m²) as its run records state it (nan when none does)."""
     areas = [float(r["free_area_m2"]) for r in records if r.get("free_area_m2") is not None]
     return float(np.mean(areas)) if areas else float("nan")
 
 
-def acceptance_lines(comparison: Comparison) -> List[str]:
+def acceptance_lines(comparison: Comparison) -> list[str]:
     """One line per acceptance bar: the figure, and whether it holds."""
     lines = []
     for bar in ACCEPTANCE:
@@ -153,7 +152,7 @@ def acceptance_lines(comparison: Comparison) -> List[str]:
     return lines
 
 
-def markdown_report(comparisons: List[Comparison], thesis_source: str) -> str:
+def markdown_report(comparisons: list[Comparison], thesis_source: str) -> str:
     """docs/fidelity.md text: one summary row per campaign, then each campaign's buildings."""
     lines = ["| campaign | buildings | runs | Spearman ε_t | median ratio ε_t | Spearman ε_r "
              "| median ratio ε_r | median ratio path length |",

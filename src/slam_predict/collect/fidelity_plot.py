@@ -1,8 +1,6 @@
 """The fidelity plot: ours / the seed study's, per building, against the building's free area."""
 from __future__ import annotations
 
-from typing import List
-
 import matplotlib
 
 matplotlib.use("Agg")
@@ -15,12 +13,12 @@ from slam_predict.report.figures import png_bytes  # noqa: E402
 SERIES = (("trans_mean", "ε_t", "o"), ("rot_mean", "ε_r", "s"), ("path_length_mean", "path length", "^"))
 
 
-def ratio_vs_area_png(comparisons: List[Comparison]) -> bytes:
+def ratio_vs_area_png(comparisons: list[Comparison]) -> bytes:
     """PNG: one panel per campaign, the three ratios ours/theirs against free area (m², log x),
     with the ε_t acceptance band [0.85, 1.2] shaded and the ratio 1 drawn."""
     count = max(len(comparisons), 1)
     fig, axes = plt.subplots(1, count, figsize=(6.0 * count, 4.2), squeeze=False)
-    for ax, comparison in zip(axes[0], comparisons):
+    for ax, comparison in zip(axes[0], comparisons, strict=False):
         areas = np.array([row["free_area_m2"] for row in comparison.rows], dtype=float)
         ax.axhspan(0.85, 1.2, color="0.9", label="ε_t / path band [0.85, 1.2]")
         ax.axhline(1.0, color="0.4", linewidth=0.8)

@@ -17,7 +17,7 @@ import os
 import signal
 import sys
 import threading
-from typing import Callable, Iterator, Optional
+from collections.abc import Callable, Iterator
 
 LOG = logging.getLogger(__name__)
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -31,12 +31,12 @@ class Interrupted(Exception):
 class _State:
     """Process-wide stop state (one per process: the batch, or one worker)."""
 
-    signum: Optional[int] = None
-    parent_pid: Optional[int] = None
+    signum: int | None = None
+    parent_pid: int | None = None
     in_run: bool = False
 
 
-def stop_signal() -> Optional[int]:
+def stop_signal() -> int | None:
     """The signal that asked this process to stop, or None."""
     return _State.signum
 
@@ -66,7 +66,7 @@ def check() -> None:
 
 
 @contextlib.contextmanager
-def signal_handlers(forward: Optional[Callable[[int], None]] = None) -> Iterator[None]:
+def signal_handlers(forward: Callable[[int], None] | None = None) -> Iterator[None]:
     """SIGINT/SIGTERM set the stop flag (and call ``forward(signum)``) inside the block; the
     previous handlers are restored after it (outside the main thread: nothing installed)."""
     def handler(signum, _frame):

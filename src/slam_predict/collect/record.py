@@ -18,7 +18,7 @@ import json
 import subprocess
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, List, Tuple
+from typing import Any
 
 import cv2
 import numpy as np
@@ -43,7 +43,7 @@ class Trajectories:
     slam: np.ndarray
     odom: np.ndarray
 
-    def adjusted(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def adjusted(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(t, slam, ground truth) with consecutive repeated ground-truth poses (pauses) removed,
         the thesis' adjustment before the metric."""
         keep_t, _ = dedupe_consecutive(self.t, self.ground_truth)
@@ -156,7 +156,7 @@ def write_trajectories(folder: Path, traj: Trajectories) -> None:
     carmen.write_trajectory(folder / "slam.log", traj.t, traj.slam, odom_poses=traj.odom)
 
 
-def write_map(folder: Path, grid: np.ndarray, resolution: float, origin: Tuple[float, float]) -> None:
+def write_map(folder: Path, grid: np.ndarray, resolution: float, origin: tuple[float, float]) -> None:
     """Final SLAM map (OccupancyGrid values, row 0 = bottom) as map_server PGM+YAML and PNG."""
     image = mapserver.occupancy_to_image(grid)
     mapserver.write_map(folder / "map.yaml", image, resolution, (origin[0], origin[1], 0.0))
@@ -176,13 +176,13 @@ def write_bag(folder: Path, traj: Trajectories) -> None:
                                         SLAM_TOPIC: (traj.t, traj.slam)})
 
 
-def write_run_json(folder: Path, record: Dict) -> None:
+def write_run_json(folder: Path, record: dict) -> None:
     """run.json (written last: its presence marks a complete record)."""
     (folder / "run.json").write_text(json.dumps({"schema": SCHEMA_VERSION, **record}, indent=1,
                                                 sort_keys=True, default=_plain))
 
 
-def load_record(folder: Path) -> Tuple[Dict, Trajectories]:
+def load_record(folder: Path) -> tuple[dict, Trajectories]:
     """Reload a run record: run.json and the three TUM trajectories."""
     folder = Path(folder)
     record = json.loads((folder / "run.json").read_text())
@@ -192,7 +192,7 @@ def load_record(folder: Path) -> Tuple[Dict, Trajectories]:
     return record, Trajectories(t, gt, slam, odom)
 
 
-def without_timing(record: Dict) -> Dict:
+def without_timing(record: dict) -> dict:
     """A run.json dict minus the fields that depend on the machine's speed."""
     return {k: v for k, v in record.items() if k not in TIMING_FIELDS}
 
@@ -215,5 +215,5 @@ def _plain(value):
     raise TypeError(f"not JSON serialisable: {type(value)}")
 
 
-FILES: List[str] = ["run.json", "ground_truth.tum", "slam.tum", "odom.tum", "ground_truth.log",
+FILES: list[str] = ["run.json", "ground_truth.tum", "slam.tum", "odom.tum", "ground_truth.log",
                     "slam.log", "map.pgm", "map.yaml", "map.png"]

@@ -15,11 +15,10 @@ Both logs are streamed to temporary names and renamed when the run ends.
 from __future__ import annotations
 
 import time
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Dict, Iterable
 
-from slam_predict.formats.carmen import (CarmenLogWriter, LaserScan, odom_line, param_line,
-                                         scan_line)
+from slam_predict.formats.carmen import CarmenLogWriter, LaserScan, odom_line, param_line, scan_line
 from slam_predict.formats.sensor_bag import SensorBagWriter
 from slam_predict.formats.stage_stream import StepMessages
 
@@ -78,7 +77,7 @@ class SensorLogRecorder:
             fov=self.laser.angle_increment * (self.laser.beams - 1),
             tv=step.odom_twist[0], rv=step.odom_twist[2])
 
-    def close(self) -> Dict:
+    def close(self) -> dict:
         """Finish both logs; returns their summary for run.json."""
         tick, cpu = time.perf_counter(), time.process_time()
         self.bag.close()

@@ -18,7 +18,7 @@ import os
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, Optional, Set
+from typing import Any
 
 from slam_predict.collect.stopping import StopConfig, check_ranges
 from slam_predict.config import config_hash, from_dict, load_config, load_yaml, to_dict
@@ -68,7 +68,7 @@ class CollectFiles:
     metric: MetricSettings = field(default_factory=MetricSettings)
     bag: bool = False
     sensor_logs: bool = False
-    sim_overrides: Dict[str, Any] = field(default_factory=dict)
+    sim_overrides: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass
@@ -85,17 +85,17 @@ class CollectSettings:
     source: str
     sensor_logs: bool = False
 
-    def components(self) -> Dict[str, Any]:
+    def components(self) -> dict[str, Any]:
         """Every component config by name; the SLAM one under its back-end's name."""
         return {"sim": self.sim, self.slam.type: self.slam.params, "nav": self.nav,
                 "explore": self.explore, "stop": self.stop, "metric": self.metric}
 
-    def hashes(self) -> Dict[str, str]:
+    def hashes(self) -> dict[str, str]:
         """Short hashes of each component config, for run metadata."""
         return {name: config_hash(value) for name, value in self.components().items()}
 
 
-def load_settings(path: Optional[os.PathLike | str] = None) -> CollectSettings:
+def load_settings(path: os.PathLike | str | None = None) -> CollectSettings:
     """Load collect.yaml (default: the package's config/collect.yaml) and the files it names."""
     from slam_predict.explore.explorer import ExploreConfig
     from slam_predict.nav.config import load_nav_config
@@ -134,7 +134,7 @@ def load_slam(section: SlamSection, settings_path: Path) -> SlamChoice:
                                                           f"{settings_path} slam.params"))
 
 
-def _slam_section(tree: Dict[str, Any], path: Path) -> None:
+def _slam_section(tree: dict[str, Any], path: Path) -> None:
     """Normalise one file's SLAM keys in place: the deprecated ``gmapping: FILE`` becomes
     ``slam: {type: gmapping, params: FILE}``; a params file name is made absolute."""
     if "gmapping" in tree:
@@ -155,7 +155,7 @@ def _slam_section(tree: Dict[str, Any], path: Path) -> None:
         section["params"] = str(path.parent / section["params"])
 
 
-def read_settings_tree(path: Path, seen: Optional[Set[Path]] = None) -> Dict[str, Any]:
+def read_settings_tree(path: Path, seen: set[Path] | None = None) -> dict[str, Any]:
     """The settings mapping of ``path`` with ``extends`` resolved and file keys made absolute."""
     path = Path(path).resolve()
     seen = set() if seen is None else seen
@@ -169,7 +169,7 @@ def read_settings_tree(path: Path, seen: Optional[Set[Path]] = None) -> Dict[str
             tree[key] = str(path.parent / str(tree[key]))
     _slam_section(tree, path)
     if parent is None:
-        base = {key: str(path.parent / default) for key, default in zip(FILE_KEYS, FILE_DEFAULTS)}
+        base = {key: str(path.parent / default) for key, default in zip(FILE_KEYS, FILE_DEFAULTS, strict=False)}
         base["slam"] = dict(DEFAULT_SLAM, params=str(path.parent / DEFAULT_SLAM["params"]))
         return merge_trees(base, tree)
     parent_path = path.parent / str(parent)
@@ -178,7 +178,7 @@ def read_settings_tree(path: Path, seen: Optional[Set[Path]] = None) -> Dict[str
     return merge_trees(read_settings_tree(parent_path, seen), tree)
 
 
-def merged_robot_file(settings_path: Path, tree: Dict[str, Any]) -> Path:
+def merged_robot_file(settings_path: Path, tree: dict[str, Any]) -> Path:
     """A robot YAML with ``sim_overrides`` applied, for nodes that read one file (ROS path);
     written atomically under ~/.cache/slam_predict/settings/, named by its content hash."""
     import yaml
@@ -189,7 +189,7 @@ def merged_robot_file(settings_path: Path, tree: Dict[str, Any]) -> Path:
     return _cached_file("robot", text)
 
 
-def slam_params_file(settings_path: Path, tree: Dict[str, Any]) -> Path:
+def slam_params_file(settings_path: Path, tree: dict[str, Any]) -> Path:
     """The SLAM node's parameter YAML for a settings tree: the ``slam.params`` file, or, for
     inline or default parameters, a file with them and ``type`` written like
     :func:`merged_robot_file`."""
@@ -217,7 +217,7 @@ def _cached_file(prefix: str, text: str) -> Path:
     return out
 
 
-def merge_trees(base: Dict[str, Any], override: Dict[str, Any]) -> Dict[str, Any]:
+def merge_trees(base: dict[str, Any], override: dict[str, Any]) -> dict[str, Any]:
     """``base`` with ``override``'s keys replacing its own; nested mappings merged key by key."""
     merged = dict(base)
     for key, value in override.items():
@@ -228,6 +228,6 @@ def merge_trees(base: Dict[str, Any], override: Dict[str, Any]) -> Dict[str, Any
     return merged
 
 
-def settings_dict(settings: CollectSettings) -> Dict[str, Any]:
+def settings_dict(settings: CollectSettings) -> dict[str, Any]:
     """Plain-dict form of every component config (recorded beside run.json)."""
     return {name: to_dict(value) for name, value in settings.components().items()}

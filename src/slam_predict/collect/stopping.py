@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import ClassVar, Dict, List, Optional
+from typing import ClassVar
 
 import numpy as np
 
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
-from slam_predict.formats.mapserver import FREE, OCCUPIED, UNKNOWN, occupancy_to_image
+from slam_predict.formats.mapserver import UNKNOWN, occupancy_to_image
 
 STUCK_DISTANCE_M = 0.1   # m of ground-truth progress that resets the stuck clock
 TIME_EPS = 1e-6          # s: sim times are compared with this tolerance
@@ -39,7 +39,7 @@ class StopConfig:
     stuck_timeout_s: float = 300.0
     max_sim_time_s: float = 4 * 3600.0
     max_wall_time_s: float = 3600.0
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "interval_s": POSITIVE, "small_interval_s": POSITIVE, "small_area_m2": NON_NEGATIVE,
         "mse_threshold": NON_NEGATIVE, "max_snapshots": AT_LEAST_ONE, "stuck_timeout_s": POSITIVE,
         "max_sim_time_s": POSITIVE, "max_wall_time_s": POSITIVE}
@@ -93,10 +93,10 @@ class SnapshotMSE:
     config: StopConfig
     interval_s: float
     next_time: float = field(init=False)
-    last: Optional[np.ndarray] = None
-    times: List[float] = field(default_factory=list)
-    mses: List[float] = field(default_factory=list)
-    reason: Optional[str] = None
+    last: np.ndarray | None = None
+    times: list[float] = field(default_factory=list)
+    mses: list[float] = field(default_factory=list)
+    reason: str | None = None
 
     def __post_init__(self) -> None:
         self.next_time = self.interval_s

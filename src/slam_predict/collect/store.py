@@ -12,7 +12,6 @@ import shutil
 import zlib
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, List
 
 import numpy as np
 
@@ -44,7 +43,7 @@ class RunStore:
         """Final folder of a run."""
         return self.root / world / run_id(index)
 
-    def completed(self, world: str) -> List[int]:
+    def completed(self, world: str) -> list[int]:
         """Indices of complete runs of ``world`` (folders holding a readable run.json)."""
         indices = []
         for path in sorted((self.root / world).glob("run_[0-9][0-9][0-9]")):
@@ -68,12 +67,12 @@ class RunStore:
                 world.rmdir()  # its only run was interrupted
         return removed
 
-    def records(self, world: str) -> List[Dict]:
+    def records(self, world: str) -> list[dict]:
         """The run.json contents of every complete run of ``world``, by index."""
         return [json.loads((self.run_dir(world, i) / RUN_JSON).read_text())
                 for i in self.completed(world)]
 
-    def worlds(self) -> List[str]:
+    def worlds(self) -> list[str]:
         """Worlds that have at least one complete run."""
         return sorted(p.name for p in self.root.iterdir()
                       if p.is_dir() and not p.name.startswith(".") and self.completed(p.name))

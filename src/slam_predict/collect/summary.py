@@ -15,7 +15,6 @@ from __future__ import annotations
 import csv
 import io
 from pathlib import Path
-from typing import Dict, List
 
 import numpy as np
 
@@ -30,21 +29,21 @@ COLUMNS = ("world", "runs", "trans_mean", "trans_std", "rot_mean", "rot_std",
            "rot_sqr_mean", "rot_sqr_std", "coverage_mean", "sim_time_mean_s", "robot")
 
 
-def robot_key(record: Dict) -> str:
+def robot_key(record: dict) -> str:
     """The robot configuration hash of a run.json record ('' when it has no ``sensor``)."""
     sensor = record.get("sensor")
     return sensor_hash(sensor) if sensor else ""
 
 
-def by_robot(records: List[Dict]) -> Dict[str, List[Dict]]:
+def by_robot(records: list[dict]) -> dict[str, list[dict]]:
     """The records grouped by :func:`robot_key`, keys sorted."""
-    groups: Dict[str, List[Dict]] = {}
+    groups: dict[str, list[dict]] = {}
     for record in records:
         groups.setdefault(robot_key(record), []).append(record)
     return dict(sorted(groups.items()))
 
 
-def building_row(world: str, records: List[Dict], robot: str = "") -> Dict[str, float]:
+def building_row(world: str, records: list[dict], robot: str = "") -> dict[str, float]:
     """One summary row from the run.json records of ``world`` run with robot ``robot``."""
     def values(*keys: str) -> np.ndarray:
         out = []

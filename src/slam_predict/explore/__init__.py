@@ -12,7 +12,7 @@ from typing import Tuple
 PERFECT = "perfect"
 
 
-def map_sources() -> Tuple[str, ...]:
+def map_sources() -> tuple[str, ...]:
     """The closed loop's map sources: ``perfect`` and every registered SLAM back-end."""
     from slam_predict import slam
     return (PERFECT,) + slam.available()

@@ -17,8 +17,8 @@ outside, which all hold such a square.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import List, Sequence
 
 import numpy as np
 from scipy import ndimage
@@ -79,7 +79,7 @@ def known_box(data: np.ndarray, grow: int = 1):
 
 
 def find_frontiers(grid, robot_xy: Sequence[float], min_frontier_size: float,
-                   min_unknown_width: float = 0.0) -> List[Frontier]:
+                   min_unknown_width: float = 0.0) -> list[Frontier]:
     """Frontier clusters of ``grid`` (data, origin, resolution) sorted by ``min_distance``;
     ``min_unknown_width`` (m): see the module docstring (0 = explore_lite)."""
     data = np.asarray(grid.data)
@@ -102,7 +102,7 @@ def find_frontiers(grid, robot_xy: Sequence[float], min_frontier_size: float,
     xs = ox + (cols + c0 + 0.5) * res
     ys = oy + (rows + r0 + 0.5) * res
     rx, ry = float(robot_xy[0]), float(robot_xy[1])
-    out: List[Frontier] = []
+    out: list[Frontier] = []
     for part in np.split(np.arange(len(ids)), splits):
         if len(part) * res < min_frontier_size:
             continue

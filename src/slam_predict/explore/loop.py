@@ -24,8 +24,8 @@ import logging
 import math
 import time
 from collections import defaultdict
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -49,7 +49,7 @@ class NavigatorClient:
 
     def __init__(self, navigator: Navigator):
         self.navigator = navigator
-        self.record: Optional[GoalRecord] = None
+        self.record: GoalRecord | None = None
 
     def send_goal(self, target, t: float) -> None:
         self.record = self.navigator.send_goal(target, t)
@@ -58,10 +58,10 @@ class NavigatorClient:
         if self.record is not None and not self.record.done:
             self.navigator.cancel_goal(t)
 
-    def status(self) -> Optional[int]:
+    def status(self) -> int | None:
         return None if self.record is None else int(self.record.status)
 
-    def plan_length(self) -> Optional[float]:
+    def plan_length(self) -> float | None:
         return None if self.record is None else self.record.plan_length
 
 
@@ -69,9 +69,9 @@ class NavigatorClient:
 class LoopLog:
     """Per-step records of a run (sim time s, true poses, commands) and summary counters."""
 
-    t: List[float] = field(default_factory=list)
-    true_poses: List[np.ndarray] = field(default_factory=list)
-    commands: List[Tuple[float, float, float]] = field(default_factory=list)
+    t: list[float] = field(default_factory=list)
+    true_poses: list[np.ndarray] = field(default_factory=list)
+    commands: list[tuple[float, float, float]] = field(default_factory=list)
     stalls: int = 0
     stalled_steps: int = 0
     distance_m: float = 0.0
@@ -92,7 +92,7 @@ class ClosedLoop:
 
     def __init__(self, world: World, seed: int, nav: MoveBaseConfig, explore: ExploreConfig,
                  sim: SimConfig, map_source: str = "perfect",
-                 perfect: Optional[PerfectMapConfig] = None, slam_params=None):
+                 perfect: PerfectMapConfig | None = None, slam_params=None):
         if map_source not in map_sources():
             raise InputError(f"unknown map source '{map_source}' (expected "
                              f"{' or '.join(map_sources())})")
@@ -105,7 +105,7 @@ class ClosedLoop:
                               float(self.sim.laser.range_max))
         self._scan_truth = np.array(world.start_pose, dtype=float)
         self.publisher = StagePublisher.of(self.sim)
-        self.observers: List[Callable[[StepMessages], None]] = []
+        self.observers: list[Callable[[StepMessages], None]] = []
         self.decoder = None
         if map_source == PERFECT:
             perfect = perfect or PerfectMapConfig()
@@ -128,7 +128,7 @@ class ClosedLoop:
         self.control_period = 1.0 / nav.controller_frequency
         self.grid = None
         self.log = LoopLog()
-        self.timing: Dict[str, float] = defaultdict(float)
+        self.timing: dict[str, float] = defaultdict(float)
         self.cmd = (0.0, 0.0)
         self.state = None
         self._last_map_t = -math.inf
@@ -216,7 +216,7 @@ class ClosedLoop:
         return "max_sim_time"
 
 
-def loop_seeds(seed: int) -> List[np.random.SeedSequence]:
+def loop_seeds(seed: int) -> list[np.random.SeedSequence]:
     """The seed sequences of the simulator, the explorer and the SLAM back-end of a run."""
     return np.random.SeedSequence(seed).spawn(3)
 

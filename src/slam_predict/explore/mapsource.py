@@ -19,8 +19,9 @@ processed scans stays unknown, as in GMapping's map.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable, ClassVar, Dict, Optional
+from typing import ClassVar
 
 import numpy as np
 
@@ -37,14 +38,14 @@ class PerfectMapConfig:
 
     delta: float = 0.05
     maxUrange: float = 30.0
-    maxRange: Optional[float] = None
+    maxRange: float | None = None
     occ_thresh: float = 0.25
     margin: float = 1.0
     map_update_interval: float = 5.0
     linearUpdate: float = 0.0
     angularUpdate: float = 0.0
     temporalUpdate: float = 0.0
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "delta": POSITIVE, "maxUrange": POSITIVE, "maxRange": POSITIVE, "occ_thresh": FRACTION,
         "margin": NON_NEGATIVE, "map_update_interval": NON_NEGATIVE,
         "linearUpdate": NON_NEGATIVE, "angularUpdate": NON_NEGATIVE,
@@ -72,7 +73,7 @@ class PerfectMap(SlamBackend):
     name = "perfect"
 
     def __init__(self, world: World, laser: LaserGeometry, truth: Callable[[], np.ndarray],
-                 config: Optional[PerfectMapConfig] = None):
+                 config: PerfectMapConfig | None = None):
         self.config = config or PerfectMapConfig()
         self.laser = laser
         self.truth = truth
@@ -92,9 +93,9 @@ class PerfectMap(SlamBackend):
         self._sin = np.sin(laser.angles)
         self._pose = np.zeros(3)
         self._map_to_odom = np.zeros(3)
-        self._grid: Optional[OccupancyGrid] = None
+        self._grid: OccupancyGrid | None = None
         self.scans = 0
-        self._last: Optional[tuple] = None   # (last odom pose, t processed, m, rad since)
+        self._last: tuple | None = None   # (last odom pose, t processed, m, rad since)
 
     def _due(self, odom_pose: np.ndarray, t: float) -> bool:
         """GMapping's rule: is this scan processed? Motion accumulates from scan to scan (path
@@ -112,7 +113,7 @@ class PerfectMap(SlamBackend):
         self._last = (odom_pose.copy(), t, 0.0, 0.0)
         return True
 
-    def update(self, odom_pose, scan_ranges, t: float) -> Optional[np.ndarray]:
+    def update(self, odom_pose, scan_ranges, t: float) -> np.ndarray | None:
         """Integrate one scan taken at the true pose ``truth()``; returns that pose, or None
         when the scan is skipped (GMapping's update rule)."""
         if not self._due(np.asarray(odom_pose, dtype=float), t):

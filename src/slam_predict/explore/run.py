@@ -12,13 +12,20 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar, Dict, Optional
+from typing import Any, ClassVar
 
 import numpy as np
 
 from slam_predict.atomic import write_text
-from slam_predict.config import (POSITIVE, Range, check_keys, config_hash, from_dict, load_config,
-                                 load_yaml)
+from slam_predict.config import (
+    POSITIVE,
+    Range,
+    check_keys,
+    config_hash,
+    from_dict,
+    load_config,
+    load_yaml,
+)
 from slam_predict.explore import PERFECT
 from slam_predict.explore.coverage import coverage, reachable_free, render_png
 from slam_predict.explore.explorer import ExploreConfig
@@ -37,7 +44,7 @@ class LoopSettings:
     """The closed loop's own settings (``loop:`` in closed_loop.yaml)."""
 
     max_sim_time: float = 10800.0
-    RANGES: ClassVar[Dict[str, Range]] = {"max_sim_time": POSITIVE}
+    RANGES: ClassVar[dict[str, Range]] = {"max_sim_time": POSITIVE}
 
 
 @dataclass
@@ -59,7 +66,7 @@ def load_explore_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
     SLAM back-end ``map_source`` takes its parameters from ``<map_source>.yaml`` there."""
     config_dir = Path(config_dir)
 
-    def path(name: str) -> Optional[Path]:
+    def path(name: str) -> Path | None:
         p = config_dir / name
         return p if p.is_file() else None
 
@@ -81,7 +88,7 @@ def load_explore_settings(config_dir: os.PathLike | str = DEFAULT_CONFIG_DIR,
 
 
 def explore_world(world: World, seed: int, settings: ExploreSettings, map_source: str = "perfect",
-                  max_sim_time: Optional[float] = None):
+                  max_sim_time: float | None = None):
     """Run the closed loop until the explorer stops (or ``max_sim_time`` s); returns
     (summary dict, the finished :class:`ClosedLoop`)."""
     limit = settings.loop.max_sim_time if max_sim_time is None else float(max_sim_time)
@@ -93,7 +100,7 @@ def explore_world(world: World, seed: int, settings: ExploreSettings, map_source
     return summarize(loop, reason, wall, settings), loop
 
 
-def summarize(loop: ClosedLoop, reason: str, wall: float, settings: ExploreSettings) -> Dict:
+def summarize(loop: ClosedLoop, reason: str, wall: float, settings: ExploreSettings) -> dict:
     """The explore.json content of a finished loop."""
     world = loop.world
     grid = loop.source.map()
@@ -137,7 +144,7 @@ def summarize(loop: ClosedLoop, reason: str, wall: float, settings: ExploreSetti
     }
 
 
-def command_stats(cmds: np.ndarray, nav: MoveBaseConfig) -> Dict[str, float]:
+def command_stats(cmds: np.ndarray, nav: MoveBaseConfig) -> dict[str, float]:
     """Largest |v|, |ω| and command-to-command accelerations of the published commands."""
     if len(cmds) < 2:
         return {"count": int(len(cmds))}
@@ -170,7 +177,7 @@ def limit_violations(cmds: np.ndarray, tp, tol: float = 1e-9) -> int:
     return int(bad.sum())
 
 
-def write_outputs(out_dir: os.PathLike | str, summary: Dict, loop: ClosedLoop) -> Path:
+def write_outputs(out_dir: os.PathLike | str, summary: dict, loop: ClosedLoop) -> Path:
     """Write ``explore.json`` and ``explore.png`` (map + true path) into ``out_dir``."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

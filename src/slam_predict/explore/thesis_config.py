@@ -4,7 +4,7 @@ names follow the package where it has one). Units: s, m, cells, costmap cost val
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar, Dict
+from typing import ClassVar
 
 from slam_predict.config import NON_NEGATIVE, Range
 
@@ -36,7 +36,7 @@ class ThesisExploreConfig:
     home_attempts: int = 5
     max_idle_turns: int = 10               # extension: turns in a row with no valid point
     # every number but turn_yaw (a yaw, any sign) is >= 0; __post_init__ adds the > 0 / >= 1 rules
-    RANGES: ClassVar[Dict[str, Range]] = {name: NON_NEGATIVE for name in (
+    RANGES: ClassVar[dict[str, Range]] = {name: NON_NEGATIVE for name in (
         "start_delay", "selection_pause", "wait_for_planner_result", "poll_period",
         "max_time_before_goal_abortion", "auction_wait", "auction_jitter", "costmap_resolution",
         "inscribed_radius", "inflation_radius", "cost_scaling_factor", "max_goal_range",

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -42,7 +41,7 @@ class Cluster:
     """A frontier cluster: its id and member frontier ids."""
 
     id: int
-    members: List[int]
+    members: list[int]
 
 
 def _box_near(points: np.ndarray, x: float, y: float, reach: float) -> np.ndarray:
@@ -59,15 +58,15 @@ class FrontierStore:
     max_goal_range: float = 0.2
     join_dist: float = 1.0
     merge_dist: float = 0.8
-    points: Dict[int, Tuple[float, float]] = field(default_factory=dict)  # id -> (x, y)
-    visited: List[Tuple[float, float]] = field(default_factory=list)
-    unreachable: List[Tuple[float, float]] = field(default_factory=list)
-    clusters: List[Cluster] = field(default_factory=list)
+    points: dict[int, tuple[float, float]] = field(default_factory=dict)  # id -> (x, y)
+    visited: list[tuple[float, float]] = field(default_factory=list)
+    unreachable: list[tuple[float, float]] = field(default_factory=list)
+    clusters: list[Cluster] = field(default_factory=list)
     _next_id: int = 0
     _next_cluster: int = 0
 
     # ------------------------------------------------------------------ stored points
-    def array(self) -> Tuple[np.ndarray, np.ndarray]:
+    def array(self) -> tuple[np.ndarray, np.ndarray]:
         """(ids, (n, 2) points) in storage order."""
         ids = np.fromiter(self.points.keys(), int, len(self.points))
         pts = np.array(list(self.points.values()), float).reshape(-1, 2)
@@ -77,9 +76,9 @@ class FrontierStore:
         """Store the frontier cells (m, in visiting order) that have no stored point within
         ``max_goal_range`` on both axes; returns how many were stored."""
         reach = self.max_goal_range
-        buckets: Dict[Tuple[int, int], List[Tuple[float, float]]] = {}
+        buckets: dict[tuple[int, int], list[tuple[float, float]]] = {}
 
-        def key(x: float, y: float) -> Tuple[int, int]:
+        def key(x: float, y: float) -> tuple[int, int]:
             return int(math.floor(x / reach)), int(math.floor(y / reach))
 
         for x, y in self.points.values():
@@ -102,7 +101,7 @@ class FrontierStore:
         does only while more than one point is stored."""
         if len(self.points) <= 1:
             return
-        for fid, flag in zip(list(self.points), seen):
+        for fid, flag in zip(list(self.points), seen, strict=False):
             if flag:
                 del self.points[fid]
 
@@ -158,8 +157,8 @@ class FrontierStore:
         graph = coo_matrix((np.ones(len(pairs)), (owner[pairs[:, 0]], owner[pairs[:, 1]])),
                            shape=(n, n))
         _, label = connected_components(graph, directed=False)
-        first: Dict[int, Cluster] = {}
-        kept: List[Cluster] = []
+        first: dict[int, Cluster] = {}
+        kept: list[Cluster] = []
         for k, cluster in enumerate(self.clusters):
             if label[k] in first:
                 first[label[k]].members.extend(cluster.members)
@@ -183,13 +182,13 @@ class FrontierStore:
         ranked = sorted(shuffle, key=lambda k: keys[k])
         self.clusters = [self.clusters[k] for k in ranked]
 
-    def _first_valid(self, cluster: Cluster) -> Optional[np.ndarray]:
+    def _first_valid(self, cluster: Cluster) -> np.ndarray | None:
         for m in cluster.members:
             if self.is_valid(self.points[m]):
                 return np.array(self.points[m], float)
         return None
 
-    def cluster_goal(self, previous: Optional[int]) -> Optional[Tuple[np.ndarray, int]]:
+    def cluster_goal(self, previous: int | None) -> tuple[np.ndarray, int] | None:
         """determine_goal(4): (point, cluster id) from the sorted clusters, or None."""
         n = len(self.clusters)
         start = next((k for k, c in enumerate(self.clusters) if c.id == previous), 0)
@@ -202,7 +201,7 @@ class FrontierStore:
                 return point, self.clusters[k].id
         return None
 
-    def random_goal(self, rng: np.random.Generator) -> Optional[np.ndarray]:
+    def random_goal(self, rng: np.random.Generator) -> np.ndarray | None:
         """determine_goal(3): a uniformly drawn stored point if valid, else None."""
         if not self.points:
             return None
@@ -210,7 +209,7 @@ class FrontierStore:
         point = pts[int(rng.integers(len(pts)))]
         return point if self.is_valid(point) else None
 
-    def auction_goal(self, robot_xy) -> Optional[Tuple[np.ndarray, int]]:
+    def auction_goal(self, robot_xy) -> tuple[np.ndarray, int] | None:
         """The single-robot auction (global costmap iteration): the cluster with the lowest
         bid int(d²) of its first member (ties: the earlier), then the clusters after it."""
         if not self.clusters:
@@ -226,7 +225,7 @@ class FrontierStore:
                 return point, cluster.id
         return None
 
-    def nearest_goal(self, robot_xy) -> Optional[np.ndarray]:
+    def nearest_goal(self, robot_xy) -> np.ndarray | None:
         """sort(2) + determine_goal(2): the nearest valid stored point (ties: storage
         order), or None."""
         if not self.points:

@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Optional, Tuple
 
 import numpy as np
 from scipy import ndimage
@@ -46,10 +45,10 @@ class Costmap:
     """costmap_2d costs (uint8, rows = y) with origin (m) and resolution (m/cell)."""
 
     cost: np.ndarray
-    origin: Tuple[float, float]
+    origin: tuple[float, float]
     resolution: float
 
-    def cell(self, x: float, y: float) -> Tuple[int, int]:
+    def cell(self, x: float, y: float) -> tuple[int, int]:
         """(row, col) of the world point (m); may lie outside the array."""
         return (int(math.floor((y - self.origin[1]) / self.resolution)),
                 int(math.floor((x - self.origin[0]) / self.resolution)))
@@ -106,7 +105,7 @@ def inflate(data: np.ndarray, resolution: float, inscribed_radius: float,
 
 
 def explorer_costmap(grid, resolution: float, inscribed_radius: float, inflation_radius: float,
-                     cost_scaling_factor: float) -> Optional[Costmap]:
+                     cost_scaling_factor: float) -> Costmap | None:
     """The explorer's costmap of the SLAM ``grid`` (data, origin, resolution), cropped to the
     known area plus the inflation radius and ``MARGIN_M``; None when nothing is known."""
     data = np.asarray(grid.data)
@@ -179,12 +178,12 @@ def _acceptable(costs: np.ndarray, max_cost: int) -> np.ndarray:
 
 
 def backoff_goal(costmap: Costmap, x: float, y: float, search_steps: int, inner_steps: int,
-                 max_cost: int) -> Optional[np.ndarray]:
+                 max_cost: int) -> np.ndarray | None:
     """``smartGoalBackoff``: the goal point (m) near the frontier point (x, y), or None."""
     row, col = costmap.cell(x, y)
     rows, cols = _axis_cells(row, col, search_steps)
     ok = _acceptable(costmap.cost_at(rows, cols), max_cost)
-    for r, c in zip(rows[ok], cols[ok]):
+    for r, c in zip(rows[ok], cols[ok], strict=False):
         inner = costmap.cost_at(*_axis_cells(int(r), int(c), inner_steps))
         if _acceptable(inner, max_cost).all():
             return np.array(costmap.centre(r, c), dtype=float)

@@ -14,7 +14,7 @@ The seed's code squared the per-space averages (``mean()**2``); here they are pl
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar, Dict, Tuple
+from typing import ClassVar
 
 import cv2
 import numpy as np
@@ -29,7 +29,7 @@ class GeometryConfig:
 
     outline_tolerance_m: float = 0.1
     min_wall_m: float = 0.5
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "outline_tolerance_m": NON_NEGATIVE, "min_wall_m": NON_NEGATIVE}
 
 
@@ -80,7 +80,7 @@ def space_outlines(rooms: Rooms, config: GeometryConfig):
 
 
 def geometric_features(interior: np.ndarray, rooms: Rooms, resolution: float,
-                       config: GeometryConfig = GeometryConfig()) -> Dict[str, float]:
+                       config: GeometryConfig = GeometryConfig()) -> dict[str, float]:
     """The eight geometric features (names as in :data:`FEATURES`)."""
     building = outline_of(interior, resolution, config)
     spaces = space_outlines(rooms, config)
@@ -100,7 +100,7 @@ def geometric_features(interior: np.ndarray, rooms: Rooms, resolution: float,
 
 
 # (name, unit, description) of every geometric feature.
-FEATURES: Tuple[Tuple[str, str, str], ...] = (
+FEATURES: tuple[tuple[str, str, str], ...] = (
     ("building_area", "m2", "area enclosed by the building outline (inner obstacles included)"),
     ("building_perimeter", "m", "length of the simplified building outline"),
     ("wall_ratio", "ratio", "shortest / longest wall of the building outline"),

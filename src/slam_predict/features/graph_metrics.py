@@ -18,7 +18,6 @@ connected graph (callers pass the largest component); a graph without nodes give
 from __future__ import annotations
 
 import logging
-from typing import Dict, Tuple
 
 import networkx as nx
 import numpy as np
@@ -34,7 +33,7 @@ KATZ_BETA = 1.0
 DENSE_LIMIT = 50  # up to this many nodes the eigenvector comes from dense LAPACK
 
 # (name, unit, description) of every metric, in output order.
-METRICS: Tuple[Tuple[str, str, str], ...] = (
+METRICS: tuple[tuple[str, str, str], ...] = (
     ("order", "count", "number of nodes"),
     ("size", "count", "number of edges"),
     ("density", "ratio", "2m / (n(n − 1))"),
@@ -54,11 +53,11 @@ METRICS: Tuple[Tuple[str, str, str], ...] = (
 )
 
 
-def _empty() -> Dict[str, float]:
+def _empty() -> dict[str, float]:
     return {name: 0.0 for name, _, _ in METRICS}
 
 
-def _summary(prefix: str, values: np.ndarray) -> Dict[str, float]:
+def _summary(prefix: str, values: np.ndarray) -> dict[str, float]:
     return {f"{prefix}_mean": float(np.mean(values)), f"{prefix}_std": float(np.std(values))}
 
 
@@ -92,7 +91,7 @@ def katz_centrality(adj: sparse.csr_matrix, alpha: float = KATZ_ALPHA,
     return x / (np.sign(x.sum()) * np.linalg.norm(x))
 
 
-def metrics(n: int, edges: np.ndarray) -> Dict[str, float]:
+def metrics(n: int, edges: np.ndarray) -> dict[str, float]:
     """All metrics of the undirected graph with ``n`` nodes and ``edges`` (E, 2), E unique pairs."""
     if n == 0:
         return _empty()
@@ -120,7 +119,7 @@ def metrics(n: int, edges: np.ndarray) -> Dict[str, float]:
     return out
 
 
-def metrics_networkx(graph: nx.Graph) -> Dict[str, float]:
+def metrics_networkx(graph: nx.Graph) -> dict[str, float]:
     """The same metrics straight from networkx (slow reference for tests)."""
     n = graph.number_of_nodes()
     if n == 0:

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Optional
 
 import cv2
 import numpy as np
@@ -77,7 +76,7 @@ def _draw_start(img: np.ndarray, world, scale: int) -> None:
     cv2.line(img, centre, tip, START, 2)
 
 
-def write_overlay(ctx, out: os.PathLike | str, max_side: Optional[int] = 1600) -> None:
+def write_overlay(ctx, out: os.PathLike | str, max_side: int | None = 1600) -> None:
     """Render and write the picture atomically as PNG; InputError when it cannot be written."""
     out = os.fspath(out)
     if not out.lower().endswith(".png"):

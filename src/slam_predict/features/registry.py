@@ -6,8 +6,9 @@ features alike), so two modules can never silently provide the same feature.
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, Iterable, List, Tuple
+from typing import Any
 
 from slam_predict.errors import InputError, did_you_mean
 
@@ -27,19 +28,19 @@ class Family:
     """A feature family: ``compute(context) -> {name: value}`` yields exactly ``features``."""
 
     name: str
-    compute: Callable[[Any], Dict[str, float]]
-    features: Tuple[Feature, ...]
+    compute: Callable[[Any], dict[str, float]]
+    features: tuple[Feature, ...]
 
 
 class Registry:
     """Families and features by name, in registration order; duplicates refused."""
 
     def __init__(self) -> None:
-        self._families: Dict[str, Family] = {}
-        self._features: Dict[str, Feature] = {}
+        self._families: dict[str, Family] = {}
+        self._features: dict[str, Feature] = {}
 
-    def add_family(self, name: str, compute: Callable[[Any], Dict[str, float]],
-                   features: Iterable[Tuple[str, str, str]]) -> Family:
+    def add_family(self, name: str, compute: Callable[[Any], dict[str, float]],
+                   features: Iterable[tuple[str, str, str]]) -> Family:
         """Register family ``name`` with its (feature name, unit, doc) triples."""
         if name in self._families:
             raise ValueError(f"feature family '{name}' is already registered")
@@ -70,11 +71,11 @@ class Registry:
         return self._features[name]
 
     @property
-    def families(self) -> List[str]:
+    def families(self) -> list[str]:
         """Family names in registration order."""
         return list(self._families)
 
-    def names(self, families: Iterable[str] = ()) -> List[str]:
+    def names(self, families: Iterable[str] = ()) -> list[str]:
         """Feature names (of ``families``, default all) in registration order."""
         chosen = list(families) or self.families
         return [f.name for fam in chosen for f in self.family(fam).features]

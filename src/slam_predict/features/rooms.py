@@ -36,7 +36,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from typing import ClassVar, Dict, List, Optional
+from typing import ClassVar
 
 import cv2
 import numpy as np
@@ -65,7 +65,7 @@ class RoomsConfig:
     widening_ratio: float = 0.25
     min_room_area_m2: float = 1.0
     segmentation_resolution_m: float = 0.2
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "max_door_width_m": POSITIVE, "critical_radius_m": POSITIVE, "side_search_m": NON_NEGATIVE,
         "min_widening_m": NON_NEGATIVE, "widening_ratio": NON_NEGATIVE,
         "min_room_area_m2": NON_NEGATIVE, "segmentation_resolution_m": NON_NEGATIVE}
@@ -83,7 +83,7 @@ class Rooms:
 
     labels: np.ndarray
     count: int
-    cuts: List[np.ndarray]
+    cuts: list[np.ndarray]
     resolution: float
 
     def masks(self):
@@ -99,8 +99,8 @@ class Rooms:
         return counts * self.resolution ** 2
 
 
-def rooms_of(world: World, config: Optional[RoomsConfig] = None,
-             base: Optional[voronoi.Skeleton] = None) -> Rooms:
+def rooms_of(world: World, config: RoomsConfig | None = None,
+             base: voronoi.Skeleton | None = None) -> Rooms:
     """Rooms of ``world`` from the configured source (ground truth falls back to segment)."""
     config = config or RoomsConfig()
     if config.source == "ground_truth":
@@ -126,8 +126,8 @@ def ground_truth_rooms(world: World) -> Rooms:
     return Rooms(labels=labels, count=count, cuts=[], resolution=world.resolution)
 
 
-def segment(occupied: np.ndarray, resolution: float, config: Optional[RoomsConfig] = None,
-            base: Optional[voronoi.Skeleton] = None) -> Rooms:
+def segment(occupied: np.ndarray, resolution: float, config: RoomsConfig | None = None,
+            base: voronoi.Skeleton | None = None) -> Rooms:
     """Segment the free space of a bitmap (True = obstacle) into rooms (module docstring).
 
     ``base`` reuses the interior and Voronoi skeleton of :func:`voronoi.skeleton_of` when the
@@ -177,7 +177,7 @@ def upsample_labels(coarse: np.ndarray, interior: np.ndarray, min_px: float) -> 
 
 
 def segment_grid(occupied: np.ndarray, resolution: float, config: RoomsConfig,
-                 base: Optional[voronoi.Skeleton] = None) -> Rooms:
+                 base: voronoi.Skeleton | None = None) -> Rooms:
     """Steps 1–5 of the module docstring on the map's own grid."""
     base = base or voronoi.skeleton_of(occupied, resolution)
     interior, site_r, site_c = base.interior, base.site_r, base.site_c
@@ -262,7 +262,7 @@ def shared_borders(labels: np.ndarray) -> dict:
         if a.size == 0:
             continue
         keys, counts = np.unique(np.stack([a, b], axis=1), axis=0, return_counts=True)
-        for (i, j), n in zip(keys, counts):
+        for (i, j), n in zip(keys, counts, strict=False):
             pairs[(int(i), int(j))] = pairs.get((int(i), int(j)), 0) + int(n)
     return pairs
 

@@ -13,7 +13,6 @@ Edges are (E, 2) int arrays of node indices, each undirected edge once, with a w
 from __future__ import annotations
 
 import math
-from typing import Dict, List, Tuple
 
 import numpy as np
 from scipy import sparse
@@ -104,7 +103,7 @@ def largest_component(n: int, edges: np.ndarray):
 
 
 def simplify_chains(rc: np.ndarray, edges: np.ndarray, weights: np.ndarray,
-                    tolerance_px: float) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+                    tolerance_px: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Douglas–Peucker simplification of every chain of degree-2 nodes.
 
     Returns (kept node ids, edges in new ids, weights); an edge replacing part of a chain
@@ -112,12 +111,12 @@ def simplify_chains(rc: np.ndarray, edges: np.ndarray, weights: np.ndarray,
     made only of degree-2 nodes keeps its lowest-numbered node as anchor.
     """
     n = rc.shape[0]
-    adjacency: List[Dict[int, float]] = [dict() for _ in range(n)]
-    for (a, b), w in zip(edges.tolist(), weights.tolist()):
+    adjacency: list[dict[int, float]] = [dict() for _ in range(n)]
+    for (a, b), w in zip(edges.tolist(), weights.tolist(), strict=False):
         adjacency[a][b] = adjacency[b][a] = min(w, adjacency[a].get(b, math.inf))
     degree = np.array([len(nb) for nb in adjacency])
     keep = degree != 2
-    new_edges: Dict[Tuple[int, int], float] = {}
+    new_edges: dict[tuple[int, int], float] = {}
     walked_steps: set = set()
     walked_nodes: set = set()
     anchors = list(np.nonzero(keep)[0]) + list(np.nonzero(~keep)[0])
@@ -129,12 +128,12 @@ def simplify_chains(rc: np.ndarray, edges: np.ndarray, weights: np.ndarray,
             if (start, first) in walked_steps:
                 continue
             chain, steps = _walk(adjacency, degree, start, first)
-            walked_steps.update(zip(chain[:-1], chain[1:]))
-            walked_steps.update(zip(chain[1:], chain[:-1]))
+            walked_steps.update(zip(chain[:-1], chain[1:], strict=False))
+            walked_steps.update(zip(chain[1:], chain[:-1], strict=False))
             walked_nodes.update(chain)
             kept = _douglas_peucker(rc[chain].astype(float), tolerance_px)
             length = np.concatenate([[0.0], np.cumsum(steps)])
-            for i, j in zip(kept[:-1], kept[1:]):
+            for i, j in zip(kept[:-1], kept[1:], strict=False):
                 a, b = chain[i], chain[j]
                 keep[a] = keep[b] = True
                 if a != b:
@@ -161,7 +160,7 @@ def _walk(adjacency, degree, start: int, first: int):
     return chain, steps
 
 
-def _douglas_peucker(points: np.ndarray, tolerance: float) -> List[int]:
+def _douglas_peucker(points: np.ndarray, tolerance: float) -> list[int]:
     """Indices of the points Douglas–Peucker keeps (first and last always)."""
     keep = {0, len(points) - 1}
     stack = [(0, len(points) - 1)]

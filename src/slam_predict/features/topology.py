@@ -11,7 +11,7 @@ The graph metrics are taken on the largest connected component, as the seed did.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar, Dict, List, Tuple
+from typing import ClassVar
 
 import cv2
 import networkx as nx
@@ -28,7 +28,7 @@ class TopologyConfig:
     """Minimum passage width (m) for two spaces to count as connected."""
 
     min_passage_m: float = 0.3
-    RANGES: ClassVar[Dict[str, Range]] = {"min_passage_m": NON_NEGATIVE}
+    RANGES: ClassVar[dict[str, Range]] = {"min_passage_m": NON_NEGATIVE}
 
 
 @dataclass
@@ -37,7 +37,7 @@ class TopologyGraph:
 
     edges: np.ndarray
     points: np.ndarray
-    contacts: List[int]
+    contacts: list[int]
 
     @property
     def order(self) -> int:
@@ -73,7 +73,7 @@ def topology_graph(rooms: Rooms, config: TopologyConfig = TopologyConfig()) -> T
                          contacts=[n for _, n in pairs])
 
 
-def topology_metrics(graph: TopologyGraph) -> Dict[str, float]:
+def topology_metrics(graph: TopologyGraph) -> dict[str, float]:
     """Graph metrics of the largest connected component of the room graph."""
     n = graph.order
     if n == 0:
@@ -85,6 +85,6 @@ def topology_metrics(graph: TopologyGraph) -> Dict[str, float]:
     return graph_metrics.metrics(int(main.sum()), edges)
 
 
-def room_pairs(graph: TopologyGraph) -> List[Tuple[int, int]]:
+def room_pairs(graph: TopologyGraph) -> list[tuple[int, int]]:
     """Edges as sorted (room label a, room label b) pairs, labels starting at 1."""
     return sorted((int(a) + 1, int(b) + 1) for a, b in graph.edges)

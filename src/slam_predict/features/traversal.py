@@ -32,7 +32,7 @@ import dataclasses
 import logging
 import math
 from dataclasses import dataclass
-from typing import Any, ClassVar, Dict, Optional
+from typing import Any, ClassVar
 
 import cv2
 import numpy as np
@@ -53,12 +53,12 @@ class TraversalConfig:
     ``laser_fov_deg`` is its deprecated degree form (still read, with a warning)."""
 
     laser_range_m: float = 30.0
-    laser_fov: Optional[float] = None
-    laser_fov_deg: Optional[float] = None
+    laser_fov: float | None = None
+    laser_fov_deg: float | None = None
     min_rotation_distance_m: float = 0.5
     smoothing_tolerance_m: float = 0.5
     mode: str = "documented"
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "laser_range_m": POSITIVE, "laser_fov": FULL_TURN,
         "laser_fov_deg": Range(0.0, 360.0, open_low=True),
         "min_rotation_distance_m": NON_NEGATIVE, "smoothing_tolerance_m": NON_NEGATIVE}
@@ -78,15 +78,15 @@ class TraversalConfig:
         if self.laser_range_m <= 0 or not 0 < self.laser_fov <= 2 * math.pi:
             raise ValueError("laser_range_m must be > 0 and laser_fov in (0, 2*pi] rad")
 
-    def for_laser(self, laser: LaserConfig, max_range: Optional[float] = None
-                  ) -> "TraversalConfig":
+    def for_laser(self, laser: LaserConfig, max_range: float | None = None
+                  ) -> TraversalConfig:
         """These settings with a robot's laser: its fov and its range_max, capped at
         ``max_range`` m when given (the range the mapping uses, e.g. GMapping's maxUrange)."""
         reach = laser.range_max if max_range is None else min(laser.range_max, max_range)
         return dataclasses.replace(self, laser_range_m=float(reach), laser_fov=float(laser.fov))
 
 
-def upgrade_stored(traversal: Dict[str, Any]) -> Dict[str, Any]:
+def upgrade_stored(traversal: dict[str, Any]) -> dict[str, Any]:
     """Stored traversal settings (a model card's, written before ``laser_fov``) with
     ``laser_fov_deg`` turned into ``laser_fov`` rad, without the deprecation warning."""
     out = dict(traversal)
@@ -98,7 +98,7 @@ def upgrade_stored(traversal: Dict[str, Any]) -> Dict[str, Any]:
     return out
 
 
-def legacy_hash_form(traversal: Dict[str, Any]) -> Dict[str, Any]:
+def legacy_hash_form(traversal: dict[str, Any]) -> dict[str, Any]:
     """The plain-dict traversal settings as they were hashed into the feature version before
     the field of view became ``laser_fov`` (rad): ``laser_fov_deg`` in degrees (rounded to
     1e-9 °), so models trained before the change keep their feature version."""
@@ -135,7 +135,7 @@ def nearest_node(graph: VoronoiGraph, rc) -> int:
 
 
 def traverse(graph: VoronoiGraph, occupied: np.ndarray, start_rc, start_yaw: float = 0.0,
-             config: Optional[TraversalConfig] = None) -> TraversalResult:
+             config: TraversalConfig | None = None) -> TraversalResult:
     """Run the Voronoi traversal from pixel ``start_rc`` with heading ``start_yaw`` (rad)."""
     config = config or TraversalConfig()
     if graph.order == 0:

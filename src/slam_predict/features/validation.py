@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import csv
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 from scipy import ndimage
@@ -62,14 +62,14 @@ def best_match_iou(ours: np.ndarray, truth: np.ndarray, rooms: Sequence[int]) ->
         mask = truth == k
         candidates, overlaps = np.unique(ours[mask], return_counts=True)
         best = 0.0
-        for label, overlap in zip(candidates, overlaps):
+        for label, overlap in zip(candidates, overlaps, strict=False):
             if label > 0:
                 best = max(best, overlap / float((mask | (ours == label)).sum()))
         scores.append(best)
     return float(np.mean(scores)) if scores else 0.0
 
 
-def ipa_room_scores(map_path: str, config: Optional[FeaturesConfig] = None) -> RoomScore:
+def ipa_room_scores(map_path: str, config: FeaturesConfig | None = None) -> RoomScore:
     """Segment an ipa map (0.05 m/px) as the feature vector does, and score it."""
     config = config or FeaturesConfig()
     occupied = load_occupancy(map_path)
@@ -95,7 +95,7 @@ def _to_shape(labels: np.ndarray, shape) -> np.ndarray:
     return labels[np.ix_(rows, cols)]
 
 
-def read_thesis_stats(path: str) -> Dict[str, Dict[str, float]]:
+def read_thesis_stats(path: str) -> dict[str, dict[str, float]]:
     """stats_realistic.csv as {building: {column: value}} (column names stripped)."""
     with open(path, newline="", encoding="utf-8") as handle:
         rows = list(csv.DictReader(handle))
@@ -103,8 +103,8 @@ def read_thesis_stats(path: str) -> Dict[str, Dict[str, float]]:
             for r in rows}
 
 
-def thesis_rows(data_dir: str, config: Optional[FeaturesConfig] = None,
-                resolution: float = 0.05, only: Optional[Sequence[str]] = None) -> List[dict]:
+def thesis_rows(data_dir: str, config: FeaturesConfig | None = None,
+                resolution: float = 0.05, only: Sequence[str] | None = None) -> list[dict]:
     """Our features next to the thesis' for every thesis building with a plan in ``data_dir``."""
     from slam_predict.world.thesis import read_environments, thesis_world
 

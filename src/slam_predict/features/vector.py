@@ -34,7 +34,7 @@ import math
 import time
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import ClassVar, Dict, List, Optional, Tuple
+from typing import ClassVar
 
 import numpy as np
 from scipy import ndimage
@@ -63,14 +63,14 @@ class FeaturesConfig:
     mode: str = "documented"
     working_resolution_m: float = 0.1
     grid_phases: int = 4
-    families: Tuple[str, ...] = FAMILIES
+    families: tuple[str, ...] = FAMILIES
     rooms: rooms_mod.RoomsConfig = field(default_factory=rooms_mod.RoomsConfig)
     topology: topology_mod.TopologyConfig = field(default_factory=topology_mod.TopologyConfig)
     geometry: geometric.GeometryConfig = field(default_factory=geometric.GeometryConfig)
     voronoi: voronoi_mod.VoronoiConfig = field(default_factory=voronoi_mod.VoronoiConfig)
     traversal: traversal_mod.TraversalConfig = field(
         default_factory=traversal_mod.TraversalConfig)
-    RANGES: ClassVar[Dict[str, Range]] = {"working_resolution_m": NON_NEGATIVE}
+    RANGES: ClassVar[dict[str, Range]] = {"working_resolution_m": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -119,7 +119,7 @@ def start_outline(world: World) -> World:
     return world.replace(occupied=labels != labels[row, col])
 
 
-def phase_worlds(world: World, count: int = 4) -> List[World]:
+def phase_worlds(world: World, count: int = 4) -> list[World]:
     """``world`` (on its working grid) and up to three copies on the grid shifted by half a
     cell: along rows and columns, along rows only, along columns only (``count`` = 1, 2 or 4
     grids in all). A shifted grid is the conservative resample of the working grid onto the
@@ -177,7 +177,7 @@ class Context:
                                   self.config.traversal_config())
 
     @cached_property
-    def phase_traversals(self) -> List[traversal_mod.TraversalResult]:
+    def phase_traversals(self) -> list[traversal_mod.TraversalResult]:
         """The traversal at every phase of :func:`phase_worlds` (the first is
         :attr:`traversal`)."""
         results = [self.traversal]
@@ -197,25 +197,25 @@ class Context:
         return self.world.cell_to_world(self.traversal.path_rc)
 
 
-def _geometric(ctx: Context) -> Dict[str, float]:
+def _geometric(ctx: Context) -> dict[str, float]:
     return geometric.geometric_features(ctx.skeleton.interior, ctx.rooms,
                                         ctx.world.resolution, ctx.config.geometry)
 
 
-def _prefixed(prefix: str, values: Dict[str, float]) -> Dict[str, float]:
+def _prefixed(prefix: str, values: dict[str, float]) -> dict[str, float]:
     return {f"{prefix}_{k}": v for k, v in values.items()}
 
 
-def _topological(ctx: Context) -> Dict[str, float]:
+def _topological(ctx: Context) -> dict[str, float]:
     return _prefixed("topology", topology_mod.topology_metrics(ctx.topology))
 
 
-def _voronoi_graph(ctx: Context) -> Dict[str, float]:
+def _voronoi_graph(ctx: Context) -> dict[str, float]:
     graph = ctx.voronoi
     return _prefixed("voronoi", graph_metrics.metrics(graph.order, graph.edges))
 
 
-def _voronoi_traversal(ctx: Context) -> Dict[str, float]:
+def _voronoi_traversal(ctx: Context) -> dict[str, float]:
     results = ctx.phase_traversals
     return {"voronoi_traversal_distance": float(np.mean([r.distance for r in results])),
             "voronoi_traversal_rotation": float(np.mean([r.rotation for r in results])),
@@ -244,21 +244,21 @@ REGISTRY.add_family("voronoi_traversal", _voronoi_traversal, (
 ))
 
 
-def feature_version(config: Optional[FeaturesConfig] = None) -> str:
+def feature_version(config: FeaturesConfig | None = None) -> str:
     """``<FEATURE_VERSION>+<config hash>``: equal strings mean comparable feature vectors."""
     plain = to_dict(config or FeaturesConfig())
     plain["traversal"] = traversal_mod.legacy_hash_form(plain["traversal"])
     return f"{FEATURE_VERSION}+{config_hash(plain)}"
 
 
-def compute_with_context(world: World, config: Optional[FeaturesConfig] = None
-                         ) -> Tuple[Dict[str, float], Context]:
+def compute_with_context(world: World, config: FeaturesConfig | None = None
+                         ) -> tuple[dict[str, float], Context]:
     """The flat feature vector and the :class:`Context` holding rooms, graphs and the path."""
     config = config or FeaturesConfig()
     start = time.monotonic()
     ctx = Context(world, config)
     rows, cols = ctx.world.occupied.shape
-    values: Dict[str, float] = {}
+    values: dict[str, float] = {}
     for i, name in enumerate(config.families):
         PROGRESS.info("%s: %s features (%d/%d, %d x %d px working grid, %.0f s so far)",
                       world.name, name, i + 1, len(config.families), cols, rows,
@@ -275,7 +275,7 @@ def compute_with_context(world: World, config: Optional[FeaturesConfig] = None
     return values, ctx
 
 
-def degenerate_reason(values: Dict[str, float]) -> Optional[str]:
+def degenerate_reason(values: dict[str, float]) -> str | None:
     """Why a feature vector describes no building (None when it does): no Voronoi graph or
     no room was found (random noise, free space too narrow for the working grid)."""
     missing = [what for key, what in (("voronoi_order", "no Voronoi graph"),
@@ -287,6 +287,6 @@ def degenerate_reason(values: Dict[str, float]) -> Optional[str]:
             "or free space too narrow or fragmented)")
 
 
-def compute_features(world: World, config: Optional[FeaturesConfig] = None) -> Dict[str, float]:
+def compute_features(world: World, config: FeaturesConfig | None = None) -> dict[str, float]:
     """The flat feature vector {name: value} of ``world`` (units in :data:`REGISTRY`)."""
     return compute_with_context(world, config)[0]

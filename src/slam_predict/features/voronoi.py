@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
-from typing import ClassVar, Dict, Optional
+from typing import ClassVar
 
 import cv2
 import networkx as nx
@@ -42,8 +42,13 @@ import numpy as np
 
 from slam_predict.config import NON_NEGATIVE, Range
 from slam_predict.features import raster_kernels
-from slam_predict.features.skeleton_graph import (largest_component, pixel_edges,
-                                                  simplify_chains, sparsify, to_csr)
+from slam_predict.features.skeleton_graph import (
+    largest_component,
+    pixel_edges,
+    simplify_chains,
+    sparsify,
+    to_csr,
+)
 
 LOG = logging.getLogger(__name__)
 
@@ -57,7 +62,7 @@ class VoronoiConfig:
     align_check_m: float = 0.25
     straight_tolerance_m: float = 0.1
     thesis_compatible: bool = False
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "dilation_m": NON_NEGATIVE, "min_site_separation_m": NON_NEGATIVE,
         "align_check_m": NON_NEGATIVE, "straight_tolerance_m": NON_NEGATIVE}
 
@@ -106,7 +111,7 @@ class VoronoiGraph:
         graph = nx.Graph()
         for i, (r, c) in enumerate(self.rc):
             graph.add_node(i, rc=(int(r), int(c)))
-        for (a, b), w in zip(self.edges, self.weights):
+        for (a, b), w in zip(self.edges, self.weights, strict=False):
             graph.add_edge(int(a), int(b), weight=float(w))
         return graph
 
@@ -187,7 +192,7 @@ class Skeleton:
 
 
 def skeleton_of(occupied: np.ndarray, resolution: float,
-                config: Optional[VoronoiConfig] = None) -> Skeleton:
+                config: VoronoiConfig | None = None) -> Skeleton:
     """Interior, feature transform and cleaned Voronoi skeleton of a bitmap (True = obstacle)."""
     config = config or VoronoiConfig()
     interior = building_interior(~occupied)
@@ -201,8 +206,8 @@ def skeleton_of(occupied: np.ndarray, resolution: float,
 
 
 def voronoi_graph(occupied: np.ndarray, resolution: float,
-                  config: Optional[VoronoiConfig] = None,
-                  base: Optional[Skeleton] = None) -> VoronoiGraph:
+                  config: VoronoiConfig | None = None,
+                  base: Skeleton | None = None) -> VoronoiGraph:
     """The sparsified Voronoi graph of a bitmap (True = obstacle/outside) at ``resolution`` m/px.
 
     ``base`` reuses steps 1–3 already computed by :func:`skeleton_of` with the same settings.

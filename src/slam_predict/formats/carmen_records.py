@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional
 
 import numpy as np
 
@@ -39,9 +38,9 @@ class LaserScan:
     pose: np.ndarray
     odom_pose: np.ndarray
     kind: str = "FLASER"
-    logger_timestamp: Optional[float] = None
+    logger_timestamp: float | None = None
     host: str = "slam_predict"
-    fov: Optional[float] = None
+    fov: float | None = None
     remissions: np.ndarray = field(default_factory=lambda: np.zeros(0, np.float32))
     laser_type: int = 0
     accuracy: float = 0.0
@@ -72,9 +71,9 @@ class Odometry:
 
     t: np.ndarray
     poses: np.ndarray
-    tv: Optional[np.ndarray] = None
-    rv: Optional[np.ndarray] = None
-    accel: Optional[np.ndarray] = None
+    tv: np.ndarray | None = None
+    rv: np.ndarray | None = None
+    accel: np.ndarray | None = None
 
     def __post_init__(self):
         self.t = np.asarray(self.t, dtype=float).reshape(-1)
@@ -92,10 +91,10 @@ class Odometry:
 class CarmenLog:
     """Contents of a CARMEN log: PARAM values (strings), ODOM records and front-laser scans."""
 
-    params: Dict[str, str] = field(default_factory=dict)
+    params: dict[str, str] = field(default_factory=dict)
     odometry: Odometry = field(default_factory=lambda: Odometry(np.zeros(0), np.zeros((0, 3))))
-    scans: List[LaserScan] = field(default_factory=list)
-    path: Optional[str] = None
+    scans: list[LaserScan] = field(default_factory=list)
+    path: str | None = None
 
     @property
     def scan_times(self) -> np.ndarray:
@@ -112,7 +111,7 @@ class CarmenLog:
         """Odometry poses logged with the scans (FLASER ``odom_*``), shape (N, 3)."""
         return np.array([s.odom_pose for s in self.scans], dtype=float).reshape(-1, 3)
 
-    def param_float(self, name: str, default: Optional[float] = None) -> Optional[float]:
+    def param_float(self, name: str, default: float | None = None) -> float | None:
         """A PARAM value as float, or ``default`` when absent."""
         if name not in self.params:
             return default

@@ -13,7 +13,6 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Tuple
 
 import numpy as np
 import yaml
@@ -33,7 +32,7 @@ class MapServerMap:
 
     image: np.ndarray
     resolution: float
-    origin: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    origin: tuple[float, float, float] = (0.0, 0.0, 0.0)
     negate: int = 0
     occupied_thresh: float = OCCUPIED_THRESH
     free_thresh: float = FREE_THRESH
@@ -145,7 +144,7 @@ def read_map(yaml_path: os.PathLike | str) -> MapServerMap:
     """Read a map_server YAML and its image (PGM; other formats through OpenCV)."""
     yaml_path = require_file(yaml_path, "map YAML")
     try:
-        with open(yaml_path, "rt", encoding="utf-8") as fh:
+        with open(yaml_path, encoding="utf-8") as fh:
             meta = yaml.safe_load(fh)
     except (OSError, yaml.YAMLError) as exc:
         raise InputError(f"cannot read map YAML: {exc}".splitlines()[0], yaml_path)

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from typing import List
 
 import numpy as np
 
@@ -63,7 +62,7 @@ def prepared_scans_text(times, odometry, ranges, laser, params, seed: int,
     lines += [f"{name} {_text(getattr(params, name))}" for name in FILTER_PARAMS]
     lines.append("laser_pose " + " ".join(_text(v) for v in laser.pose_in_base))
     lines.append(f"angles {laser.beams} " + " ".join(repr(float(a)) for a in laser.angles))
-    for t, pose, row in zip(times.tolist(), odometry.tolist(), ranges.tolist()):
+    for t, pose, row in zip(times.tolist(), odometry.tolist(), ranges.tolist(), strict=False):
         lines.append("SCAN " + " ".join(repr(v) for v in (t, *pose, *row)))
     return "\n".join(lines) + "\n"
 
@@ -83,7 +82,7 @@ class DriverOutput:
     indices: np.ndarray
     times: np.ndarray
     poses: np.ndarray
-    neff: List[float] = field(default_factory=list)
+    neff: list[float] = field(default_factory=list)
     resamples: int = 0
     best: int = 0
 
@@ -101,7 +100,7 @@ def read_driver_output(path: os.PathLike | str) -> DriverOutput:
                 if fields[:2] == ["#", "neff"]:
                     neff.append(float(fields[2]))
                 elif fields[:2] == ["#", "summary"]:
-                    summary = dict(zip(fields[2::2], (int(v) for v in fields[3::2])))
+                    summary = dict(zip(fields[2::2], (int(v) for v in fields[3::2]), strict=False))
                 elif fields[0] != "#":
                     if len(fields) != 5:
                         raise ValueError("expected 5 fields")

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import logging
 import os
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Iterable
 
 import numpy as np
 
@@ -44,7 +44,7 @@ def read_relations(path: os.PathLike | str) -> Relations:
     path = require_file(path, "relations file")
     rows = []
     try:
-        with open(path, "rt", encoding="utf-8") as fh:
+        with open(path, encoding="utf-8") as fh:
             for number, line in enumerate(fh, start=1):
                 text = line.split("#", 1)[0].strip()
                 if text:
@@ -78,6 +78,6 @@ def write_relations(path: os.PathLike | str, relations: Relations,
     lines = [f"# {h}" for h in header]
     lines.append("# timestamp1 timestamp2 x y z roll pitch yaw")
     for t1, t2, (x, y, yaw) in zip(relations.t1.tolist(), relations.t2.tolist(),
-                                   relations.deltas.tolist()):
+                                   relations.deltas.tolist(), strict=False):
         lines.append(" ".join(repr(float(v)) for v in (t1, t2, x, y, 0.0, 0.0, 0.0, yaw)))
     write_text(path, "\n".join(lines) + "\n")

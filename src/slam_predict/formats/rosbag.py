@@ -9,8 +9,8 @@ on the plane (x, y, yaw).
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Dict, Iterable, Tuple
 
 import numpy as np
 
@@ -32,7 +32,7 @@ def header_stamp(header) -> float:
     return header.stamp.sec + header.stamp.nanosec * 1e-9
 
 
-def _planar(position, orientation) -> Tuple[float, float, float]:
+def _planar(position, orientation) -> tuple[float, float, float]:
     yaw = quaternion_to_yaw(orientation.x, orientation.y, orientation.z, orientation.w)
     return position.x, position.y, float(yaw)
 
@@ -49,7 +49,7 @@ def _open(path: str):
     return reader
 
 
-def read_pose_topic(path: os.PathLike | str, topic: str) -> Tuple[np.ndarray, np.ndarray]:
+def read_pose_topic(path: os.PathLike | str, topic: str) -> tuple[np.ndarray, np.ndarray]:
     """(t (N,) s, poses (N, 3)) of ``topic`` in the bag at ``path``, sorted by time."""
     path = os.fspath(path)
     if not os.path.exists(path):
@@ -67,7 +67,7 @@ def read_pose_topic(path: os.PathLike | str, topic: str) -> Tuple[np.ndarray, np
         reader.close()
 
 
-def _read(reader, path: str, topic: str, tf_frames) -> Tuple[np.ndarray, np.ndarray]:
+def _read(reader, path: str, topic: str, tf_frames) -> tuple[np.ndarray, np.ndarray]:
     wanted = ("/tf", "/tf_static") if tf_frames else (topic,)
     connections = [c for c in reader.connections if c.topic in wanted]
     if not connections:
@@ -99,7 +99,7 @@ def _tf_rows(msg, frames) -> Iterable[tuple]:
                    *_planar(tr.transform.translation, tr.transform.rotation))
 
 
-def write_pose_bag(path: os.PathLike | str, topics: Dict[str, Tuple[np.ndarray, np.ndarray]],
+def write_pose_bag(path: os.PathLike | str, topics: dict[str, tuple[np.ndarray, np.ndarray]],
                    frame_id: str = "map") -> None:
     """Write a ROS 1 bag with one ``geometry_msgs/PoseStamped`` topic per entry of ``topics``.
 
@@ -118,7 +118,7 @@ def write_pose_bag(path: os.PathLike | str, topics: Dict[str, Tuple[np.ndarray, 
         with Writer(tmp) as writer:
             for topic, (t, poses) in topics.items():
                 conn = writer.add_connection(topic, "geometry_msgs/msg/PoseStamped", typestore=store)
-                for seq, (ti, pose) in enumerate(zip(np.asarray(t, float), np.asarray(poses, float))):
+                for seq, (ti, pose) in enumerate(zip(np.asarray(t, float), np.asarray(poses, float), strict=False)):
                     msg = _pose_stamped(types, seq, ti, pose, frame_id)
                     stamp_ns = int(round(ti * 1e9))
                     writer.write(conn, stamp_ns, store.serialize_ros1(msg, conn.msgtype))

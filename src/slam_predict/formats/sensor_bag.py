@@ -18,10 +18,16 @@ import os
 import numpy as np
 
 from slam_predict.atomic import atomic_path
+from slam_predict.formats.stage_stream import (
+    FOOTPRINT_FRAME,
+    ODOM_FRAME,
+    ODOM_TOPIC,
+    SCAN_TOPIC,
+    TRUTH_TOPIC,
+    LaserDescription,
+    StepMessages,
+)
 from slam_predict.geometry import yaw_to_quaternion
-from slam_predict.formats.stage_stream import (FOOTPRINT_FRAME, ODOM_FRAME, ODOM_TOPIC,
-                                               SCAN_TOPIC, TRUTH_TOPIC, LaserDescription,
-                                               StepMessages)
 
 TF_TYPE, TF_DEFINITION = "tf2_msgs/msg/TFMessage", "geometry_msgs/TransformStamped[] transforms"
 TOPIC_TYPES = {"/tf": TF_TYPE, ODOM_TOPIC: "nav_msgs/msg/Odometry",

@@ -15,7 +15,6 @@ return (stage_ros: the hit model's ranger_return).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -26,7 +25,7 @@ ODOM_FRAME, FOOTPRINT_FRAME, BASE_FRAME, LASER_FRAME = (
 SCAN_TOPIC, ODOM_TOPIC, TRUTH_TOPIC = "/base_scan", "/odom", "/base_pose_ground_truth"
 
 
-def ros_time(t: float) -> Tuple[int, int]:
+def ros_time(t: float) -> tuple[int, int]:
     """Seconds → (sec, nsec) of a ros::Time, rounded to the nearest nanosecond."""
     total = int(round(float(t) * 1e9))
     return total // 1_000_000_000, total % 1_000_000_000
@@ -47,8 +46,8 @@ class Transform:
 
     parent: str
     child: str
-    translation: Tuple[float, float, float]
-    rotation: Tuple[float, float, float, float]
+    translation: tuple[float, float, float]
+    rotation: tuple[float, float, float, float]
 
     @property
     def value(self) -> np.ndarray:
@@ -80,7 +79,7 @@ class LaserDescription:
     frame_id: str = LASER_FRAME
 
     @classmethod
-    def of(cls, laser_spec, laser_pose, laser_z: float = 0.0) -> "LaserDescription":
+    def of(cls, laser_spec, laser_pose, laser_z: float = 0.0) -> LaserDescription:
         """From a :class:`~slam_predict.world.model.LaserSpec` and the laser pose on the robot."""
         fov, samples = float(laser_spec.fov), int(laser_spec.samples)
         increment = fov / (samples - 1) if samples > 1 else 0.0
@@ -100,12 +99,12 @@ class StepMessages:
 
     sec: int
     nsec: int
-    transforms: List[Transform]
+    transforms: list[Transform]
     odom_pose: np.ndarray                      # (x, y, yaw) in the odom frame
-    odom_twist: Tuple[float, float, float]     # (vx, vy, ω), body frame
+    odom_twist: tuple[float, float, float]     # (vx, vy, ω), body frame
     true_pose: np.ndarray                      # (x, y, yaw) in the world frame
-    true_twist: Tuple[float, float, float]     # (vx, vy, ω), world frame
-    ranges: Optional[np.ndarray] = None        # float32 m, when a scan was taken
+    true_twist: tuple[float, float, float]     # (vx, vy, ω), world frame
+    ranges: np.ndarray | None = None        # float32 m, when a scan was taken
 
     @property
     def t(self) -> float:
@@ -123,7 +122,7 @@ class StagePublisher:
         self._prev_true = np.asarray(start_pose, dtype=float).copy()
 
     @classmethod
-    def of(cls, sim, laser_z: float = 0.0) -> "StagePublisher":
+    def of(cls, sim, laser_z: float = 0.0) -> StagePublisher:
         """For a :class:`~slam_predict.sim.Simulator` (its laser, step and start pose)."""
         return cls(LaserDescription.of(sim.laser, sim.laser_pose, laser_z), sim.dt,
                    sim.world.start_pose)
@@ -142,7 +141,7 @@ class StagePublisher:
                             None if state.scan is None else np.asarray(state.scan, np.float32))
 
 
-def scan_transforms(laser: LaserDescription, odom_pose) -> List[Transform]:
+def scan_transforms(laser: LaserDescription, odom_pose) -> list[Transform]:
     """The three tf links published with every step, for odometry pose ``odom_pose``."""
     return [planar_transform(ODOM_FRAME, FOOTPRINT_FRAME, odom_pose),
             planar_transform(FOOTPRINT_FRAME, BASE_FRAME, (0.0, 0.0, 0.0)),

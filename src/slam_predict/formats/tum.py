@@ -12,7 +12,7 @@ from __future__ import annotations
 import logging
 import os
 import warnings
-from typing import Iterable, Sequence, Tuple
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
@@ -31,7 +31,7 @@ def tum_lines(t: Sequence[float], poses: np.ndarray) -> list:
         raise ValueError(f"length mismatch: {len(t)} timestamps, {len(poses)} poses")
     quats = yaw_to_quaternion(poses[:, 2]).reshape(-1, 4)
     out = []
-    for ti, (x, y, _), q in zip(t.tolist(), poses.tolist(), quats.tolist()):
+    for ti, (x, y, _), q in zip(t.tolist(), poses.tolist(), quats.tolist(), strict=False):
         out.append(" ".join(repr(float(v)) for v in (ti, x, y, 0.0, *q)))
     return out
 
@@ -43,7 +43,7 @@ def write_tum(path: os.PathLike | str, t: Sequence[float], poses: np.ndarray,
     write_text(path, "\n".join(lines) + ("\n" if lines else ""))
 
 
-def read_tum(path: os.PathLike | str, return_z: bool = False) -> Tuple[np.ndarray, np.ndarray]:
+def read_tum(path: os.PathLike | str, return_z: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Read a TUM file → (t (N,) s, poses (N, 3) as x, y, yaw).
 
     ``return_z=True`` returns ``(t, poses, z)`` with the z column too (m), for callers that
@@ -81,7 +81,7 @@ def _fast_load(path: str):
 
 def _careful_load(path: str) -> np.ndarray:
     try:
-        with open(path, "rt", encoding="utf-8") as fh:
+        with open(path, encoding="utf-8") as fh:
             lines = fh.readlines()
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read TUM trajectory: {exc}", path)

@@ -3,10 +3,17 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Dict, Optional, Tuple
+from typing import Any, ClassVar
 
-from slam_predict.config import (AT_LEAST_ONE, FRACTION, NON_NEGATIVE, POSITIVE, PROBABILITY,
-                                 TWO_OR_MORE, Range)
+from slam_predict.config import (
+    AT_LEAST_ONE,
+    FRACTION,
+    NON_NEGATIVE,
+    POSITIVE,
+    PROBABILITY,
+    TWO_OR_MORE,
+    Range,
+)
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.estimators import THESIS_ALPHAS, THESIS_L1_RATIOS
 
@@ -20,8 +27,8 @@ class FRegressionConfig:
     n_subsets: int = 100
     subset_fraction: float = 0.8
     cv: int = 5
-    max_k: Optional[int] = None
-    RANGES: ClassVar[Dict[str, Range]] = {
+    max_k: int | None = None
+    RANGES: ClassVar[dict[str, Range]] = {
         "n_subsets": AT_LEAST_ONE, "subset_fraction": Range(0.0, 1.0, open_low=True),
         "cv": TWO_OR_MORE, "max_k": AT_LEAST_ONE}
 
@@ -30,11 +37,11 @@ class FRegressionConfig:
 class ElasticNetConfig:
     """ElasticNet grids (the thesis') and CV folds; ``scale_target`` standardises y too."""
 
-    l1_ratios: Tuple[float, ...] = THESIS_L1_RATIOS
-    alphas: Tuple[float, ...] = THESIS_ALPHAS
+    l1_ratios: tuple[float, ...] = THESIS_L1_RATIOS
+    alphas: tuple[float, ...] = THESIS_ALPHAS
     cv: int = 5
     scale_target: bool = True
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "l1_ratios": PROBABILITY, "alphas": NON_NEGATIVE, "cv": TWO_OR_MORE}
 
 
@@ -45,7 +52,7 @@ class ForestConfig:
     n_estimators: int = 100
     min_samples_leaf: int = 2
     max_features: float = 0.5
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "n_estimators": AT_LEAST_ONE, "min_samples_leaf": AT_LEAST_ONE,
         "max_features": Range(0.0, 1.0, open_low=True)}
 
@@ -58,7 +65,7 @@ class BoostingConfig:
     learning_rate: float = 0.1
     max_depth: int = 2
     subsample: float = 0.8
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "n_estimators": AT_LEAST_ONE, "learning_rate": POSITIVE, "max_depth": AT_LEAST_ONE,
         "subsample": Range(0.0, 1.0, open_low=True)}
 
@@ -72,7 +79,7 @@ class ConformalConfig:
     cv: int = 5
     calibration_fraction: float = 0.25
     conformity: str = "absolute"
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "confidence": FRACTION, "cv": TWO_OR_MORE, "calibration_fraction": FRACTION}
 
 
@@ -85,7 +92,7 @@ class EvaluationConfig:
     test_fraction: float = 0.2
     leave_one_out: bool = True
     loo_models: str = "best"  # "best": best + best single per component; "all": every kind
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "n_splits": AT_LEAST_ONE, "first_seed": NON_NEGATIVE, "test_fraction": FRACTION}
 
 
@@ -93,7 +100,7 @@ class EvaluationConfig:
 class LearningConfig:
     """Everything ``slam-predict learn`` needs; ``seed`` feeds every estimator's random_state."""
 
-    models: Tuple[str, ...] = MODEL_KINDS
+    models: tuple[str, ...] = MODEL_KINDS
     seed: int = 0
     fregression: FRegressionConfig = field(default_factory=FRegressionConfig)
     elasticnet: ElasticNetConfig = field(default_factory=ElasticNetConfig)
@@ -101,7 +108,7 @@ class LearningConfig:
     gradient_boosting: BoostingConfig = field(default_factory=BoostingConfig)
     conformal: ConformalConfig = field(default_factory=ConformalConfig)
     evaluation: EvaluationConfig = field(default_factory=EvaluationConfig)
-    RANGES: ClassVar[Dict[str, Range]] = {"seed": NON_NEGATIVE}
+    RANGES: ClassVar[dict[str, Range]] = {"seed": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         for kind in self.models:
@@ -118,7 +125,7 @@ class LearningConfig:
             raise ValueError("evaluation.test_fraction must lie in (0, 1)")
 
 
-def yaml_section(path: os.PathLike | str, section: str) -> Dict[str, Any]:
+def yaml_section(path: os.PathLike | str, section: str) -> dict[str, Any]:
     """The ``section`` mapping of a YAML config file, strictly.
 
     A file holding ``section:`` may hold nothing else at the top level (a misspelt or foreign
@@ -137,7 +144,7 @@ def load_section(cls, path: os.PathLike | str, section: str):
     return from_dict(cls, data, str(path), key_path=key_path)
 
 
-def _section_and_path(path: os.PathLike | str, section: str) -> Tuple[Dict[str, Any], str]:
+def _section_and_path(path: os.PathLike | str, section: str) -> tuple[dict[str, Any], str]:
     """The section's mapping and its key path in the file ('' when the file is the section)."""
     from slam_predict.config import check_keys, load_yaml
 

@@ -19,8 +19,12 @@ from sklearn.linear_model import LinearRegression
 from sklearn.model_selection import KFold
 from sklearn.utils.validation import check_is_fitted, validate_data
 
-from slam_predict.learn.intervals import (cv_plus_interval, residual_scale, split_interval,
-                                          upper_quantile)
+from slam_predict.learn.intervals import (
+    cv_plus_interval,
+    residual_scale,
+    split_interval,
+    upper_quantile,
+)
 
 
 class ConformalRegressor(RegressorMixin, BaseEstimator):

@@ -19,8 +19,8 @@ import json
 import logging
 import math
 import os
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Dict, List, Mapping, Optional, Sequence
 
 import numpy as np
 
@@ -47,11 +47,11 @@ class ErrorRow:
     """Measured error statistics of one building (targets in m and rad)."""
 
     world: str
-    targets: Dict[str, float]
+    targets: dict[str, float]
     runs: float = math.nan
     setting: str = ""
     slam_config_hash: str = ""
-    reference: Dict[str, float] = field(default_factory=dict)
+    reference: dict[str, float] = field(default_factory=dict)
     robot: str = ""
 
 
@@ -70,16 +70,16 @@ class Dataset:
         robot: (n,) robot configuration hashes ('' = unknown); None = all unknown.
     """
 
-    worlds: List[str]
-    feature_names: List[str]
+    worlds: list[str]
+    feature_names: list[str]
     X: np.ndarray
     Y: np.ndarray
     runs: np.ndarray
-    setting: List[str]
-    slam_config_hash: List[str]
-    feature_version: List[str]
-    reference: Dict[str, np.ndarray] = field(default_factory=dict)
-    robot: Optional[List[str]] = None
+    setting: list[str]
+    slam_config_hash: list[str]
+    feature_version: list[str]
+    reference: dict[str, np.ndarray] = field(default_factory=dict)
+    robot: list[str] | None = None
 
     def __post_init__(self) -> None:
         if self.robot is None:
@@ -92,7 +92,7 @@ class Dataset:
         """The (n,) target column of ``component``."""
         return self.Y[:, component_index(component)]
 
-    def subset(self, rows: Sequence[int]) -> "Dataset":
+    def subset(self, rows: Sequence[int]) -> Dataset:
         """The dataset restricted to ``rows`` (indices)."""
         rows = np.asarray(rows, dtype=int)
         pick = lambda values: [values[i] for i in rows]  # noqa: E731
@@ -108,7 +108,7 @@ class Dataset:
             raise InputError(f"dataset mixes several values of {attribute}: {', '.join(values)}")
         return values[0]
 
-    def feature_ranges(self) -> Dict[str, List[float]]:
+    def feature_ranges(self) -> dict[str, list[float]]:
         """Feature name → [min, max] over the buildings."""
         return {name: [float(np.nanmin(self.X[:, j])), float(np.nanmax(self.X[:, j]))]
                 for j, name in enumerate(self.feature_names)}
@@ -124,7 +124,7 @@ def component_index(component: str) -> int:
 
 # ----------------------------------------------------------------------------- reading tables
 
-def _read_csv(path: str) -> List[Dict[str, str]]:
+def _read_csv(path: str) -> list[dict[str, str]]:
     """Rows of a CSV file as dicts with stripped header names and values."""
     require_file(path, "table")
     with open(path, newline="", encoding="utf-8") as handle:
@@ -139,7 +139,7 @@ def _read_csv(path: str) -> List[Dict[str, str]]:
                 continue
             if len(values) != len(header):
                 raise InputError(f"{len(values)} fields, header has {len(header)}", path, line)
-            row = {h: v.strip() for h, v in zip(header, values)}
+            row = {h: v.strip() for h, v in zip(header, values, strict=False)}
             row["__line__"] = str(line)
             rows.append(row)
     if not rows:
@@ -161,14 +161,14 @@ def _number(row: Mapping[str, str], column: str, path: str, allow_empty: bool = 
     return value
 
 
-def _require_columns(rows: List[Dict[str, str]], needed: Sequence[str], path: str) -> None:
+def _require_columns(rows: list[dict[str, str]], needed: Sequence[str], path: str) -> None:
     have = [c for c in rows[0] if c != "__line__"]
     for column in needed:
         if column not in have:
             raise InputError(f"missing column '{column}'" + did_you_mean(column, have), path)
 
 
-def read_error_table(path: os.PathLike | str, setting: str = "") -> List[ErrorRow]:
+def read_error_table(path: os.PathLike | str, setting: str = "") -> list[ErrorRow]:
     """Per-building error statistics from a collection summary or a thesis stats table.
 
     ``setting`` fills rows whose table has no ``setting`` column (the thesis tables).
@@ -188,7 +188,7 @@ def read_error_table(path: os.PathLike | str, setting: str = "") -> List[ErrorRo
     return result
 
 
-def _thesis_rows(rows, path: str, setting: str) -> List[ErrorRow]:
+def _thesis_rows(rows, path: str, setting: str) -> list[ErrorRow]:
     _require_columns(rows, ["dataset", *THESIS_TARGETS], path)
     out = []
     for row in rows:
@@ -199,7 +199,7 @@ def _thesis_rows(rows, path: str, setting: str) -> List[ErrorRow]:
     return out
 
 
-def _summary_rows(rows, path: str, setting: str) -> List[ErrorRow]:
+def _summary_rows(rows, path: str, setting: str) -> list[ErrorRow]:
     _require_columns(rows, ["world", *COMPONENTS], path)
     hash_column = next((c for c in ("slam_config_hash", "config_hash") if c in rows[0]), None)
     out = []
@@ -214,7 +214,7 @@ def _summary_rows(rows, path: str, setting: str) -> List[ErrorRow]:
     return out
 
 
-def read_feature_table(path: os.PathLike | str) -> Dict[str, Dict[str, float]]:
+def read_feature_table(path: os.PathLike | str) -> dict[str, dict[str, float]]:
     """World → {feature: value} from a CSV with a ``world`` column and numeric features.
 
     A ``feature_version`` column, if present, is kept as the pseudo-feature of that name (str).
@@ -223,7 +223,7 @@ def read_feature_table(path: os.PathLike | str) -> Dict[str, Dict[str, float]]:
     rows = _read_csv(path)
     _require_columns(rows, ["world"], path)
     skip = {"world", "__line__", "feature_version"}
-    out: Dict[str, Dict[str, float]] = {}
+    out: dict[str, dict[str, float]] = {}
     for row in rows:
         values = {c: _number(row, c, path, allow_empty=True) for c in row if c not in skip}
         if "feature_version" in row:
@@ -321,7 +321,7 @@ def meta_path(path: os.PathLike | str) -> str:
 
 
 def write_dataset(data: Dataset, path: os.PathLike | str,
-                  meta: Optional[Mapping[str, object]] = None) -> None:
+                  meta: Mapping[str, object] | None = None) -> None:
     """Write the dataset CSV (and its JSON sidecar when ``meta`` is given) atomically."""
     if meta is not None:
         write_text(meta_path(path), json.dumps(dict(meta), indent=2, default=str) + "\n")
@@ -330,7 +330,7 @@ def write_dataset(data: Dataset, path: os.PathLike | str,
 
 def write_feature_table(features: Mapping[str, Mapping[str, float]], version: str,
                         path: os.PathLike | str,
-                        meta: Optional[Mapping[str, object]] = None) -> None:
+                        meta: Mapping[str, object] | None = None) -> None:
     """Write {world: {feature: value}} as a CSV (world, feature_version, features...)."""
     names = list(next(iter(features.values())))
     out = io.StringIO()
@@ -343,7 +343,7 @@ def write_feature_table(features: Mapping[str, Mapping[str, float]], version: st
     write_text(path, out.getvalue())
 
 
-def read_meta(path: os.PathLike | str) -> Dict[str, object]:
+def read_meta(path: os.PathLike | str) -> dict[str, object]:
     """The sidecar of a dataset CSV ({} when absent); InputError when unreadable."""
     side = meta_path(path)
     if not os.path.isfile(side):

@@ -12,7 +12,7 @@ The conformal wrapper lives in :mod:`slam_predict.learn.conformal` (re-exported 
 from __future__ import annotations
 
 import warnings
-from typing import Optional, Sequence
+from collections.abc import Sequence
 
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
@@ -35,7 +35,7 @@ class SingleFeatureLinear(RegressorMixin, BaseEstimator):
         feature_names: optional column names of X, for a named ``feature``.
     """
 
-    def __init__(self, feature=0, feature_names: Optional[Sequence[str]] = None):
+    def __init__(self, feature=0, feature_names: Sequence[str] | None = None):
         self.feature = feature
         self.feature_names = feature_names
 
@@ -155,7 +155,7 @@ class FRegressionVoting(RegressorMixin, BaseEstimator):
         random_state: seed (int) or numpy Generator for subsets and folds.
     """
 
-    def __init__(self, k: Optional[int] = None, max_k: Optional[int] = None,
+    def __init__(self, k: int | None = None, max_k: int | None = None,
                  n_subsets: int = 100, subset_fraction: float = 0.8, cv: int = 5,
                  random_state=0):
         self.k = k

@@ -15,8 +15,8 @@ from __future__ import annotations
 import logging
 import math
 from collections import defaultdict
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 from joblib import Parallel, delayed
@@ -24,14 +24,21 @@ from sklearn.base import clone
 
 from slam_predict.learn.config import LearningConfig
 from slam_predict.learn.dataset import COMPONENTS, Dataset
-from slam_predict.learn.models import (SINGLE, conformal, describe, design, is_reference,
-                                       model_ids, used_features)
+from slam_predict.learn.models import (
+    SINGLE,
+    conformal,
+    describe,
+    design,
+    is_reference,
+    model_ids,
+    used_features,
+)
 
 LOG = logging.getLogger(__name__)
 
 
 def random_splits(n: int, n_splits: int, test_fraction: float,
-                  first_seed: int = 0) -> List[Tuple[int, np.ndarray, np.ndarray]]:
+                  first_seed: int = 0) -> list[tuple[int, np.ndarray, np.ndarray]]:
     """[(seed, train rows, test rows)]: seeded permutations, test = first round(f·n) rows."""
     n_test = min(n - 2, max(2, int(round(test_fraction * n))))
     if n_test < 2:
@@ -43,7 +50,7 @@ def random_splits(n: int, n_splits: int, test_fraction: float,
     return splits
 
 
-def scores(y_true: np.ndarray, y_pred: np.ndarray) -> Dict[str, float]:
+def scores(y_true: np.ndarray, y_pred: np.ndarray) -> dict[str, float]:
     """R², RMSE and NRMSE = RMSE / (max − min of y_true)."""
     residual = y_true - y_pred
     rmse = float(np.sqrt(np.mean(residual ** 2)))
@@ -72,11 +79,11 @@ class SplitResult:
     nrmse_all: float
     pct_error: float
     info: dict = field(default_factory=dict)
-    features: List[str] = field(default_factory=list)
+    features: list[str] = field(default_factory=list)
 
 
 def _one_split(data: Dataset, config: LearningConfig, ids: Sequence[str],
-               components: Sequence[str], seed: int, train, test) -> List[SplitResult]:
+               components: Sequence[str], seed: int, train, test) -> list[SplitResult]:
     out = []
     for component in components:
         y = data.target(component)
@@ -94,8 +101,8 @@ def _one_split(data: Dataset, config: LearningConfig, ids: Sequence[str],
 
 
 def evaluate_splits(data: Dataset, config: LearningConfig,
-                    components: Sequence[str] = COMPONENTS, ids: Optional[Sequence[str]] = None,
-                    n_jobs: int = 1) -> List[SplitResult]:
+                    components: Sequence[str] = COMPONENTS, ids: Sequence[str] | None = None,
+                    n_jobs: int = 1) -> list[SplitResult]:
     """Scores of every model on every split and component."""
     ev = config.evaluation
     ids = list(ids) if ids is not None else model_ids(config, data)
@@ -107,9 +114,9 @@ def evaluate_splits(data: Dataset, config: LearningConfig,
     return [r for chunk in Parallel(n_jobs=n_jobs)(jobs) for r in chunk]
 
 
-def summarize(results: Sequence[SplitResult]) -> List[dict]:
+def summarize(results: Sequence[SplitResult]) -> list[dict]:
     """Per (model, component): mean/std of R², mean RMSE, NRMSE, percentage error, choices."""
-    groups: Dict[Tuple[str, str], List[SplitResult]] = defaultdict(list)
+    groups: dict[tuple[str, str], list[SplitResult]] = defaultdict(list)
     for r in results:
         groups[(r.model, r.component)].append(r)
     rows = []
@@ -141,7 +148,7 @@ def _choices(group: Sequence[SplitResult]) -> dict:
         if values:
             uniq, counts = np.unique(values, return_counts=True)
             out[f"{key}_mode"] = float(uniq[np.argmax(counts)])
-    counts: Dict[str, int] = defaultdict(int)
+    counts: dict[str, int] = defaultdict(int)
     for g in group:
         for name in g.features:
             counts[name] += 1
@@ -151,13 +158,13 @@ def _choices(group: Sequence[SplitResult]) -> dict:
     return out
 
 
-def best_models(summary: Sequence[dict], single_only: bool = False) -> Dict[str, str]:
+def best_models(summary: Sequence[dict], single_only: bool = False) -> dict[str, str]:
     """Component → model id with the highest mean test R² (reference models excluded).
 
     Only models with a mean test R² > 0 compete: a model no better than the training mean is
     never the best, so a component where none beats it has no entry.
     """
-    best: Dict[str, Tuple[float, str]] = {}
+    best: dict[str, tuple[float, str]] = {}
     for row in summary:
         model = row["model"]
         if is_reference(model) or (single_only and not model.startswith(SINGLE)):
@@ -170,7 +177,7 @@ def best_models(summary: Sequence[dict], single_only: bool = False) -> Dict[str,
     return {c: m for c, (_, m) in best.items()}
 
 
-def ranked(summary: Sequence[dict], component: str, prefix: str = "") -> List[dict]:
+def ranked(summary: Sequence[dict], component: str, prefix: str = "") -> list[dict]:
     """Rows of ``component`` whose model starts with ``prefix``, best mean R² first."""
     rows = [r for r in summary if r["component"] == component and r["model"].startswith(prefix)]
     return sorted(rows, key=lambda r: -_sortable(r["r2_mean"]))
@@ -190,8 +197,8 @@ def _loo_one(data: Dataset, config: LearningConfig, component: str, model_id: st
             "pct_error": float(percentage_errors(y[i:i + 1], np.array([value]))[0])}
 
 
-def leave_one_out(data: Dataset, config: LearningConfig, chosen: Dict[str, Sequence[str]],
-                  n_jobs: int = 1) -> List[dict]:
+def leave_one_out(data: Dataset, config: LearningConfig, chosen: dict[str, Sequence[str]],
+                  n_jobs: int = 1) -> list[dict]:
     """Leave-one-building-out predictions with conformal intervals for the chosen models."""
     jobs = [delayed(_loo_one)(data, config, component, model_id, i)
             for component, ids in chosen.items() for model_id in ids for i in range(len(data))]
@@ -199,9 +206,9 @@ def leave_one_out(data: Dataset, config: LearningConfig, chosen: Dict[str, Seque
     return list(Parallel(n_jobs=n_jobs)(jobs))
 
 
-def coverage(loo_rows: Sequence[dict]) -> List[dict]:
+def coverage(loo_rows: Sequence[dict]) -> list[dict]:
     """Per (component, model): interval coverage, mean width, prediction R², pct error."""
-    groups: Dict[Tuple[str, str], List[dict]] = defaultdict(list)
+    groups: dict[tuple[str, str], list[dict]] = defaultdict(list)
     for row in loo_rows:
         groups[(row["component"], row["model"])].append(row)
     out = []
@@ -218,11 +225,11 @@ def coverage(loo_rows: Sequence[dict]) -> List[dict]:
     return out
 
 
-def loo_choice(summary: Sequence[dict], config: LearningConfig) -> Dict[str, List[str]]:
+def loo_choice(summary: Sequence[dict], config: LearningConfig) -> dict[str, list[str]]:
     """Models to check with leave-one-building-out, per component."""
     best = best_models(summary)
     best_single = best_models(summary, single_only=True)
-    chosen: Dict[str, List[str]] = {}
+    chosen: dict[str, list[str]] = {}
     for component in best:
         ids = [best[component]]
         if best_single.get(component) and best_single[component] not in ids:

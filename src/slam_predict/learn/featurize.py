@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import logging
 import os
+from collections.abc import Iterable, Mapping
 from pathlib import Path
-from typing import Any, Dict, Iterable, Mapping, Optional, Tuple
+from typing import Any
 
 from slam_predict.errors import InputError
 from slam_predict.world.load import PLAN_SUFFIXES
@@ -19,7 +20,7 @@ from slam_predict.world.load import PLAN_SUFFIXES
 LOG = logging.getLogger(__name__)
 
 
-def find_plan(folder: Path, name: str) -> Optional[Path]:
+def find_plan(folder: Path, name: str) -> Path | None:
     """The plan file of building ``name`` in ``folder``, or None."""
     for candidate in (folder / f"{name}.world", folder / name / f"{name}.world"):
         if candidate.is_file():
@@ -30,7 +31,7 @@ def find_plan(folder: Path, name: str) -> Optional[Path]:
     return None
 
 
-def feature_config(overrides: Optional[Mapping[str, Any]] = None, source: str = "features"):
+def feature_config(overrides: Mapping[str, Any] | None = None, source: str = "features"):
     """A :class:`FeaturesConfig` from a plain dict (defaults for missing keys)."""
     from slam_predict.config import from_dict
     from slam_predict.features.vector import FeaturesConfig
@@ -38,7 +39,7 @@ def feature_config(overrides: Optional[Mapping[str, Any]] = None, source: str = 
     return from_dict(FeaturesConfig, dict(overrides or {}), source)
 
 
-def full_feature_config(overrides: Optional[Mapping[str, Any]] = None) -> Dict[str, Any]:
+def full_feature_config(overrides: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """The complete feature configuration (defaults + ``overrides``) as a plain dict."""
     from slam_predict.config import to_dict
 
@@ -63,7 +64,7 @@ def version_of(config_dict: Mapping[str, Any]) -> str:
     return feature_version(stored_feature_config(config_dict))
 
 
-def compute(world, config_dict: Mapping[str, Any]) -> Dict[str, float]:
+def compute(world, config_dict: Mapping[str, Any]) -> dict[str, float]:
     """The feature vector of ``world`` under the stored configuration ``config_dict``."""
     from slam_predict.features.vector import compute_features
 
@@ -71,15 +72,15 @@ def compute(world, config_dict: Mapping[str, Any]) -> Dict[str, float]:
     return {k: float(v) for k, v in values.items()}
 
 
-def _one(path: str, config_dict: Mapping[str, Any]) -> Dict[str, float]:
+def _one(path: str, config_dict: Mapping[str, Any]) -> dict[str, float]:
     from slam_predict.world.load import load_plan
 
     return compute(load_plan(path), config_dict)
 
 
 def features_from_worlds(folder: os.PathLike | str, names: Iterable[str],
-                         feature_config: Optional[Mapping[str, Any]] = None,
-                         n_jobs: int = 1) -> Tuple[Dict[str, Dict[str, float]], str]:
+                         feature_config: Mapping[str, Any] | None = None,
+                         n_jobs: int = 1) -> tuple[dict[str, dict[str, float]], str]:
     """({building: {feature: value}}, feature version) for the buildings that have a plan."""
     folder = Path(folder)
     if not folder.is_dir():
@@ -98,4 +99,4 @@ def features_from_worlds(folder: os.PathLike | str, names: Iterable[str],
 
     config = full_feature_config(feature_config)
     values = Parallel(n_jobs=n_jobs)(delayed(_one)(p, config) for p in plans.values())
-    return dict(zip(plans, values)), version_of(config)
+    return dict(zip(plans, values, strict=False)), version_of(config)

@@ -7,14 +7,14 @@ yardstick in evaluations, never shipped.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import List, Sequence
 
 import numpy as np
 from sklearn.ensemble import GradientBoostingRegressor, RandomForestRegressor
 
-from slam_predict.learn.conformal import ConformalRegressor
 from slam_predict.learn.config import LearningConfig
+from slam_predict.learn.conformal import ConformalRegressor
 from slam_predict.learn.dataset import REF_PREFIX, Dataset
 from slam_predict.learn.estimators import ElasticNetGridCV, FRegressionVoting, SingleFeatureLinear
 
@@ -22,9 +22,9 @@ SINGLE = "single:"
 REFERENCE = "reference:"
 
 
-def model_ids(config: LearningConfig, data: Dataset, with_reference: bool = True) -> List[str]:
+def model_ids(config: LearningConfig, data: Dataset, with_reference: bool = True) -> list[str]:
     """Every model identifier the configuration asks for on ``data``."""
-    ids: List[str] = []
+    ids: list[str] = []
     for kind in config.models:
         if kind == "single":
             ids += [SINGLE + name for name in data.feature_names]
@@ -46,7 +46,7 @@ class Design:
 
     estimator: object
     X: np.ndarray
-    feature_names: List[str]
+    feature_names: list[str]
 
 
 def design(model_id: str, data: Dataset, config: LearningConfig) -> Design:
@@ -95,7 +95,7 @@ def _unwrap(estimator):
     return estimator.estimator_ if isinstance(estimator, ConformalRegressor) else estimator
 
 
-def used_features(estimator, feature_names: Sequence[str]) -> List[str]:
+def used_features(estimator, feature_names: Sequence[str]) -> list[str]:
     """Names of the features a fitted estimator relies on (all, for tree ensembles)."""
     inner = _unwrap(estimator)
     support = getattr(inner, "support_", None)

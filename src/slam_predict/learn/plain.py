@@ -10,14 +10,14 @@ plain form claims is never converted.
 """
 from __future__ import annotations
 
-from typing import Any, Dict, List, Optional
+from typing import Any
 
 import numpy as np
 
 from slam_predict.learn.intervals import cv_plus_interval, split_interval
 
 
-def _linear(estimator, n_features: int) -> Optional[Dict[str, Any]]:
+def _linear(estimator, n_features: int) -> dict[str, Any] | None:
     coef = getattr(estimator, "coef_", None)
     intercept = getattr(estimator, "intercept_", None)
     if coef is None or intercept is None or np.ndim(intercept) != 0:
@@ -32,14 +32,14 @@ def _linear(estimator, n_features: int) -> Optional[Dict[str, Any]]:
     return {"kind": "linear", "coef": coef.tolist(), "intercept": float(intercept)}
 
 
-def _tree(tree) -> Dict[str, List]:
+def _tree(tree) -> dict[str, list]:
     t = tree.tree_
     return {"feature": t.feature.tolist(), "threshold": t.threshold.tolist(),
             "left": t.children_left.tolist(), "right": t.children_right.tolist(),
             "value": t.value[:, 0, 0].tolist()}
 
 
-def _ensemble(estimator) -> Optional[Dict[str, Any]]:
+def _ensemble(estimator) -> dict[str, Any] | None:
     trees = getattr(estimator, "estimators_", None)
     if trees is None:
         return None
@@ -54,7 +54,7 @@ def _ensemble(estimator) -> Optional[Dict[str, Any]]:
     return None
 
 
-def evaluate_model(form: Dict[str, Any], X: np.ndarray) -> np.ndarray:
+def evaluate_model(form: dict[str, Any], X: np.ndarray) -> np.ndarray:
     """Predictions of one plain model at rows ``X`` (n, F)."""
     if form["kind"] == "linear":
         return X @ np.asarray(form["coef"]) + form["intercept"]
@@ -78,7 +78,7 @@ def evaluate_model(form: Dict[str, Any], X: np.ndarray) -> np.ndarray:
     return form["base"] + form["scale"] * total
 
 
-def _probe(n_features: int, X_check: Optional[np.ndarray], rng: np.random.Generator):
+def _probe(n_features: int, X_check: np.ndarray | None, rng: np.random.Generator):
     """Check inputs: the given rows, jittered copies of them and random rows of many scales."""
     scales = rng.choice([1e-3, 1e-1, 1.0, 1e1, 1e3, 1e5], size=(32, n_features))
     rows = [rng.normal(size=(32, n_features)) * scales]
@@ -89,7 +89,7 @@ def _probe(n_features: int, X_check: Optional[np.ndarray], rng: np.random.Genera
 
 
 def plain_model(estimator, n_features: int, rng: np.random.Generator,
-                X_check: Optional[np.ndarray] = None) -> Optional[Dict[str, Any]]:
+                X_check: np.ndarray | None = None) -> dict[str, Any] | None:
     """The plain form of a fitted regressor, or None when it has none or does not match it on
     ``X_check`` (e.g. the training rows) and random inputs."""
     form = _linear(estimator, n_features) or _ensemble(estimator)
@@ -103,13 +103,13 @@ def plain_model(estimator, n_features: int, rng: np.random.Generator,
 
 
 def plain_form(model, n_features: int,
-               X_check: Optional[np.ndarray] = None) -> Optional[Dict[str, Any]]:
+               X_check: np.ndarray | None = None) -> dict[str, Any] | None:
     """Plain data of a fitted ConformalRegressor (point model, calibration), or None."""
     rng = np.random.default_rng(0)
     point = plain_model(model.estimator_, n_features, rng, X_check)
     if point is None:
         return None
-    form: Dict[str, Any] = {"method": model.method, "confidence": float(model.confidence),
+    form: dict[str, Any] = {"method": model.method, "confidence": float(model.confidence),
                             "conformity": model.conformity, "floor": float(model.floor_),
                             "point": point}
     if model.method == "split":
@@ -123,7 +123,7 @@ def plain_form(model, n_features: int,
     return form
 
 
-def predict_plain(form: Dict[str, Any], X: np.ndarray) -> np.ndarray:
+def predict_plain(form: dict[str, Any], X: np.ndarray) -> np.ndarray:
     """(n, 3) value, low, high of a :func:`plain_form` at rows ``X``."""
     X = np.atleast_2d(np.asarray(X, dtype=float))
     value = evaluate_model(form["point"], X)

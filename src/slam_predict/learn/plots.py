@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import os
-from typing import Dict
 
 import matplotlib
 
@@ -16,14 +15,14 @@ from slam_predict.learn.evaluate import scores  # noqa: E402
 from slam_predict.learn.tables import SYMBOLS  # noqa: E402
 
 
-def regression_figure(data: Dataset, features: Dict[str, str], path: os.PathLike | str,
+def regression_figure(data: Dataset, features: dict[str, str], path: os.PathLike | str,
                       title: str = "") -> None:
     """2×2 panels, one per component: buildings (black dots) and the OLS line on ``features[c]``.
 
     ``features`` maps component → feature name (or ``ref_*`` reference column).
     """
     fig, axes = plt.subplots(2, 2, figsize=(10, 8))
-    for ax, component in zip(axes.ravel(), COMPONENTS):
+    for ax, component in zip(axes.ravel(), COMPONENTS, strict=False):
         name = features.get(component)
         if name is None:
             ax.set_visible(False)

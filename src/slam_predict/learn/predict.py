@@ -17,15 +17,20 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Any, Dict, List, Optional, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.plain import predict_plain
-from slam_predict.learn.store import (ModelStore, default_models_dir, evaluation_r2,
-                                      resolve_store, skilful)
+from slam_predict.learn.store import (
+    ModelStore,
+    default_models_dir,
+    evaluation_r2,
+    resolve_store,
+)
 
 LOG = logging.getLogger(__name__)
 
@@ -41,8 +46,8 @@ def components_of(component: str) -> Sequence[str]:
     return (component,)
 
 
-def range_warning(features: Dict[str, float], used: Sequence[str],
-                  ranges: Dict[str, List[float]], shown: int = 6) -> Optional[str]:
+def range_warning(features: dict[str, float], used: Sequence[str],
+                  ranges: dict[str, list[float]], shown: int = 6) -> str | None:
     """One warning naming the used features outside their training range (None if none)."""
     outside = []
     for name in used:
@@ -67,14 +72,14 @@ def _evaluate(store: ModelStore, component: str, model_id: str, x: np.ndarray):
 
 
 def component_entry(value: float, low: float, high: float, unit: str,
-                    model: str) -> Dict[str, Any]:
+                    model: str) -> dict[str, Any]:
     """The reported form of one component's raw model output ``value`` and interval.
 
     ``status`` is ``ok`` (value > 0, 0 ≤ low ≤ value ≤ high, low < high) or ``below_range``
     (value ≤ 0: ``value`` and ``low`` are None, ``high`` the interval's upper bound when it is
     > 0, else None). ``raw_value``/``raw_low``/``raw_high`` keep the model's own numbers.
     """
-    entry: Dict[str, Any] = {"status": "ok", "value": value, "low": min(low, value),
+    entry: dict[str, Any] = {"status": "ok", "value": value, "low": min(low, value),
                              "high": max(high, value), "model": model, "unit": unit,
                              "raw_value": value, "raw_low": low, "raw_high": high}
     if value <= 0:
@@ -88,7 +93,7 @@ def component_entry(value: float, low: float, high: float, unit: str,
     return entry
 
 
-def no_model_entry(store: ModelStore, component: str) -> Dict[str, Any]:
+def no_model_entry(store: ModelStore, component: str) -> dict[str, Any]:
     """The reported form of a component without a model that beats the training mean."""
     comp = store.card["components"].get(component) or {}
     model_id = comp.get("best")
@@ -98,7 +103,7 @@ def no_model_entry(store: ModelStore, component: str) -> Dict[str, Any]:
             "unit": UNITS[component], "r2": min(r2) if r2 else None}
 
 
-def describe_entry(component: str, entry: Dict[str, Any]) -> Optional[str]:
+def describe_entry(component: str, entry: dict[str, Any]) -> str | None:
     """A warning for a component that has no plain value (None when it has one)."""
     unit = UNITS[component]
     if entry["status"] == "below_range":
@@ -116,8 +121,8 @@ def describe_entry(component: str, entry: Dict[str, Any]) -> Optional[str]:
     return None
 
 
-def predict_features(features: Dict[str, float], store: ModelStore,
-                     component: str = "all") -> Dict[str, Any]:
+def predict_features(features: dict[str, float], store: ModelStore,
+                     component: str = "all") -> dict[str, Any]:
     """Predictions of ``store`` for one feature vector (name → value)."""
     card = store.card
     names = list(card["features"])
@@ -125,10 +130,10 @@ def predict_features(features: Dict[str, float], store: ModelStore,
     if missing:
         raise InputError(f"feature '{missing[0]}' needed by model {store.name} was not computed")
     x = np.array([[float(features[n]) for n in names]])
-    result: Dict[str, Any] = {"model_store": store.name, "setting": card["setting"],
+    result: dict[str, Any] = {"model_store": store.name, "setting": card["setting"],
                               "confidence": card.get("confidence", 0.9)}
-    warnings_: List[str] = list(store.notes)
-    used_all: List[str] = []
+    warnings_: list[str] = list(store.notes)
+    used_all: list[str] = []
     for comp in components_of(component):
         model_id = store.offered(comp)
         if model_id is None:
@@ -148,7 +153,7 @@ def predict_features(features: Dict[str, float], store: ModelStore,
     return result
 
 
-def compute_plan_features(world, card: Dict[str, Any]) -> Dict[str, float]:
+def compute_plan_features(world, card: dict[str, Any]) -> dict[str, float]:
     """The plan's features with the card's feature configuration."""
     from slam_predict.learn.featurize import compute
 
@@ -166,8 +171,8 @@ def check_feature_version(store: ModelStore) -> None:
                          "'slam-predict learn train'", store.path / "card.json")
 
 
-def predict_plan(world, model: str = "best", setting: Optional[str] = "realistic",
-                 component: str = "all", models_dir=None) -> Dict[str, Any]:
+def predict_plan(world, model: str = "best", setting: str | None = "realistic",
+                 component: str = "all", models_dir=None) -> dict[str, Any]:
     """Predict the error components of ``world`` (a :class:`World`).
 
     Args:

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Dict, List, Sequence
 
 import numpy as np
 
@@ -20,8 +20,15 @@ from slam_predict.config import to_dict
 from slam_predict.learn import tables
 from slam_predict.learn.config import LearningConfig
 from slam_predict.learn.dataset import COMPONENTS, Dataset
-from slam_predict.learn.evaluate import (SplitResult, best_models, coverage, evaluate_splits,
-                                         leave_one_out, loo_choice, summarize)
+from slam_predict.learn.evaluate import (
+    SplitResult,
+    best_models,
+    coverage,
+    evaluate_splits,
+    leave_one_out,
+    loo_choice,
+    summarize,
+)
 from slam_predict.learn.models import SINGLE
 from slam_predict.learn.plots import regression_figure
 
@@ -30,12 +37,12 @@ from slam_predict.learn.plots import regression_figure
 class Outcome:
     """Everything the evaluation produced."""
 
-    results: List[SplitResult]
-    summary: List[dict]
-    best: Dict[str, str]
-    best_single: Dict[str, str]
-    loo: List[dict]
-    coverage: List[dict]
+    results: list[SplitResult]
+    summary: list[dict]
+    best: dict[str, str]
+    best_single: dict[str, str]
+    loo: list[dict]
+    coverage: list[dict]
 
 
 def run_evaluation(data: Dataset, config: LearningConfig,
@@ -43,7 +50,7 @@ def run_evaluation(data: Dataset, config: LearningConfig,
     """Repeated splits, then (if configured) leave-one-building-out on the chosen models."""
     results = evaluate_splits(data, config, components, n_jobs=n_jobs)
     summary = summarize(results)
-    loo_rows: List[dict] = []
+    loo_rows: list[dict] = []
     if config.evaluation.leave_one_out:
         loo_rows = leave_one_out(data, config, loo_choice(summary, config), n_jobs=n_jobs)
     return Outcome(results, summary, best_models(summary),

@@ -22,7 +22,7 @@ import os
 import platform
 import warnings
 from pathlib import Path
-from typing import Any, Dict, List, Optional
+from typing import Any
 
 from slam_predict.atomic import atomic_dir
 from slam_predict.errors import InputError, did_you_mean
@@ -42,7 +42,7 @@ def installed(package: str) -> str:
         return "?"
 
 
-def library_versions() -> Dict[str, str]:
+def library_versions() -> dict[str, str]:
     """Versions of the libraries a pickled model depends on."""
     from slam_predict import __version__
 
@@ -60,13 +60,13 @@ def sha256(path: os.PathLike | str) -> str:
     return digest.hexdigest()
 
 
-def evaluation_r2(metrics: Dict[str, Any]) -> List[float]:
+def evaluation_r2(metrics: dict[str, Any]) -> list[float]:
     """The R² scores of a card's model metrics: mean over random splits and leave-one-out."""
     values = [metrics.get("r2_mean"), (metrics.get("leave_one_out") or {}).get("r2")]
     return [float(v) for v in values if isinstance(v, (int, float))]
 
 
-def skilful(metrics: Dict[str, Any]) -> bool:
+def skilful(metrics: dict[str, Any]) -> bool:
     """True unless an evaluation R² of the model is ≤ 0 (or NaN): such a model predicts no
     better than the training buildings' mean and is not offered as best."""
     return all(r2 > 0 for r2 in evaluation_r2(metrics))
@@ -80,9 +80,9 @@ def default_models_dir() -> Path:
     return Path(__file__).resolve().parents[3] / "models"
 
 
-def save_store(path: os.PathLike | str, card: Dict[str, Any],
-               estimators: Dict[str, Dict[str, Any]],
-               plain: Optional[Dict[str, Dict[str, Any]]] = None) -> Path:
+def save_store(path: os.PathLike | str, card: dict[str, Any],
+               estimators: dict[str, dict[str, Any]],
+               plain: dict[str, dict[str, Any]] | None = None) -> Path:
     """Write a model folder atomically: per component a joblib file (and the plain forms of
     its models, if any), then the card."""
     path = Path(path)
@@ -104,7 +104,7 @@ def save_store(path: os.PathLike | str, card: Dict[str, Any],
     return path
 
 
-def read_card(path: os.PathLike | str) -> Dict[str, Any]:
+def read_card(path: os.PathLike | str) -> dict[str, Any]:
     """The validated card of a model folder."""
     folder = Path(path)
     card_path = folder / CARD
@@ -129,8 +129,8 @@ def read_card(path: os.PathLike | str) -> Dict[str, Any]:
     return card
 
 
-def check_compatible(card: Dict[str, Any], card_path: Path,
-                     feature_version: Optional[str]) -> List[str]:
+def check_compatible(card: dict[str, Any], card_path: Path,
+                     feature_version: str | None) -> list[str]:
     """Raise InputError for incompatible models; returns warnings for minor differences."""
     current = installed("scikit-learn")
     trained = str(card["versions"].get("scikit-learn", "?"))
@@ -151,13 +151,13 @@ def check_compatible(card: Dict[str, Any], card_path: Path,
 class ModelStore:
     """A loaded model folder: its card and (lazily) its fitted estimators."""
 
-    def __init__(self, path: os.PathLike | str, feature_version: Optional[str] = None):
+    def __init__(self, path: os.PathLike | str, feature_version: str | None = None):
         self.path = Path(path)
         self.card = read_card(self.path)
         self.notes = check_compatible(self.card, self.path / CARD, feature_version)
         for name in self.card["files"]:  # refuse a damaged folder whole, used file or not
             self._checked(name)
-        self._loaded: Dict[str, Dict[str, Any]] = {}
+        self._loaded: dict[str, dict[str, Any]] = {}
 
     @property
     def name(self) -> str:
@@ -167,7 +167,7 @@ class ModelStore:
         """The best model id of ``component``."""
         return str(self._component(component)["best"])
 
-    def offered(self, component: str) -> Optional[str]:
+    def offered(self, component: str) -> str | None:
         """The best model id of ``component`` when it is :func:`skilful`, else None (also
         when the card has no model of the component)."""
         comp = self.card["components"].get(component)
@@ -176,14 +176,14 @@ class ModelStore:
         best = str(comp["best"])
         return best if skilful(comp["models"][best].get("metrics") or {}) else None
 
-    def _component(self, component: str) -> Dict[str, Any]:
+    def _component(self, component: str) -> dict[str, Any]:
         comps = self.card["components"]
         if component not in comps:
             raise InputError(f"model has no component '{component}'" +
                              did_you_mean(component, comps), self.path / CARD)
         return comps[component]
 
-    def estimator(self, component: str, model_id: Optional[str] = None):
+    def estimator(self, component: str, model_id: str | None = None):
         """The fitted (conformal) estimator of ``component`` (default: its best model)."""
         model_id = model_id or self.best(component)
         models = self._load(component)
@@ -192,7 +192,7 @@ class ModelStore:
                              + did_you_mean(model_id, models), self.path)
         return models[model_id]
 
-    def plain(self, component: str, model_id: str) -> Optional[Dict[str, Any]]:
+    def plain(self, component: str, model_id: str) -> dict[str, Any] | None:
         """The plain-array form of a model (:mod:`plain`), or None when it has none."""
         entry = self._component(component)["models"].get(model_id, {})
         if not entry.get("plain"):
@@ -219,7 +219,7 @@ class ModelStore:
             raise InputError("corrupt model file (checksum differs from card.json)", file)
         return file
 
-    def _load(self, component: str) -> Dict[str, Any]:
+    def _load(self, component: str) -> dict[str, Any]:
         if component in self._loaded:
             return self._loaded[component]
         self._component(component)
@@ -238,7 +238,7 @@ class ModelStore:
         return models
 
 
-def list_stores(models_dir: os.PathLike | str) -> List[Path]:
+def list_stores(models_dir: os.PathLike | str) -> list[Path]:
     """Model folders (with a card.json) under ``models_dir``, sorted by name."""
     models_dir = Path(models_dir)
     if not models_dir.is_dir():
@@ -246,8 +246,8 @@ def list_stores(models_dir: os.PathLike | str) -> List[Path]:
     return sorted(p for p in models_dir.iterdir() if (p / CARD).is_file())
 
 
-def resolve_store(models_dir: os.PathLike | str, name: str, setting: Optional[str],
-                  feature_version: Optional[str]) -> ModelStore:
+def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
+                  feature_version: str | None) -> ModelStore:
     """The model folder ``name`` (a name under ``models_dir`` or a path), or the best one.
 
     ``best``: among the compatible stores for ``setting``, the highest ``priority`` in the
@@ -256,7 +256,7 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: Optional[st
     models_dir = Path(models_dir)
     if name != "best":
         path = Path(name) if (os.sep in name or Path(name).is_dir()) else models_dir / name
-        if not path.exists() and not (os.sep in name):
+        if not path.exists() and os.sep not in name:
             names = [p.name for p in list_stores(models_dir)]
             raise InputError(f"no model named '{name}' in {models_dir}" + did_you_mean(name, names)
                              + (f" (available: {', '.join(names)})" if names else ""))

@@ -4,7 +4,7 @@ from __future__ import annotations
 import csv
 import io
 import math
-from typing import Dict, List, Sequence
+from collections.abc import Sequence
 
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.evaluate import SplitResult, best_models, ranked
@@ -24,7 +24,7 @@ def markdown(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
 
 def csv_text(rows: Sequence[dict]) -> str:
     """CSV of dict rows (the union of their keys, in first-seen order)."""
-    keys: List[str] = []
+    keys: list[str] = []
     for row in rows:
         keys += [k for k in row if k not in keys]
     out = io.StringIO()
@@ -68,7 +68,7 @@ def model_label(model: str) -> str:
     return model
 
 
-def _score_cells(row: dict) -> List[str]:
+def _score_cells(row: dict) -> list[str]:
     c = row["component"]
     return [f"{fmt(row['r2_mean'])} ± {fmt(row['r2_std'])}", err(row["rmse_mean"], c),
             pct(row["nrmse_mean"]), pct(row["nrmse_all_mean"])]
@@ -145,7 +145,7 @@ def coverage_table(rows: Sequence[dict], confidence: float) -> str:
 def best_table(summary: Sequence[dict]) -> str:
     """The chosen model per component."""
     best = best_models(summary)
-    by_key: Dict[tuple, dict] = {(r["model"], r["component"]): r for r in summary}
+    by_key: dict[tuple, dict] = {(r["model"], r["component"]): r for r in summary}
     rows = [[SYMBOLS[c], model_label(best[c]), *_score_cells(by_key[(best[c], c)])]
             if c in best else [SYMBOLS[c], "none (no model with R² > 0)", *[""] * len(SCORES)]
             for c in COMPONENTS if c in best or any(r["component"] == c for r in summary)]

@@ -11,7 +11,7 @@ import datetime
 import logging
 import os
 from pathlib import Path
-from typing import Any, Dict, List, Optional
+from typing import Any
 
 import numpy as np
 
@@ -19,8 +19,8 @@ from slam_predict.config import to_dict
 from slam_predict.errors import InputError
 from slam_predict.learn.config import LearningConfig
 from slam_predict.learn.dataset import COMPONENTS, UNITS, Dataset
-from slam_predict.learn.plain import plain_form
 from slam_predict.learn.models import conformal, describe, design, used_features
+from slam_predict.learn.plain import plain_form
 from slam_predict.learn.results import Outcome
 from slam_predict.learn.store import save_store
 
@@ -41,10 +41,10 @@ def check_trainable(data: Dataset) -> None:
         raise InputError(f"feature '{bad[0]}' has missing values; drop it or recompute features")
 
 
-def _metrics(outcome: Outcome, component: str, model_id: str) -> Dict[str, Any]:
+def _metrics(outcome: Outcome, component: str, model_id: str) -> dict[str, Any]:
     row = next((r for r in outcome.summary
                 if r["model"] == model_id and r["component"] == component), None)
-    out: Dict[str, Any] = {}
+    out: dict[str, Any] = {}
     if row is not None:
         out.update({k: row[k] for k in ("r2_mean", "r2_std", "r2_median", "rmse_mean",
                                         "nrmse_mean", "nrmse_all_mean", "pct_error_mean",
@@ -60,7 +60,7 @@ def _metrics(outcome: Outcome, component: str, model_id: str) -> Dict[str, Any]:
 def fit_component(data: Dataset, config: LearningConfig, outcome: Outcome,
                   component: str) -> tuple:
     """Fitted conformal models of one component and their card entry."""
-    ids: List[str] = []
+    ids: list[str] = []
     for model_id in (outcome.best.get(component), outcome.best_single.get(component)):
         if model_id and model_id not in ids:
             ids.append(model_id)
@@ -83,8 +83,8 @@ def fit_component(data: Dataset, config: LearningConfig, outcome: Outcome,
 
 def train_store(data: Dataset, config: LearningConfig, outcome: Outcome, name: str,
                 out_dir: os.PathLike | str, description: str = "", priority: int = 0,
-                feature_config: Optional[Dict[str, Any]] = None,
-                sources: Optional[Dict[str, str]] = None) -> Path:
+                feature_config: dict[str, Any] | None = None,
+                sources: dict[str, str] | None = None) -> Path:
     """Fit and write ``out_dir/name``; returns the folder."""
     check_trainable(data)
     if not outcome.best:
@@ -96,7 +96,7 @@ def train_store(data: Dataset, config: LearningConfig, outcome: Outcome, name: s
             continue
         estimators[component], plain[component], components[component] = fit_component(
             data, config, outcome, component)
-    runs = {w: (None if np.isnan(r) else float(r)) for w, r in zip(data.worlds, data.runs)}
+    runs = {w: (None if np.isnan(r) else float(r)) for w, r in zip(data.worlds, data.runs, strict=False)}
     card = {
         "name": name, "description": description,
         "created": datetime.date.today().isoformat(), "priority": int(priority),

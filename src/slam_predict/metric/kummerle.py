@@ -15,16 +15,23 @@ import json
 import math
 from dataclasses import dataclass, field
 from enum import Enum
-from typing import Dict, List
 
 import numpy as np
 
 from slam_predict.metric.relations import (
-    RelationErrors, count_forward_pairs, delta_errors,
-    random_forward_pairs, relation_errors)
+    RelationErrors,
+    count_forward_pairs,
+    delta_errors,
+    random_forward_pairs,
+    relation_errors,
+)
 from slam_predict.metric.sampling import (
-    RELATION_CONFIDENCE, RELATION_MARGIN_ROT, RELATION_MARGIN_TRANS, RELATION_PILOT,
-    relation_sample_size)
+    RELATION_CONFIDENCE,
+    RELATION_MARGIN_ROT,
+    RELATION_MARGIN_TRANS,
+    RELATION_PILOT,
+    relation_sample_size,
+)
 from slam_predict.metric.stats import ErrorStatistics, StreamingStatistics
 
 
@@ -53,7 +60,7 @@ class MetricResult:
     :class:`ErrorStatistics`; ``info`` records how the pairs were chosen.
     """
 
-    stats: Dict[str, ErrorStatistics]
+    stats: dict[str, ErrorStatistics]
     info: dict = field(default_factory=dict)
 
     def get(self, kind: ErrorKind, variant: Variant = Variant.ABS) -> ErrorStatistics:
@@ -79,7 +86,7 @@ class MetricResult:
         return {"stats": {k: s.to_dict() for k, s in self.stats.items()}, "info": dict(self.info)}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "MetricResult":
+    def from_dict(cls, data: dict) -> MetricResult:
         return cls({k: ErrorStatistics.from_dict(v) for k, v in data["stats"].items()},
                    dict(data.get("info", {})))
 
@@ -111,21 +118,21 @@ class RelationMetric:
         self.ddof = ddof
         self.keep_errors = keep_errors
         self._acc = {_key(k, v): StreamingStatistics(ddof) for k, v in SERIES}
-        self._errors: List[RelationErrors] = []
+        self._errors: list[RelationErrors] = []
 
     def process_data(self, est_poses: np.ndarray, ref_poses: np.ndarray,
-                     pairs: np.ndarray) -> "RelationMetric":
+                     pairs: np.ndarray) -> RelationMetric:
         """Add the relations ``pairs`` (i < j rows) of two index-aligned trajectories (N, 3)."""
         pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
         if np.any(pairs[:, 0] >= pairs[:, 1]):
             raise ValueError("relations must go forward in time (i < j)")
         return self.process_errors(relation_errors(est_poses, ref_poses, pairs))
 
-    def process_deltas(self, est_deltas: np.ndarray, ref_deltas: np.ndarray) -> "RelationMetric":
+    def process_deltas(self, est_deltas: np.ndarray, ref_deltas: np.ndarray) -> RelationMetric:
         """Add relations given directly as displacements δ (estimate) and δ* (reference)."""
         return self.process_errors(delta_errors(est_deltas, ref_deltas))
 
-    def process_errors(self, errors: RelationErrors) -> "RelationMetric":
+    def process_errors(self, errors: RelationErrors) -> RelationMetric:
         self._acc["trans_abs"].update(errors.trans)
         self._acc["trans_sqr"].update(errors.trans ** 2)
         self._acc["rot_abs"].update(errors.rot)
@@ -187,7 +194,7 @@ def evaluate_all_pairs(est_poses, ref_poses, ddof: int = 1) -> MetricResult:
         raise ValueError(f"trajectories differ in length: {len(est)} vs {len(ref)}")
     moments = all_pairs_moments(est, ref)
     stats = {}
-    for key, row in zip(KERNEL_SERIES, moments):
+    for key, row in zip(KERNEL_SERIES, moments, strict=False):
         acc = StreamingStatistics(ddof)
         acc.merge(int(row[0]), *map(float, row[1:]))
         stats[key] = acc.result()

@@ -26,10 +26,17 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Dict, Optional, Tuple
+from typing import Any, ClassVar
 
-from slam_predict.config import (AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range, check_keys, from_dict,
-                                 load_yaml)
+from slam_predict.config import (
+    AT_LEAST_ONE,
+    NON_NEGATIVE,
+    POSITIVE,
+    Range,
+    check_keys,
+    from_dict,
+    load_yaml,
+)
 from slam_predict.errors import InputError
 
 GLOBAL_PLANNERS = ("navfn/NavfnROS", "global_planner/GlobalPlanner")
@@ -58,7 +65,7 @@ class CostmapConfig:
     rolling_window: bool = False
     static_map: bool = True
     track_unknown_space: bool = False
-    footprint: Tuple[Tuple[float, float], ...] = ()
+    footprint: tuple[tuple[float, float], ...] = ()
     robot_radius: float = 0.46
     footprint_padding: float = 0.01
     footprint_clearing_enabled: bool = True
@@ -77,7 +84,7 @@ class CostmapConfig:
     inflation_radius: float = 0.55
     cost_scaling_factor: float = 10.0
     inflate_unknown: bool = False
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "update_frequency": NON_NEGATIVE, "publish_frequency": NON_NEGATIVE,
         "transform_tolerance": NON_NEGATIVE, "width": NON_NEGATIVE, "height": NON_NEGATIVE,
         "resolution": POSITIVE, "robot_radius": NON_NEGATIVE,
@@ -107,7 +114,7 @@ class NavfnConfig:
     planner_window_x: float = 0.0
     planner_window_y: float = 0.0
     visualize_potential: bool = False
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "default_tolerance": NON_NEGATIVE, "planner_window_x": NON_NEGATIVE,
         "planner_window_y": NON_NEGATIVE}
 
@@ -128,7 +135,7 @@ class GlobalPlannerConfig:
     cost_factor: float = 3.0
     outline_map: bool = True
     visualize_potential: bool = False
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "default_tolerance": NON_NEGATIVE, "lethal_cost": Range(1.0, 255.0),
         "neutral_cost": Range(0.0, 253.0), "cost_factor": NON_NEGATIVE}
 
@@ -184,7 +191,7 @@ class TrajectoryPlannerConfig:
     reverse_when_blocked: bool = False
     escape_footprint_margin: float = 0.0
     holonomic_robot: bool = False
-    y_vels: Tuple[float, ...] = (-0.3, -0.1, 0.1, 0.3)
+    y_vels: tuple[float, ...] = (-0.3, -0.1, 0.1, 0.3)
     dwa: bool = False
     heading_scoring: bool = False
     heading_scoring_timestep: float = 0.8
@@ -197,7 +204,7 @@ class TrajectoryPlannerConfig:
     prune_plan: bool = True
     trans_stopped_velocity: float = 0.01
     rot_stopped_velocity: float = 0.01
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "acc_lim_x": NON_NEGATIVE, "acc_lim_y": NON_NEGATIVE, "acc_lim_theta": NON_NEGATIVE,
         "max_vel_x": NON_NEGATIVE, "min_vel_x": NON_NEGATIVE,
         "min_in_place_vel_theta": NON_NEGATIVE, "sim_time": POSITIVE, "sim_granularity": POSITIVE,
@@ -231,10 +238,10 @@ class RecoveryBehaviorConfig:
     name: str = "conservative_reset"
     type: str = "clear_costmap_recovery/ClearCostmapRecovery"
     reset_distance: float = 3.0
-    layer_names: Tuple[str, ...] = ("obstacles",)
+    layer_names: tuple[str, ...] = ("obstacles",)
     affected_maps: str = "both"
     invert_area_to_clear: bool = False
-    RANGES: ClassVar[Dict[str, Range]] = {"reset_distance": NON_NEGATIVE}
+    RANGES: ClassVar[dict[str, Range]] = {"reset_distance": NON_NEGATIVE}
 
     def __post_init__(self) -> None:
         if self.type not in RECOVERY_TYPES:
@@ -244,7 +251,7 @@ class RecoveryBehaviorConfig:
             raise ValueError("affected_maps must be local, global or both")
 
 
-def _default_recoveries() -> Tuple[RecoveryBehaviorConfig, ...]:
+def _default_recoveries() -> tuple[RecoveryBehaviorConfig, ...]:
     clear = "clear_costmap_recovery/ClearCostmapRecovery"
     rotate = "rotate_recovery/RotateRecovery"
     return (RecoveryBehaviorConfig("conservative_reset", clear, 3.0),
@@ -276,14 +283,14 @@ class MoveBaseConfig:
     recovery_behavior_enabled: bool = True
     shutdown_costmaps: bool = False
     smooth_cmd_vel: bool = True
-    recovery_behaviors: Tuple[RecoveryBehaviorConfig, ...] = field(
+    recovery_behaviors: tuple[RecoveryBehaviorConfig, ...] = field(
         default_factory=_default_recoveries)
     global_costmap: CostmapConfig = field(default_factory=CostmapConfig)
     local_costmap: CostmapConfig = field(default_factory=_local_defaults)
     NavfnROS: NavfnConfig = field(default_factory=NavfnConfig)
     GlobalPlanner: GlobalPlannerConfig = field(default_factory=GlobalPlannerConfig)
     TrajectoryPlannerROS: TrajectoryPlannerConfig = field(default_factory=TrajectoryPlannerConfig)
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "controller_frequency": POSITIVE, "planner_frequency": NON_NEGATIVE,
         "controller_patience": NON_NEGATIVE, "planner_patience": NON_NEGATIVE,
         "max_planning_retries": Range(-1.0), "oscillation_timeout": NON_NEGATIVE,
@@ -310,7 +317,7 @@ NAV_FILES = ("move_base.yaml", "costmap_common.yaml", "global_costmap.yaml",
              "local_costmap.yaml", "base_local_planner.yaml")
 
 
-def merge_nav_files(config_dir: os.PathLike | str) -> Dict[str, Any]:
+def merge_nav_files(config_dir: os.PathLike | str) -> dict[str, Any]:
     """The /move_base parameter tree built from the five YAML files in ``config_dir``.
 
     Missing files are skipped (ROS defaults apply); costmap_common.yaml is loaded into both
@@ -318,7 +325,7 @@ def merge_nav_files(config_dir: os.PathLike | str) -> Dict[str, Any]:
     """
     config_dir = os.fspath(config_dir)
 
-    def read(name: str, cls: type = MoveBaseConfig, section: str = "") -> Dict[str, Any]:
+    def read(name: str, cls: type = MoveBaseConfig, section: str = "") -> dict[str, Any]:
         """The file's mapping (its ``section`` when given), checked alone so that an unknown
         key or a bad value is reported in the file that holds it."""
         path = os.path.join(config_dir, name)
@@ -329,7 +336,7 @@ def merge_nav_files(config_dir: os.PathLike | str) -> Dict[str, Any]:
         from_dict(cls, data, path, section)
         return data
 
-    tree: Dict[str, Any] = dict(read("move_base.yaml"))
+    tree: dict[str, Any] = dict(read("move_base.yaml"))
     common = read("costmap_common.yaml", CostmapConfig)
     for name in ("global_costmap", "local_costmap"):
         own = read(f"{name}.yaml", CostmapConfig, name)
@@ -341,7 +348,7 @@ def merge_nav_files(config_dir: os.PathLike | str) -> Dict[str, Any]:
 
 
 def load_nav_config(config_dir: os.PathLike | str,
-                    overrides: Optional[Dict[str, Any]] = None) -> MoveBaseConfig:
+                    overrides: dict[str, Any] | None = None) -> MoveBaseConfig:
     """A :class:`MoveBaseConfig` from the move_base YAML files in ``config_dir``.
 
     ``overrides`` (a partial tree) is merged last, one level deep per section.

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Optional, Tuple
 
 import numpy as np
 
@@ -29,7 +28,7 @@ INSCRIBED = kernels.INSCRIBED
 LETHAL = kernels.LETHAL
 NO_INFORMATION = kernels.NO_INFORMATION
 
-Bounds = Tuple[int, int, int, int]  # (min_i, min_j, max_i, max_j), max exclusive, in cells
+Bounds = tuple[int, int, int, int]  # (min_i, min_j, max_i, max_j), max exclusive, in cells
 
 
 @dataclass
@@ -38,7 +37,7 @@ class Costmap:
     lower-left corner (m), ``resolution`` m/cell."""
 
     costs: np.ndarray
-    origin: Tuple[float, float]
+    origin: tuple[float, float]
     resolution: float
 
     @property
@@ -51,7 +50,7 @@ class Costmap:
         """Cells along y."""
         return int(self.costs.shape[0])
 
-    def world_to_map(self, x: float, y: float) -> Optional[Tuple[int, int]]:
+    def world_to_map(self, x: float, y: float) -> tuple[int, int] | None:
         """Cell (mx, my) holding world point (x, y), or None outside (Costmap2D::worldToMap)."""
         ox, oy = self.origin
         if x < ox or y < oy:
@@ -62,12 +61,12 @@ class Costmap:
             return mx, my
         return None
 
-    def map_to_world(self, mx, my) -> Tuple[np.ndarray, np.ndarray]:
+    def map_to_world(self, mx, my) -> tuple[np.ndarray, np.ndarray]:
         """World coordinates (m) of cell centres."""
         return (self.origin[0] + (np.asarray(mx) + 0.5) * self.resolution,
                 self.origin[1] + (np.asarray(my) + 0.5) * self.resolution)
 
-    def copy(self) -> "Costmap":
+    def copy(self) -> Costmap:
         """An independent copy."""
         return Costmap(self.costs.copy(), self.origin, self.resolution)
 
@@ -88,7 +87,7 @@ def make_footprint(cfg: CostmapConfig) -> np.ndarray:
     return points + np.sign(points) * pad
 
 
-def footprint_radii(footprint: np.ndarray) -> Tuple[float, float]:
+def footprint_radii(footprint: np.ndarray) -> tuple[float, float]:
     """(inscribed, circumscribed) radius of a polygon about the robot centre, m."""
     k = len(footprint)
     circumscribed = float(np.max(np.hypot(footprint[:, 0], footprint[:, 1])))
@@ -217,7 +216,7 @@ class InflationLayer:
         factor = math.exp(-self.weight * (distance * self.resolution - self.inscribed_radius))
         return int((INSCRIBED - 1) * factor)
 
-    def apply(self, master: np.ndarray, bounds: Optional[Bounds] = None) -> None:
+    def apply(self, master: np.ndarray, bounds: Bounds | None = None) -> None:
         """Inflate ``master`` (uint8 [ny, nx]) in place within ``bounds`` (default: all)."""
         if self.cell_radius == 0:
             return
@@ -247,7 +246,7 @@ def _pool(size: int):
     return tuple(np.empty(max(int(size), 16), np.int32) for _ in range(3))
 
 
-def union_bounds(a: Optional[Bounds], b: Optional[Bounds]) -> Optional[Bounds]:
+def union_bounds(a: Bounds | None, b: Bounds | None) -> Bounds | None:
     """Smallest box holding both (None = empty)."""
     if a is None:
         return b
@@ -256,7 +255,7 @@ def union_bounds(a: Optional[Bounds], b: Optional[Bounds]) -> Optional[Bounds]:
     return (min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3]))
 
 
-def grow_bounds(b: Optional[Bounds], cells: int, size_x: int, size_y: int) -> Optional[Bounds]:
+def grow_bounds(b: Bounds | None, cells: int, size_x: int, size_y: int) -> Bounds | None:
     """``b`` grown by ``cells`` on every side, clipped to the grid."""
     if b is None:
         return None

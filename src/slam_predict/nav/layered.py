@@ -17,15 +17,24 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Optional, Tuple
 
 import numpy as np
 
 from slam_predict.nav import kernels
 from slam_predict.nav.config import CostmapConfig
-from slam_predict.nav.costmap import (FREE, LETHAL, NO_INFORMATION, Bounds, Costmap,
-                                      InflationLayer, footprint_cells, footprint_radii,
-                                      grow_bounds, make_footprint, static_costs, union_bounds)
+from slam_predict.nav.costmap import (
+    FREE,
+    NO_INFORMATION,
+    Bounds,
+    Costmap,
+    InflationLayer,
+    footprint_cells,
+    footprint_radii,
+    grow_bounds,
+    make_footprint,
+    static_costs,
+    union_bounds,
+)
 
 LOG = logging.getLogger(__name__)
 
@@ -48,10 +57,10 @@ class LayeredCostmap:
         self.has_obstacles = bool(cfg.observation_sources.strip())
         self.uses_static = bool(cfg.static_map)
         self._map_source = None  # latest grid (for rolling windows with a static layer)
-        self._static: Optional[np.ndarray] = None
-        self._obstacles: Optional[np.ndarray] = None
-        self._scan: Optional[Tuple[np.ndarray, np.ndarray]] = None
-        self._dirty: Optional[Bounds] = None
+        self._static: np.ndarray | None = None
+        self._obstacles: np.ndarray | None = None
+        self._scan: tuple[np.ndarray, np.ndarray] | None = None
+        self._dirty: Bounds | None = None
         self._next_update = -math.inf
         self.updates = 0
         if cfg.rolling_window or not cfg.static_map:
@@ -62,7 +71,7 @@ class LayeredCostmap:
             self._resize(1, 1, cfg.resolution, (cfg.origin_x, cfg.origin_y))
 
     # ---------------------------------------------------------------------------- geometry
-    def _resize(self, nx: int, ny: int, resolution: float, origin: Tuple[float, float]) -> None:
+    def _resize(self, nx: int, ny: int, resolution: float, origin: tuple[float, float]) -> None:
         self.costmap = Costmap(np.full((ny, nx), self.default_value, np.uint8),
                                (float(origin[0]), float(origin[1])), float(resolution))
         self.inflation = InflationLayer(self.cfg.inflation_radius, self.cfg.cost_scaling_factor,
@@ -156,7 +165,7 @@ class LayeredCostmap:
             window[take] = obs[take]
         self.inflation.apply(cm.costs, box)
 
-    def _static_window(self, box: Bounds) -> Optional[np.ndarray]:
+    def _static_window(self, box: Bounds) -> np.ndarray | None:
         i0, j0, i1, j1 = box
         if not self.uses_static:
             return None

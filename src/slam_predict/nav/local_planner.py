@@ -11,7 +11,6 @@ reached when position and yaw are within tolerance and the robot has stopped.
 from __future__ import annotations
 
 import math
-from typing import Optional, Tuple
 
 import numpy as np
 
@@ -20,7 +19,7 @@ from slam_predict.nav.config import TrajectoryPlannerConfig
 from slam_predict.nav.costmap import Costmap
 from slam_predict.nav.trajectory_planner import TrajectoryPlanner
 
-Velocity = Tuple[float, float]
+Velocity = tuple[float, float]
 
 
 class LocalPlanner:
@@ -69,7 +68,7 @@ class LocalPlanner:
 
     # ---------------------------------------------------------------------------- control
     def compute_velocity_commands(self, costmap: Costmap, pose, vel: Velocity,
-                                  map_to_local) -> Optional[Velocity]:
+                                  map_to_local) -> Velocity | None:
         """The command (v m/s, ω rad/s), or None when no valid control exists."""
         self.local_plan = np.empty((0, 3))
         plan = self._transformed(costmap, pose, map_to_local)
@@ -98,7 +97,7 @@ class LocalPlanner:
         self.local_plan = best.points
         return (best.xv, best.thetav)
 
-    def _stop_with_acc_limits(self, costmap, pose, vel) -> Optional[Velocity]:
+    def _stop_with_acc_limits(self, costmap, pose, vel) -> Velocity | None:
         c = self.cfg
         vx = math.copysign(max(0.0, abs(vel[0]) - c.acc_lim_x * self.sim_period), vel[0])
         vth = math.copysign(max(0.0, abs(vel[1]) - c.acc_lim_theta * self.sim_period), vel[1])
@@ -106,7 +105,7 @@ class LocalPlanner:
             return (vx, vth)
         return None
 
-    def _rotate_to_goal(self, costmap, pose, vel, goal_th: float) -> Optional[Velocity]:
+    def _rotate_to_goal(self, costmap, pose, vel, goal_th: float) -> Velocity | None:
         c = self.cfg
         diff = wrap_angle(goal_th - pose[2])
         if diff > 0:

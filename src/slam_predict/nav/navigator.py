@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import Enum, IntEnum
-from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -81,14 +81,14 @@ class GoalRecord:
     """One goal's life: target (x, y, yaw) in map, times (s), outcome, planning figures."""
 
     id: int
-    target: Tuple[float, float, float]
+    target: tuple[float, float, float]
     t_sent: float
     status: GoalStatus = GoalStatus.ACTIVE
     text: str = ""
-    t_end: Optional[float] = None
-    plan_length: Optional[float] = None
+    t_end: float | None = None
+    plan_length: float | None = None
     plans: int = 0
-    recoveries: List[str] = field(default_factory=list)
+    recoveries: list[str] = field(default_factory=list)
 
     @property
     def done(self) -> bool:
@@ -108,11 +108,11 @@ class Navigator:
         footprint = self.local_costmap.footprint
         self.controller = LocalPlanner(tp, footprint, cfg.sim_period, cfg.local_costmap.resolution)
         self.rotator = recovery.RotateRecovery(tp, footprint)
-        self.goal: Optional[GoalRecord] = None
-        self.history: List[GoalRecord] = []
-        self.plan: Optional[Plan] = None
-        self.last_cmd: Tuple[float, float] = (0.0, 0.0)
-        self._last_cmd_t: Optional[float] = None
+        self.goal: GoalRecord | None = None
+        self.history: list[GoalRecord] = []
+        self.plan: Plan | None = None
+        self.last_cmd: tuple[float, float] = (0.0, 0.0)
+        self._last_cmd_t: float | None = None
         self._next_id = 1
         self._reset_state()
 
@@ -174,14 +174,14 @@ class Navigator:
         self.recovery_index = 0
         self.recovery_trigger = Trigger.PLANNING
         self.run_planner = False
-        self.new_plan: Optional[Plan] = None
+        self.new_plan: Plan | None = None
         self.rotating = False
         self.planning_retries = 0
         self._next_plan_t = -math.inf
         self.oscillation_pose = None
 
     # ------------------------------------------------------------------------------- cycle
-    def step(self, t: float, odom_pose, map_T_odom, velocity) -> Tuple[float, float]:
+    def step(self, t: float, odom_pose, map_T_odom, velocity) -> tuple[float, float]:
         """One controller cycle at sim time ``t``; returns the published (v, ω)."""
         odom_pose = np.asarray(odom_pose, dtype=float)
         map_T_odom = np.asarray(map_T_odom, dtype=float)
@@ -230,7 +230,7 @@ class Navigator:
             self.run_planner = False
             self.recovery_trigger = Trigger.PLANNING
 
-    def _execute_cycle(self, t, odom_pose, pose_map, map_T_odom, vel) -> Tuple[float, float]:
+    def _execute_cycle(self, t, odom_pose, pose_map, map_T_odom, vel) -> tuple[float, float]:
         cfg = self.cfg
         if self.oscillation_pose is None or math.hypot(
                 pose_map[0] - self.oscillation_pose[0],
@@ -251,7 +251,7 @@ class Navigator:
             return self._control(t, odom_pose, pose_map, map_T_odom, vel)
         return self._clear(t, odom_pose, pose_map)
 
-    def _control(self, t, odom_pose, pose_map, map_T_odom, vel) -> Tuple[float, float]:
+    def _control(self, t, odom_pose, pose_map, map_T_odom, vel) -> tuple[float, float]:
         cfg = self.cfg
         if self.controller.is_goal_reached(pose_map, vel):
             self._finish(GoalStatus.SUCCEEDED, TEXT_REACHED, t)
@@ -276,7 +276,7 @@ class Navigator:
             self.run_planner = True
         return (0.0, 0.0)
 
-    def _clear(self, t, odom_pose, pose_map) -> Tuple[float, float]:
+    def _clear(self, t, odom_pose, pose_map) -> tuple[float, float]:
         behaviors = self._recoveries()
         if self.cfg.recovery_behavior_enabled and self.recovery_index < len(behaviors):
             behavior = behaviors[self.recovery_index]
@@ -307,7 +307,7 @@ class Navigator:
         self.state = State.PLANNING
         self.recovery_index += 1
 
-    def _rotate_cycle(self, t: float, odom_pose) -> Tuple[float, float]:
+    def _rotate_cycle(self, t: float, odom_pose) -> tuple[float, float]:
         done, w = self.rotator.step(self.local_costmap.costmap, odom_pose)
         if done:
             self.rotating = False
@@ -316,7 +316,7 @@ class Navigator:
         return (0.0, w)
 
     # ----------------------------------------------------------------------------- output
-    def _publish(self, t: float, cmd: Tuple[float, float]) -> Tuple[float, float]:
+    def _publish(self, t: float, cmd: tuple[float, float]) -> tuple[float, float]:
         """Clamp to the velocity limits and, with ``smooth_cmd_vel``, to the previous command ±
         acc_lim·Δt (the acceleration the rollouts assume)."""
         tp = self.cfg.TrajectoryPlannerROS
@@ -332,7 +332,7 @@ class Navigator:
         return self.last_cmd
 
     # ---------------------------------------------------------------------------- services
-    def make_plan(self, start, goal, tolerance: Optional[float] = None) -> Optional[Plan]:
+    def make_plan(self, start, goal, tolerance: float | None = None) -> Plan | None:
         """The ~make_plan service: a plan on the current global costmap (map frame)."""
         return self.planner.make_plan(self.global_costmap.costmap, start, goal, tolerance)
 

@@ -28,15 +28,21 @@ today are unchanged.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Optional, Sequence
 
 import numpy as np
 
 from slam_predict.nav import kernels
 from slam_predict.nav.config import MoveBaseConfig
-from slam_predict.nav.costmap import (INSCRIBED, LETHAL, NO_INFORMATION, Costmap, footprint_radii,
-                                      make_footprint)
+from slam_predict.nav.costmap import (
+    INSCRIBED,
+    LETHAL,
+    NO_INFORMATION,
+    Costmap,
+    footprint_radii,
+    make_footprint,
+)
 
 
 @dataclass
@@ -87,7 +93,7 @@ class GlobalPlanner:
     """make_plan over a global costmap with the parameters of ``cfg.base_global_planner``."""
 
     def __init__(self, cfg: MoveBaseConfig, search_margin: float = 2.0,
-                 escape_radius: Optional[float] = None):
+                 escape_radius: float | None = None):
         self.kind = cfg.base_global_planner
         self.navfn = cfg.NavfnROS
         self.gp = cfg.GlobalPlanner
@@ -111,7 +117,7 @@ class GlobalPlanner:
                                          gp.cost_factor, gp.outline_map)
 
     def make_plan(self, costmap: Costmap, start: Sequence[float], goal: Sequence[float],
-                  tolerance: Optional[float] = None) -> Optional[Plan]:
+                  tolerance: float | None = None) -> Plan | None:
         """Plan from ``start`` (x, y[, yaw]) to ``goal`` (x, y, yaw) in the costmap frame.
 
         Returns None when start or goal is off the map or nothing within the tolerance is
@@ -141,7 +147,7 @@ class GlobalPlanner:
         return self._to_plan(costmap, path, float(cost), goal, g)
 
     def _escape_costs(self, sub: np.ndarray, cell_cost: np.ndarray, sx: int, sy: int,
-                      resolution: float) -> Optional[np.ndarray]:
+                      resolution: float) -> np.ndarray | None:
         """``cell_cost`` with the INSCRIBED cells within ``escape_radius`` m of the start cell
         (outer ring excluded) usable at the highest traversable cost; None if none is."""
         r = int(math.ceil(self.escape_radius / resolution - 1e-9))

@@ -3,7 +3,6 @@ in-place turn lasting several control cycles)."""
 from __future__ import annotations
 
 import math
-from typing import Optional, Tuple
 
 from slam_predict.geometry import wrap_angle
 from slam_predict.nav.config import RecoveryBehaviorConfig, TrajectoryPlannerConfig
@@ -39,7 +38,7 @@ class RotateRecovery:
     def __init__(self, cfg: TrajectoryPlannerConfig, footprint):
         self.cfg = cfg
         self.footprint = footprint
-        self.start_yaw: Optional[float] = None
+        self.start_yaw: float | None = None
         self.got_180 = False
 
     def start(self, yaw: float) -> None:
@@ -47,7 +46,7 @@ class RotateRecovery:
         self.start_yaw = float(yaw)
         self.got_180 = False
 
-    def step(self, costmap: Costmap, pose) -> Tuple[bool, float]:
+    def step(self, costmap: Costmap, pose) -> tuple[bool, float]:
         """(finished, ω command rad/s) for the robot at ``pose`` in the costmap's frame."""
         if self.start_yaw is None:
             return True, 0.0

@@ -16,7 +16,6 @@ import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, List, Optional
 
 from slam_predict.collect.summary import COLUMNS, KEY_COLUMNS, building_row
 from slam_predict.errors import InputError
@@ -39,7 +38,7 @@ class Run:
     world: str
     run_id: str
     folder: Path
-    record: Dict
+    record: dict
 
     def has(self, name: str) -> bool:
         return (self.folder / name).is_file()
@@ -67,9 +66,9 @@ class WorldRuns:
     """The runs of one world, its summary row and the problems found while reading it."""
 
     name: str
-    runs: List[Run] = field(default_factory=list)
-    row: Optional[Dict[str, float]] = None
-    notes: List[str] = field(default_factory=list)
+    runs: list[Run] = field(default_factory=list)
+    row: dict[str, float] | None = None
+    notes: list[str] = field(default_factory=list)
 
 
 @dataclass
@@ -77,15 +76,15 @@ class Campaign:
     """A campaign folder: worlds by name, summary.csv rows, campaign-level notes."""
 
     root: Path
-    worlds: Dict[str, WorldRuns]
-    csv_rows: Dict[str, Dict[str, str]]
-    notes: List[str] = field(default_factory=list)
+    worlds: dict[str, WorldRuns]
+    csv_rows: dict[str, dict[str, str]]
+    notes: list[str] = field(default_factory=list)
 
     @property
-    def runs(self) -> List[Run]:
+    def runs(self) -> list[Run]:
         return [run for world in self.worlds.values() for run in world.runs]
 
-    def summary_rows(self) -> List[Dict]:
+    def summary_rows(self) -> list[dict]:
         """Per-building rows: recomputed ones, or the CSV's for worlds without run records."""
         rows = []
         for name in sorted(set(self.worlds) | set(self.csv_rows)):
@@ -105,7 +104,7 @@ def load_campaign(path) -> Campaign:
     if not root.is_dir():
         raise InputError("not a folder (expected a campaign written by 'slam-predict collect')",
                          root)
-    notes: List[str] = []
+    notes: list[str] = []
     csv_rows = read_summary_csv(root / "summary.csv", notes)
     worlds = {}
     for folder in sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")):
@@ -153,7 +152,7 @@ def read_world(folder: Path) -> WorldRuns:
     return world
 
 
-def missing_fields(record: Dict) -> List[str]:
+def missing_fields(record: dict) -> list[str]:
     """Dotted names of the summary fields a run.json lacks (or holds as non-numbers)."""
     lacking = []
     for keys, nullable in SUMMARY_FIELDS:
@@ -167,7 +166,7 @@ def missing_fields(record: Dict) -> List[str]:
     return lacking
 
 
-def summary_ready(record: Dict) -> Dict:
+def summary_ready(record: dict) -> dict:
     """The record with nullable summary fields (coverage, sim time) turned from null to NaN."""
     out = dict(record)
     for keys, nullable in SUMMARY_FIELDS:
@@ -176,7 +175,7 @@ def summary_ready(record: Dict) -> Dict:
     return out
 
 
-def read_summary_csv(path: Path, notes: List[str]) -> Dict[str, Dict[str, str]]:
+def read_summary_csv(path: Path, notes: list[str]) -> dict[str, dict[str, str]]:
     """summary.csv rows by world ({} with a note when the file is absent or unreadable)."""
     if not path.is_file():
         notes.append("summary.csv is missing; the per-building table is computed from the "
@@ -220,7 +219,7 @@ def compare_with_csv(campaign: Campaign) -> None:
                               "uses the run records (re-run 'slam-predict collect' to refresh it)")
 
 
-def _close(text: Optional[str], value: float) -> bool:
+def _close(text: str | None, value: float) -> bool:
     try:
         csv_value = float(text)
     except (TypeError, ValueError):
@@ -230,9 +229,9 @@ def _close(text: Optional[str], value: float) -> bool:
     return math.isclose(csv_value, value, rel_tol=CSV_TOLERANCE, abs_tol=1e-12)
 
 
-def _csv_numbers(row: Dict[str, str]) -> Dict:
+def _csv_numbers(row: dict[str, str]) -> dict:
     """A summary.csv row with its numeric columns as floats (NaN when empty or bad)."""
-    out: Dict = {key: row.get(key, "") for key in KEY_COLUMNS}
+    out: dict = {key: row.get(key, "") for key in KEY_COLUMNS}
     for column in (c for c in COLUMNS if c not in KEY_COLUMNS):
         try:
             out[column] = float(row.get(column, ""))

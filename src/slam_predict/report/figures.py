@@ -10,7 +10,7 @@ y ∈ [(H−r−1)·res, (H−r)·res] (m).
 from __future__ import annotations
 
 import io
-from typing import Dict, List, Sequence, Tuple
+from collections.abc import Sequence
 
 import matplotlib
 
@@ -31,13 +31,13 @@ def to_origin_frame(points_map: np.ndarray, origin: Sequence[float]) -> np.ndarr
     return ominus(np.asarray(points_map, float), np.asarray(origin, float))
 
 
-def image_extent(shape: Tuple[int, int], resolution: float) -> Tuple[float, float, float, float]:
+def image_extent(shape: tuple[int, int], resolution: float) -> tuple[float, float, float, float]:
     """(left, right, bottom, top) of the image in the origin frame (m), for imshow."""
     rows, cols = shape
     return 0.0, cols * resolution, 0.0, rows * resolution
 
 
-def known_box(image: np.ndarray, resolution: float) -> Tuple[float, float, float, float]:
+def known_box(image: np.ndarray, resolution: float) -> tuple[float, float, float, float]:
     """(x0, x1, y0, y1) in the origin frame (m) of the known (free or occupied) pixels."""
     known = (image >= FREE) | (image <= OCCUPIED)
     if not known.any():
@@ -57,7 +57,7 @@ def view_box(image: np.ndarray, resolution: float, points: np.ndarray):
             min(y0, low[1]) - margin, max(y1, high[1]) + margin)
 
 
-def crop_for_display(image: np.ndarray, resolution: float, box: Tuple[float, float, float, float],
+def crop_for_display(image: np.ndarray, resolution: float, box: tuple[float, float, float, float],
                      max_pixels: int = MAX_DISPLAY_PX, fill=FREE):
     """The part of a map image inside ``box`` (x0, x1, y0, y1, origin frame, m), reduced by
     block minimum (dark walls survive) to at most ``max_pixels`` per side, padded with
@@ -140,8 +140,8 @@ def map_overlay_figure(grid: MapServerMap, ground_truth: np.ndarray, slam: np.nd
     return fig
 
 
-def predicted_vs_measured(points: Dict[str, List[Dict]], units: Dict[str, str],
-                          labels: Dict[str, str], title: str) -> bytes:
+def predicted_vs_measured(points: dict[str, list[dict]], units: dict[str, str],
+                          labels: dict[str, str], title: str) -> bytes:
     """One panel per component that has points (2×2 for four, side by side for fewer):
     predicted (with interval bars) vs measured, y = x line.
 
@@ -152,7 +152,7 @@ def predicted_vs_measured(points: Dict[str, List[Dict]], units: Dict[str, str],
     cols = 2 if n == 4 else n
     rows = 2 if n == 4 else 1
     fig, axes = plt.subplots(rows, cols, figsize=(4.75 * cols, 4 * rows + 0.5), squeeze=False)
-    for ax, (component, items) in zip(axes.ravel(), points.items()):
+    for ax, (component, items) in zip(axes.ravel(), points.items(), strict=False):
         measured = np.array([p["measured"] for p in items])
         value = np.array([p["value"] for p in items])
         low = np.array([p["low"] for p in items])

@@ -9,7 +9,7 @@ from __future__ import annotations
 import base64
 import html
 import math
-from typing import Iterable, Optional, Sequence
+from collections.abc import Iterable, Sequence
 
 STYLE = """
 body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:1.5em auto;
@@ -64,7 +64,7 @@ def num_cell(value, digits: int = 3) -> Cell:
 
 
 def table(header: Sequence[str], rows: Iterable[Sequence], caption: str = "",
-          table_id: str = "", row_classes: Optional[Sequence[str]] = None) -> str:
+          table_id: str = "", row_classes: Sequence[str] | None = None) -> str:
     """An HTML table in a horizontally scrolling box; cells are :class:`Cell` objects or plain
     values (escaped)."""
     attr = f' id="{esc(table_id)}"' if table_id else ""

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, List, Optional
+from typing import Any
 
 from slam_predict.errors import InputError
 from slam_predict.learn.dataset import COMPONENTS, UNITS
@@ -28,16 +28,16 @@ class ModelEntry:
     """One model folder: its card (None if unreadable), the usable store and the problems."""
 
     path: Path
-    card: Optional[Dict[str, Any]] = None
+    card: dict[str, Any] | None = None
     store: Any = None
-    notes: List[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
 
     @property
     def name(self) -> str:
         return str(self.card.get("name", self.path.name)) if self.card else self.path.name
 
 
-def load_models(path) -> List[ModelEntry]:
+def load_models(path) -> list[ModelEntry]:
     """The model folders under ``path``; InputError if it is missing or holds no model."""
     from slam_predict.learn.store import CARD, list_stores
 
@@ -68,12 +68,12 @@ def load_entry(folder: Path) -> ModelEntry:
     return entry
 
 
-def _metric(metrics: Dict[str, Any], key: str, digits: int) -> H.Cell:
+def _metric(metrics: dict[str, Any], key: str, digits: int) -> H.Cell:
     value = metrics.get(key)
     return H.num_cell(value, digits)
 
 
-def metrics_row(component: str, model_id: str, entry: Dict[str, Any]) -> List:
+def metrics_row(component: str, model_id: str, entry: dict[str, Any]) -> list:
     """One row of the card's metrics table."""
     m = entry.get("metrics", {})
     loo = m.get("leave_one_out", {})
@@ -96,7 +96,7 @@ def _percent(value) -> float:
         return math.nan
 
 
-def metrics_table(card: Dict[str, Any]) -> str:
+def metrics_table(card: dict[str, Any]) -> str:
     """Every stored model of every component with its evaluation scores; the best in bold."""
     rows, classes = [], []
     for component in COMPONENTS:
@@ -112,7 +112,7 @@ def metrics_table(card: Dict[str, Any]) -> str:
     return H.table(header, rows, row_classes=classes)
 
 
-def card_overview(card: Dict[str, Any]) -> str:
+def card_overview(card: dict[str, Any]) -> str:
     """Key facts of a card: what the models were trained on and with which libraries."""
     buildings = card.get("training_buildings", [])
     versions = card.get("versions", {})

@@ -12,9 +12,9 @@ from __future__ import annotations
 import json
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Dict, List, Optional, Tuple
 
 from slam_predict.errors import InputError
 from slam_predict.report import html as H
@@ -40,7 +40,7 @@ class Prediction:
     raw_value: float = math.nan
 
     @classmethod
-    def of(cls, world: str, component: str, runs: int, measured: float, entry: Dict):
+    def of(cls, world: str, component: str, runs: int, measured: float, entry: dict):
         """From a component entry of :func:`predict_features` (None → NaN)."""
         def num(key):
             value = entry.get(key)
@@ -68,11 +68,11 @@ class Prediction:
 class ModelPredictions:
     """All predictions of one model store and the warnings/notes they produced."""
 
-    items: List[Prediction] = field(default_factory=list)
-    notes: List[str] = field(default_factory=list)
+    items: list[Prediction] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
 
 
-def find_world_file(campaign: Campaign, name: str) -> Optional[Path]:
+def find_world_file(campaign: Campaign, name: str) -> Path | None:
     """The world file a campaign world was collected on, or None."""
     world = campaign.worlds.get(name)
     recorded = [run.record.get("world_file") for run in (world.runs if world else [])]
@@ -93,14 +93,14 @@ class FeatureCache:
     ``compute(world_name, card) -> features`` replaces the real computation (tests).
     """
 
-    def __init__(self, campaign: Campaign, compute: Optional[Callable] = None):
+    def __init__(self, campaign: Campaign, compute: Callable | None = None):
         self.campaign = campaign
         self._compute = compute or self._plan_features
-        self._values: Dict[Tuple[str, str], Dict[str, float]] = {}
-        self._errors: Dict[Tuple[str, str], str] = {}
-        self._worlds: Dict[str, object] = {}
+        self._values: dict[tuple[str, str], dict[str, float]] = {}
+        self._errors: dict[tuple[str, str], str] = {}
+        self._worlds: dict[str, object] = {}
 
-    def features(self, name: str, card: Dict) -> Dict[str, float]:
+    def features(self, name: str, card: dict) -> dict[str, float]:
         """Features of world ``name`` with the card's configuration; InputError if impossible."""
         key = (name, json.dumps(card.get("feature_config") or {}, sort_keys=True))
         if key in self._errors:
@@ -113,7 +113,7 @@ class FeatureCache:
                 raise
         return self._values[key]
 
-    def _plan_features(self, name: str, card: Dict) -> Dict[str, float]:
+    def _plan_features(self, name: str, card: dict) -> dict[str, float]:
         from slam_predict.learn.predict import compute_plan_features
         from slam_predict.world.load import load_plan
 
@@ -127,7 +127,7 @@ class FeatureCache:
         return compute_plan_features(self._worlds[name], card)
 
 
-def recorded_runs(row: Dict) -> int:
+def recorded_runs(row: dict) -> int:
     """Runs of a summary row (0 when unknown)."""
     runs = float(row.get("runs", math.nan))
     return int(runs) if math.isfinite(runs) else 0
@@ -175,7 +175,7 @@ def _interval_text(p: Prediction) -> str:
     return f"{_with_degrees(p.low, p.component)} – {_with_degrees(p.high, p.component)}"
 
 
-def predictions_table(items: List[Prediction]) -> str:
+def predictions_table(items: list[Prediction]) -> str:
     """World × component rows: measured, predicted, interval, inside?, relative error."""
     rows = []
     for p in items:
@@ -191,7 +191,7 @@ def predictions_table(items: List[Prediction]) -> str:
     return H.table(header, rows)
 
 
-def coverage_line(items: List[Prediction], confidence) -> str:
+def coverage_line(items: list[Prediction], confidence) -> str:
     """How many measured values fall inside their intervals."""
     items = [p for p in items if p.has_interval]
     if not items:
@@ -202,7 +202,7 @@ def coverage_line(items: List[Prediction], confidence) -> str:
             "interval.</p>")
 
 
-def plot(items: List[Prediction], title: str) -> Optional[bytes]:
+def plot(items: list[Prediction], title: str) -> bytes | None:
     """Predicted-vs-measured figure of the items (None when there is nothing to plot)."""
     if not items:
         return None
@@ -215,13 +215,13 @@ def plot(items: List[Prediction], title: str) -> Optional[bytes]:
     return predicted_vs_measured(points, UNITS, LABELS, title)
 
 
-def slam_config_hash(run) -> Optional[str]:
+def slam_config_hash(run) -> str | None:
     """A run's SLAM identity: run.json ``slam.params_hash``, or ``config_hashes.gmapping`` in
     records written before the ``slam`` entry."""
     return run.value("slam", "params_hash") or run.value("config_hashes", "gmapping")
 
 
-def setup_notes(entry: ModelEntry, campaign: Campaign) -> List[str]:
+def setup_notes(entry: ModelEntry, campaign: Campaign) -> list[str]:
     """Warn when the campaign's SLAM configuration is not the one the model learnt from."""
     card_hash = str(entry.card.get("slam_config_hash", ""))
     hashes = {str(h) for h in map(slam_config_hash, campaign.runs) if h}

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import collections
 import math
-from typing import Dict, List, Sequence, Tuple
+from collections.abc import Sequence
 
 from slam_predict.errors import InputError
 from slam_predict.report import html as H
@@ -19,7 +19,7 @@ def _deg(value) -> float:
         return math.nan
 
 
-def _counts(values: Sequence) -> List[Tuple[str, int]]:
+def _counts(values: Sequence) -> list[tuple[str, int]]:
     """(value, count) pairs, most frequent first; None shown as 'unknown'."""
     counter = collections.Counter("unknown" if v is None else str(v) for v in values)
     return counter.most_common()
@@ -64,7 +64,7 @@ def overview(campaign: Campaign) -> str:
 
 def hash_table(runs: Sequence[Run]) -> str:
     """Distinct sets of configuration hashes (run.json config_hashes) and their run counts."""
-    combos: Dict[Tuple, List[str]] = collections.OrderedDict()
+    combos: dict[tuple, list[str]] = collections.OrderedDict()
     for run in runs:
         hashes = run.value("config_hashes") or {}
         key = tuple(str(hashes.get(k, H.MISSING)) for k in HASH_KEYS)
@@ -96,7 +96,7 @@ SUMMARY_HEADER = ["world", "runs", "trans_mean [m]", "trans_std [m]", "rot_mean 
                   "rotation [rad]", "coverage", "sim time [s]"]
 
 
-def summary_cells(row: Dict) -> List:
+def summary_cells(row: dict) -> list:
     """One per-building row (means over runs; std over runs with ddof 0)."""
     return [row["world"], H.num_cell(row["runs"], 0),
             H.num_cell(row["trans_mean"], 4), H.num_cell(row["trans_std"], 4),
@@ -123,7 +123,7 @@ RUN_HEADER = ["run", "seed", "stop reason", "sim [s]", "wall [s]", "distance [m]
               "rot_mean [deg]", "rot_std [rad]", "relations", "map", "trajectories"]
 
 
-def run_cells(run: Run) -> List:
+def run_cells(run: Run) -> list:
     """One row of a world's per-run table."""
     return [run.run_id, str(run.value("seed") if run.value("seed") is not None else H.MISSING),
             str(run.value("stop_reason") or H.MISSING),
@@ -144,7 +144,7 @@ def _trans_error(run: Run) -> float:
     return float(value) if isinstance(value, (int, float)) else math.inf
 
 
-def map_candidates(world: WorldRuns) -> List[Run]:
+def map_candidates(world: WorldRuns) -> list[Run]:
     """Runs with map and trajectories: the median-error run first, then by closeness to it."""
     usable = sorted((r for r in world.runs if r.has_map and r.has_trajectories),
                     key=lambda r: (_trans_error(r), r.run_id))
@@ -153,7 +153,7 @@ def map_candidates(world: WorldRuns) -> List[Run]:
     return [usable[i] for i in order]
 
 
-def _draw(world: WorldRuns, run: Run) -> Tuple[bytes, float]:
+def _draw(world: WorldRuns, run: Run) -> tuple[bytes, float]:
     """(PNG of the run's map overlay, map resolution m/px); raises on unreadable files."""
     from slam_predict.collect.record import load_record
     from slam_predict.formats.mapserver import read_map
@@ -168,9 +168,9 @@ def _draw(world: WorldRuns, run: Run) -> Tuple[bytes, float]:
     return map_overlay(grid, traj.ground_truth, traj.slam, title), grid.resolution
 
 
-def map_figure(world: WorldRuns) -> Tuple[str, List[str]]:
+def map_figure(world: WorldRuns) -> tuple[str, list[str]]:
     """The map overlay of a representative run (HTML) and notes on what was missing."""
-    notes: List[str] = []
+    notes: list[str] = []
     candidates = map_candidates(world)
     if not candidates:
         lacking = "no run keeps map.yaml and trajectories" if world.runs else "no run record"

@@ -26,7 +26,6 @@ from __future__ import annotations
 import logging
 import time
 from pathlib import Path
-from typing import Dict, List
 
 import numpy as np
 
@@ -51,14 +50,14 @@ END_GRACE_S = 4 * NODE_EXIT_TIMEOUT_S + 30.0  # wall s after the record for the 
 PROCESS_EXIT_WAIT_S = 10.0  # wall s for processes that left the graph to exit before a kill
 
 
-def node_seeds(seed: int) -> Dict[str, int]:
+def node_seeds(seed: int) -> dict[str, int]:
     """Seeds of the simulator, explorer and SLAM nodes of a run (in-process loop's order)."""
     children = np.random.SeedSequence(int(seed)).spawn(3)
     return {name: int(child.generate_state(1)[0] >> 1)  # 31 bits: an XML-RPC int param
-            for name, child in zip(("sim_seed", "explore_seed", "slam_seed"), children)}
+            for name, child in zip(("sim_seed", "explore_seed", "slam_seed"), children, strict=False)}
 
 
-def check_choices(options: Dict) -> None:
+def check_choices(options: dict) -> None:
     """InputError for an unknown node choice (one line, with a did-you-mean hint)."""
     for key, allowed in CHOICES.items():
         value = str(options.get(key, "slam_predict"))
@@ -67,7 +66,7 @@ def check_choices(options: Dict) -> None:
                              + did_you_mean(value, allowed))
 
 
-def find_worlds(path: str) -> Dict[str, str]:
+def find_worlds(path: str) -> dict[str, str]:
     """World name → file: every ``*.world`` in a folder (sorted), or one world file."""
     p = Path(path).expanduser()
     if p.is_dir():
@@ -81,12 +80,17 @@ def find_worlds(path: str) -> Dict[str, str]:
     return {f.stem: str(f.resolve()) for f in files}
 
 
-def component_configs(settings_path=None) -> Dict[str, str]:
+def component_configs(settings_path=None) -> dict[str, str]:
     """The node config files a collect.yaml names (absolute), as single_run.launch args, so
     the nodes run with the configs whose hashes the record states. ``sim_overrides`` are
     merged into a robot file written beside the settings' cache (the node reads one file)."""
-    from slam_predict.collect.settings import (DEFAULT_SETTINGS, CollectFiles, merged_robot_file,
-                                               read_settings_tree, slam_params_file)
+    from slam_predict.collect.settings import (
+        DEFAULT_SETTINGS,
+        CollectFiles,
+        merged_robot_file,
+        read_settings_tree,
+        slam_params_file,
+    )
     from slam_predict.config import from_dict
 
     path = Path(settings_path or DEFAULT_SETTINGS).resolve()
@@ -102,7 +106,7 @@ def component_configs(settings_path=None) -> Dict[str, str]:
             "explore_config": tree["explore"]}
 
 
-def launch_arguments(spec) -> List[str]:
+def launch_arguments(spec) -> list[str]:
     """``name:=value`` arguments of single_run.launch for a :class:`RunSpec`."""
     options = spec.options
     args = {"world": spec.world_path, "world_name": spec.world, "run_index": spec.index,
@@ -116,7 +120,7 @@ def launch_arguments(spec) -> List[str]:
     return [f"{k}:={v}" for k, v in args.items()]
 
 
-def run_nodes(options: Dict) -> List[str]:
+def run_nodes(options: dict) -> list[str]:
     """The nodes single_run.launch starts for these choices, in shutdown order (simulator
     first, then explorer, navigation, SLAM; the orchestrator ends itself)."""
     names = {"sim": {"slam_predict": "/stage_sim", "stage": "/stageros"},
@@ -218,7 +222,7 @@ def _interrupted() -> bool:
         return False
 
 
-def _default_timeout(options: Dict) -> float:
+def _default_timeout(options: dict) -> float:
     """Per-run wall limit: the stop rule's wall-clock limit plus a margin for launch/shutdown."""
     wall = float(options.get("max_wall_time") or 0)
     if wall <= 0:
@@ -227,13 +231,13 @@ def _default_timeout(options: Dict) -> float:
     return wall + RUN_TIMEOUT_MARGIN_S
 
 
-def run_batch(worlds: str, runs, out: str, options: Dict, base_seed: int = 0,
+def run_batch(worlds: str, runs, out: str, options: dict, base_seed: int = 0,
               max_runs: int = 50) -> int:
     """Run (or resume) the batch; returns the exit code: 0, 1 when runs failed, or 128 + the
     signal number when SIGINT/SIGTERM stopped it."""
     from slam_predict.collect.batch import Batch, BatchConfig
-    from slam_predict.words import plural
     from slam_predict.collect.summary import write_summary
+    from slam_predict.words import plural
 
     check_choices(options)
     runs = runs if runs == "auto" else int(runs)

@@ -19,7 +19,6 @@ from __future__ import annotations
 import logging
 import math
 import threading
-from typing import Optional
 
 import numpy as np
 
@@ -40,7 +39,7 @@ class ActionGoalClient:
         self.frame_id = frame_id
         self.robot_pose = robot_pose
         self.sent = False
-        self.length: Optional[float] = None
+        self.length: float | None = None
 
     def send_goal(self, target, t: float) -> None:
         from slam_predict.ros.conversions.nav import goal_to_ros
@@ -49,7 +48,7 @@ class ActionGoalClient:
         self.sent = True
         self.length = self._plan_length(target)
 
-    def _plan_length(self, target) -> Optional[float]:
+    def _plan_length(self, target) -> float | None:
         start = self.robot_pose() if self.robot_pose is not None else None
         if self.make_plan is not None:
             try:
@@ -66,13 +65,13 @@ class ActionGoalClient:
         if self.sent:
             self.client.cancel_goal()
 
-    def status(self) -> Optional[int]:
+    def status(self) -> int | None:
         if not self.sent:
             return None
         state = int(self.client.get_state())
         return ACTION_TO_STATUS.get(state, state)
 
-    def plan_length(self) -> Optional[float]:
+    def plan_length(self) -> float | None:
         return self.length
 
 
@@ -115,7 +114,7 @@ class ExploreNode:
             self.map_frame = msg.header.frame_id or self.map_frame
             self.client.frame_id = self.map_frame
 
-    def robot_pose(self) -> Optional[np.ndarray]:
+    def robot_pose(self) -> np.ndarray | None:
         from slam_predict.ros.conversions.geometry import transform_from_ros
 
         try:
@@ -125,7 +124,7 @@ class ExploreNode:
             return None
         return np.asarray(transform_from_ros(tf).pose, dtype=float)
 
-    def tick(self, now: Optional[float] = None) -> None:
+    def tick(self, now: float | None = None) -> None:
         """Step the explorer; publish frontiers; report the end.
 
         ``now``: the tick's sim time (s) from the ticker's /clock (rospy's own clock may
@@ -193,7 +192,7 @@ def main(argv=None) -> int:
     action.wait_for_server()
     service = rospy.ServiceProxy("move_base/make_plan", GetPlan)
 
-    def plan_length(target) -> Optional[float]:
+    def plan_length(target) -> float | None:
         goal = pose_stamped_to_ros(target, client.frame_id, rospy.get_time())
         start = PoseStamped()   # empty frame: from the robot
         poses = plan_from_ros(service(start, goal, 0.0).plan)

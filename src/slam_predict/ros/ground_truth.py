@@ -20,8 +20,9 @@ from __future__ import annotations
 
 import bisect
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable, ClassVar, Dict, List, Optional, Tuple
+from typing import ClassVar
 
 import numpy as np
 
@@ -41,10 +42,10 @@ class GroundTruthConfig:
     topic: str = "base_pose_ground_truth"
     frame: str = ""
     fixed_frame: str = "world"
-    offset: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
     tolerance: float = 0.05
     keep_s: float = 60.0
-    RANGES: ClassVar[Dict[str, Range]] = {"tolerance": POSITIVE, "keep_s": POSITIVE}
+    RANGES: ClassVar[dict[str, Range]] = {"tolerance": POSITIVE, "keep_s": POSITIVE}
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:
@@ -62,8 +63,8 @@ class PoseHistory:
     def __init__(self, tolerance: float, keep_s: float = 60.0):
         self.tolerance = float(tolerance)
         self.keep_s = float(keep_s)
-        self.stamps: List[float] = []
-        self.poses: List[np.ndarray] = []
+        self.stamps: list[float] = []
+        self.poses: list[np.ndarray] = []
 
     def add(self, t: float, pose) -> None:
         """Insert a pose stamped ``t`` s (out-of-order stamps are sorted in)."""
@@ -74,7 +75,7 @@ class PoseHistory:
         if cut > 0:
             del self.stamps[:cut], self.poses[:cut]
 
-    def at(self, t: float) -> Optional[np.ndarray]:
+    def at(self, t: float) -> np.ndarray | None:
         """The pose nearest in time to ``t``; None while no message stamped ≥ t has arrived.
 
         Raises :class:`Unavailable` when the nearest one is more than ``tolerance`` s away.
@@ -99,7 +100,7 @@ class GroundTruthSource:
     """
 
     def __init__(self, config: GroundTruthConfig, rospy_module=None,
-                 tf_pose: Optional[Callable[[str, str, float], Optional[np.ndarray]]] = None):
+                 tf_pose: Callable[[str, str, float], np.ndarray | None] | None = None):
         self.config = config
         self.history = PoseHistory(config.tolerance, config.keep_s)
         self.tf_pose = tf_pose
@@ -120,7 +121,7 @@ class GroundTruthSource:
             self.messages += 1
             self.history.add(time_from_ros(msg.header.stamp), pose)
 
-    def at(self, t: float) -> Optional[np.ndarray]:
+    def at(self, t: float) -> np.ndarray | None:
         """Ground truth of base_link at ``t`` (s) in the source's fixed frame."""
         if self.config.source == "tf":
             body = self.tf_pose(self.config.fixed_frame, self.config.frame, t)

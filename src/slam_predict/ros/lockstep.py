@@ -12,7 +12,7 @@ from __future__ import annotations
 import logging
 import math
 import threading
-from typing import Callable, Optional
+from collections.abc import Callable
 
 ACK_EPSILON = 1e-3        # s: an ack stops this short of the next tick (sim steps are >= 10 ms)
 IDLE_FOREVER = 2.0 ** 31  # s: "nothing more to do" (the largest std_msgs/Time second)
@@ -45,7 +45,7 @@ class AckPublisher:
         self.rospy = rospy_module
         self._time = Time
         self.publisher = rospy_module.Publisher(topic, Time, queue_size=10, latch=True)
-        self.last: Optional[float] = None
+        self.last: float | None = None
 
     def publish(self, until: float) -> None:
         """Ack every input up to ``until`` (sim s)."""
@@ -64,7 +64,7 @@ class SimTicker:
     """
 
     def __init__(self, rospy_module, period: float, callback: Callable[[float], None],
-                 ack: Optional[AckPublisher] = None):
+                 ack: AckPublisher | None = None):
         self.rospy = rospy_module
         self.period = float(period)
         self.callback = callback

@@ -28,7 +28,6 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from typing import Optional
 
 import numpy as np
 
@@ -135,7 +134,7 @@ class MoveBaseNode:
             self.navigator.add_scan(scan.ranges, scan.angles(), scan.range_min, scan.range_max,
                                     sensor, np.zeros(3), map_T_odom)
 
-    def lookup(self, parent: str, child: str, stamp=None, wait: float = 0.0) -> Optional[np.ndarray]:
+    def lookup(self, parent: str, child: str, stamp=None, wait: float = 0.0) -> np.ndarray | None:
         """Planar pose (x, y, yaw) of ``child`` in ``parent`` (latest when ``stamp`` is None)."""
         from slam_predict.ros.conversions.geometry import transform_from_ros
 
@@ -201,7 +200,7 @@ class MoveBaseNode:
         current.set_canceled(None, "")
 
     # ------------------------------------------------------------------------------- cycle
-    def tick(self, now: Optional[float] = None) -> None:
+    def tick(self, now: float | None = None) -> None:
         """One controller cycle: step the navigator, publish the command and what changed.
 
         ``now``: the tick's sim time (s) from the ticker's /clock (rospy's own clock may

@@ -12,16 +12,16 @@ from __future__ import annotations
 import logging
 import time
 import xmlrpc.client
-from typing import Callable, List, Optional, Sequence
+from collections.abc import Callable, Sequence
 
 LOG = logging.getLogger(__name__)
 CALLER = "/orchestrator"
 CALL_TIMEOUT_S = 5.0  # wall s for one XML-RPC call to a node
 
 
-def shutdown_nodes(names: Sequence[str], lookup: Callable[[str], Optional[str]],
+def shutdown_nodes(names: Sequence[str], lookup: Callable[[str], str | None],
                    request: Callable[[str, str], None], alive: Callable[[str], bool],
-                   timeout_s: float, poll_s: float = 0.1) -> List[str]:
+                   timeout_s: float, poll_s: float = 0.1) -> list[str]:
     """Shut ``names`` down one after the other; returns those still alive after ``timeout_s``
     wall seconds each (not waited for again).
 
@@ -51,13 +51,13 @@ def shutdown_nodes(names: Sequence[str], lookup: Callable[[str], Optional[str]],
     return stuck
 
 
-def master_lookup(caller: str = CALLER) -> Callable[[str], Optional[str]]:
+def master_lookup(caller: str = CALLER) -> Callable[[str], str | None]:
     """``lookup`` for :func:`shutdown_nodes` through the ROS master."""
     import rosgraph
 
     master = rosgraph.Master(caller)
 
-    def lookup(name: str) -> Optional[str]:
+    def lookup(name: str) -> str | None:
         try:
             return master.lookupNode(name)
         except (rosgraph.MasterError, OSError):
@@ -102,7 +102,7 @@ def node_api_request(caller: str = CALLER, reason: str = "run finished"):
 
 
 def end_run_graph(names: Sequence[str], timeout_s: float, caller: str = CALLER,
-                  reason: str = "run finished") -> List[str]:
+                  reason: str = "run finished") -> list[str]:
     """:func:`shutdown_nodes` through the master and the node API."""
     return shutdown_nodes(names, master_lookup(caller), node_api_request(caller, reason),
                           lambda uri: node_alive(uri, caller), timeout_s)

@@ -30,15 +30,22 @@ import logging
 import math
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable, ClassVar, Deque, Dict, List, Optional
+from typing import ClassVar
 
 import numpy as np
 
-from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
 from slam_predict.collect import record as rec
-from slam_predict.collect.stopping import (TIME_EPS, SnapshotMSE, StopConfig, StuckDetector,
-                                           grid_to_snapshot, stop_reason)
+from slam_predict.collect.stopping import (
+    TIME_EPS,
+    SnapshotMSE,
+    StopConfig,
+    StuckDetector,
+    grid_to_snapshot,
+    stop_reason,
+)
+from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
 
 LOG = logging.getLogger(__name__)
 STILL_EPS = 1e-9                # m / rad: "did not move at all" (a refused move)
@@ -59,7 +66,7 @@ class Unavailable(Exception):
 
 
 # lookup(t, now) -> Sample (ready), None (not yet), or raises Unavailable (see RunMonitor.resolve)
-PoseLookup = Callable[[float, float], Optional[Sample]]
+PoseLookup = Callable[[float, float], Sample | None]
 
 
 @dataclass
@@ -68,7 +75,7 @@ class MonitorSettings:
 
     sample_period_s: float = 0.1
     max_sample_delay_s: float = 10.0
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "sample_period_s": POSITIVE, "max_sample_delay_s": NON_NEGATIVE}
 
 
@@ -89,17 +96,17 @@ class RunMonitor:
     settings: MonitorSettings = field(default_factory=MonitorSettings)
     t0: float = 0.0
     wall_clock: Callable[[], float] = time.monotonic
-    on_snapshot: Optional[Callable[[int, np.ndarray], None]] = None
+    on_snapshot: Callable[[int, np.ndarray], None] | None = None
 
     def __post_init__(self) -> None:
         self.rule = SnapshotMSE(self.stop, self.interval_s)
-        self.samples: List[Sample] = []
-        self.pending: Deque[float] = deque()
+        self.samples: list[Sample] = []
+        self.pending: deque[float] = deque()
         self.grid = None
-        self.reason: Optional[str] = None
-        self.explorer_end: Optional[Dict] = None
-        self.now: Optional[float] = None
-        self.t_stop: Optional[float] = None
+        self.reason: str | None = None
+        self.explorer_end: dict | None = None
+        self.now: float | None = None
+        self.t_stop: float | None = None
         self.dropped = 0
         self.stalls = 0
         self._stalled = False
@@ -108,7 +115,7 @@ class RunMonitor:
         self.wall_start = self.wall_clock()
 
     # -- inputs ----------------------------------------------------------------------------
-    def tick(self, t: float) -> Optional[str]:
+    def tick(self, t: float) -> str | None:
         """ROS time advanced to ``t`` (s): queue a sample, snapshot, check the stop rules.
 
         Returns the stop reason once the run has ended (later ticks only advance ``now``).

@@ -9,7 +9,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import ClassVar, Dict, Optional
+from typing import ClassVar
 
 from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
 from slam_predict.ros.ground_truth import GroundTruthConfig
@@ -47,7 +47,7 @@ class OrchestratorConfig:
     map_odom_hold_s: float = 1.0
     finish_timeout_s: float = 30.0
     startup_timeout_s: float = 120.0
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "map_odom_hold_s": NON_NEGATIVE, "finish_timeout_s": POSITIVE,
         "startup_timeout_s": POSITIVE}
 
@@ -78,7 +78,7 @@ class RunSetup:
     stop: object
     config: OrchestratorConfig
     world: object
-    free_area_m2: Optional[float]
+    free_area_m2: float | None
     sim_node: str
     wait_for_nodes: tuple = ()
 

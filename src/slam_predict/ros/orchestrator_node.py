@@ -32,7 +32,6 @@ import dataclasses
 import logging
 import threading
 import time
-from typing import Optional
 
 import numpy as np
 
@@ -109,13 +108,16 @@ class OrchestratorNode:
                 self.monitor.set_explorer_end(now, msg.msg.strip())
 
     # -- poses -----------------------------------------------------------------------------
-    def tf_pose(self, parent: str, child: str, t: Optional[float]) -> Optional[np.ndarray]:
+    def tf_pose(self, parent: str, child: str, t: float | None) -> np.ndarray | None:
         """Pose of ``child`` in ``parent`` at ``t`` s (None = latest), or None if not available."""
         return None if (found := self._tf_lookup(parent, child, t)) is None else found[1]
 
-    def _tf_lookup(self, parent: str, child: str, t: Optional[float]):
-        from slam_predict.ros.conversions.geometry import (time_from_ros, time_to_ros,
-                                                           transform_from_ros)
+    def _tf_lookup(self, parent: str, child: str, t: float | None):
+        from slam_predict.ros.conversions.geometry import (
+            time_from_ros,
+            time_to_ros,
+            transform_from_ros,
+        )
         stamp = self.rospy.Time(0) if t is None else time_to_ros(t)
         try:
             if not self.tf.can_transform(parent, child, stamp):
@@ -126,7 +128,7 @@ class OrchestratorNode:
             return None
         return time_from_ros(msg.header.stamp), transform_from_ros(msg).pose
 
-    def map_to_odom(self, t: float, now: float) -> Optional[np.ndarray]:
+    def map_to_odom(self, t: float, now: float) -> np.ndarray | None:
         """tf map→odom at ``t``; the latest one once ``map_odom_hold_s`` has passed without a
         newer one (slam_gmapping keeps map→odom constant between processed scans)."""
         frames = self.config.frames
@@ -141,7 +143,7 @@ class OrchestratorNode:
             return pose
         return None
 
-    def lookup(self, t: float, now: float) -> Optional[Sample]:
+    def lookup(self, t: float, now: float) -> Sample | None:
         """The sample at ``t``: ground truth, SLAM pose (map→odom ∘ odom→base), odometry pose."""
         gt = self.ground_truth.at(t)
         if gt is None:

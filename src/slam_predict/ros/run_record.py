@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
-from typing import Any, Dict, Optional
+from typing import Any
 
 from slam_predict.collect import record as rec
 from slam_predict.collect.record import RunInfo
@@ -28,7 +28,7 @@ from slam_predict.ros.orchestrator import RunMonitor
 from slam_predict.sim.simulator import resolve_sensor
 
 
-def run_coverage(world, grid, settings: CollectSettings, traj: rec.Trajectories) -> Optional[float]:
+def run_coverage(world, grid, settings: CollectSettings, traj: rec.Trajectories) -> float | None:
     """Share of the reachable free area known in the final map (None without world or map)."""
     if world is None or grid is None or len(traj.t) == 0:
         return None
@@ -40,8 +40,8 @@ def run_coverage(world, grid, settings: CollectSettings, traj: rec.Trajectories)
 
 
 def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, world,
-                 free_area_m2: Optional[float], wall_time_s: float,
-                 timing: Dict[str, float]) -> Dict[str, Any]:
+                 free_area_m2: float | None, wall_time_s: float,
+                 timing: dict[str, float]) -> dict[str, Any]:
     """run.json content of a finished run (see the module docstring)."""
     traj = monitor.trajectories()
     hashes = settings.hashes()
@@ -57,7 +57,7 @@ def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, 
     return record
 
 
-def write_record(folder: Path, record: Dict[str, Any], monitor: RunMonitor,
+def write_record(folder: Path, record: dict[str, Any], monitor: RunMonitor,
                  settings: CollectSettings) -> None:
     """Trajectories, final map, optional bag, then run.json (last: it marks completion)."""
     folder = Path(folder)
@@ -71,7 +71,7 @@ def write_record(folder: Path, record: Dict[str, Any], monitor: RunMonitor,
     rec.write_run_json(folder, record)
 
 
-def record_layout(folder: Path) -> Dict[str, Any]:
+def record_layout(folder: Path) -> dict[str, Any]:
     """The format of a run record, to compare two (ROS path vs in-process): its files (snapshot
     numbers masked), run.json's keys and the keys of its nested sections."""
     import json

@@ -36,7 +36,6 @@ import logging
 import math
 import threading
 import time
-from typing import Optional, Tuple
 
 import numpy as np
 
@@ -71,13 +70,13 @@ class SlamNode:
         self.slam = None
         self.reverse = False
         self.laser_count = 0
-        self.last_map_update: Optional[float] = None
+        self.last_map_update: float | None = None
         self.map_msg = None
         self.map_to_odom = np.zeros(3)
         self._lock = threading.Lock()
         self._map_lock = threading.Lock()
         self._pubs = {}
-        self._last_tf_stamp: Optional[float] = None
+        self._last_tf_stamp: float | None = None
 
     # ------------------------------------------------------------------ wiring
     def start(self) -> None:
@@ -227,7 +226,7 @@ class SlamNode:
             transform_to_ros(pose, stamp, self.params.map_frame, self.params.odom_frame))
 
 
-def read_params(rospy_module) -> Tuple[SlamChoice, SlamNodeParams, Optional[int]]:
+def read_params(rospy_module) -> tuple[SlamChoice, SlamNodeParams, int | None]:
     """The back-end (``~type``) with its parameters, the node's parameters, and ``~seed``
     (None if unset), from the private namespace."""
     from slam_predict import slam

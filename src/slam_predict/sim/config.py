@@ -9,7 +9,7 @@ Load from YAML with ``load_config(SimConfig, "config/robot.yaml", "sim")``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar, Dict, Optional, Tuple
+from typing import ClassVar
 
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
 from slam_predict.sensor import FULL_TURN, ODOM_MODELS, OdomConfig, check_laser
@@ -28,12 +28,12 @@ class RobotOverrides:
     An acceleration of 0 means unlimited (Stage's velocity mode).
     """
 
-    footprint_side: Optional[float] = None
-    max_vel_x: Optional[float] = None
-    max_vel_theta: Optional[float] = None
-    max_acc_x: Optional[float] = None
-    max_acc_theta: Optional[float] = None
-    RANGES: ClassVar[Dict[str, Range]] = {
+    footprint_side: float | None = None
+    max_vel_x: float | None = None
+    max_vel_theta: float | None = None
+    max_acc_x: float | None = None
+    max_acc_theta: float | None = None
+    RANGES: ClassVar[dict[str, Range]] = {
         "footprint_side": NON_NEGATIVE, "max_vel_x": NON_NEGATIVE, "max_vel_theta": NON_NEGATIVE,
         "max_acc_x": NON_NEGATIVE, "max_acc_theta": NON_NEGATIVE}
 
@@ -49,14 +49,14 @@ class RobotOverrides:
 class LaserOverrides:
     """Laser parameters overriding the World's (None = keep). rad, m, Hz, (x m, y m, yaw rad)."""
 
-    fov: Optional[float] = None
-    samples: Optional[int] = None
-    range_min: Optional[float] = None
-    range_max: Optional[float] = None
-    rate_hz: Optional[float] = None
-    pose: Optional[Tuple[float, float, float]] = None
-    noise_std: Optional[float] = None
-    RANGES: ClassVar[Dict[str, Range]] = {
+    fov: float | None = None
+    samples: int | None = None
+    range_min: float | None = None
+    range_max: float | None = None
+    rate_hz: float | None = None
+    pose: tuple[float, float, float] | None = None
+    noise_std: float | None = None
+    RANGES: ClassVar[dict[str, Range]] = {
         "fov": FULL_TURN, "samples": AT_LEAST_ONE,
         "range_min": NON_NEGATIVE, "range_max": POSITIVE, "rate_hz": POSITIVE,
         "noise_std": NON_NEGATIVE}
@@ -82,12 +82,12 @@ class SimConfig:
 
     integrator: str = "exact"
     scan_timing: str = "after_move"
-    interval_sim: Optional[float] = None
+    interval_sim: float | None = None
     collisions: bool = True
     odom: OdomConfig = field(default_factory=OdomConfig)
     robot: RobotOverrides = field(default_factory=RobotOverrides)
     laser: LaserOverrides = field(default_factory=LaserOverrides)
-    RANGES: ClassVar[Dict[str, Range]] = {"interval_sim": POSITIVE}
+    RANGES: ClassVar[dict[str, Range]] = {"interval_sim": POSITIVE}
 
     def __post_init__(self) -> None:
         if self.integrator not in INTEGRATORS:

@@ -12,8 +12,8 @@ Waypoint files (YAML): ``waypoints: [[x, y], ...]`` (or a bare list), world fram
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import List, Optional, Sequence
 
 import numpy as np
 
@@ -34,18 +34,18 @@ class FollowerConfig:
     max_turn_rate: float = 1.2
     min_turn_rate: float = 0.15
     stall_timeout: float = 3.0
-    max_time: Optional[float] = None  # s; None = 60 s + 4 s per metre of path
+    max_time: float | None = None  # s; None = 60 s + 4 s per metre of path
 
 
 @dataclass
 class DriveLog:
     """Everything a scripted run records (arrays over steps, lists over scans)."""
 
-    t: List[float] = field(default_factory=list)
-    true_poses: List[np.ndarray] = field(default_factory=list)
-    odom_poses: List[np.ndarray] = field(default_factory=list)
-    velocities: List[tuple] = field(default_factory=list)
-    scans: List[SimState] = field(default_factory=list)
+    t: list[float] = field(default_factory=list)
+    true_poses: list[np.ndarray] = field(default_factory=list)
+    odom_poses: list[np.ndarray] = field(default_factory=list)
+    velocities: list[tuple] = field(default_factory=list)
+    scans: list[SimState] = field(default_factory=list)
     stalled_steps: int = 0
 
     def record(self, state: SimState) -> None:
@@ -150,7 +150,7 @@ def default_max_time(start: Sequence[float], waypoints: np.ndarray) -> float:
 
 
 def drive(sim: Simulator, waypoints: np.ndarray, config: FollowerConfig,
-          source: Optional[str] = None) -> DriveLog:
+          source: str | None = None) -> DriveLog:
     """Run the follower until the last waypoint is reached; returns the recorded log.
 
     Raises InputError (naming ``source``, the waypoint file) when the robot stays stalled for
@@ -159,7 +159,7 @@ def drive(sim: Simulator, waypoints: np.ndarray, config: FollowerConfig,
     follower = WaypointFollower(waypoints, config, sim)
     max_time = config.max_time or default_max_time(sim.true_pose, follower.waypoints)
     log = DriveLog()
-    stalled_since: Optional[float] = None
+    stalled_since: float | None = None
     while True:
         v, w = follower.command(sim.true_pose)
         if follower.done and sim.velocity == (0.0, 0.0):

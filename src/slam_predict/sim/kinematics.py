@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Tuple
 
 import numpy as np
 
@@ -45,7 +44,7 @@ def _ramp(target: float, current: float, max_acc: float, dt: float) -> float:
 
 
 def limit_velocity(v_cmd: float, w_cmd: float, v_prev: float, w_prev: float,
-                   limits: VelocityLimits, dt: float) -> Tuple[float, float]:
+                   limits: VelocityLimits, dt: float) -> tuple[float, float]:
     """The velocity executed this step: command clamped to the bounds, then ramped from the
     previous velocity by the acceleration limits. Returns (v m/s, ω rad/s)."""
     v = min(max(float(v_cmd), -limits.max_vel_x), limits.max_vel_x)
@@ -66,18 +65,18 @@ def _cosc(x: float) -> float:
     return math.sin(half) * _sinc(half)
 
 
-def arc_delta(v: float, w: float, dt: float) -> Tuple[float, float, float]:
+def arc_delta(v: float, w: float, dt: float) -> tuple[float, float, float]:
     """Body-frame displacement (dx, dy, dθ) of a constant-velocity arc over ``dt``."""
     phi = w * dt
     return v * dt * _sinc(phi), v * dt * _cosc(phi), phi
 
 
-def stage_delta(v: float, w: float, dt: float) -> Tuple[float, float, float]:
+def stage_delta(v: float, w: float, dt: float) -> tuple[float, float, float]:
     """Body-frame displacement of Stage's Move(): along the old heading, then rotate."""
     return v * dt, 0.0, w * dt
 
 
-def body_delta(integrator: str, v: float, w: float, dt: float) -> Tuple[float, float, float]:
+def body_delta(integrator: str, v: float, w: float, dt: float) -> tuple[float, float, float]:
     """Displacement for ``integrator`` ('exact' or 'stage')."""
     if integrator == "exact":
         return arc_delta(v, w, dt)
@@ -86,12 +85,12 @@ def body_delta(integrator: str, v: float, w: float, dt: float) -> Tuple[float, f
     raise ValueError(f"unknown integrator '{integrator}'")
 
 
-def apply_delta(pose: np.ndarray, delta: Tuple[float, float, float]) -> np.ndarray:
+def apply_delta(pose: np.ndarray, delta: tuple[float, float, float]) -> np.ndarray:
     """pose ⊕ delta (translation in the pose's frame, then rotation), yaw wrapped."""
     return compose(pose, delta)
 
 
-def rotate_then_translate(pose: np.ndarray, delta: Tuple[float, float, float]) -> np.ndarray:
+def rotate_then_translate(pose: np.ndarray, delta: tuple[float, float, float]) -> np.ndarray:
     """Stage's odometry update: yaw += dθ first, then (dx, dy) rotated by the NEW yaw."""
     dx, dy, dth = delta
     turned = np.array([pose[0], pose[1], pose[2] + dth])

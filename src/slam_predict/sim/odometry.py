@@ -23,13 +23,14 @@ Models (``OdomConfig.model``; e = (e_x, e_y, e_θ) from the config or the World)
 from __future__ import annotations
 
 import math
-from typing import Any, Dict, Sequence, Tuple
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from slam_predict.sim.config import OdomConfig
 
-Delta = Tuple[float, float, float]
+Delta = tuple[float, float, float]
 
 
 class OdometryModel:
@@ -42,11 +43,11 @@ class OdometryModel:
         return delta
 
     @property
-    def bias(self) -> Tuple[float, float, float]:
+    def bias(self) -> tuple[float, float, float]:
         """Constant proportional errors (e_x, e_y, e_θ) in use this run (zeros if none)."""
         return (0.0, 0.0, 0.0)
 
-    def metadata(self) -> Dict[str, Any]:
+    def metadata(self) -> dict[str, Any]:
         """A JSON-ready description of the model and the errors in use."""
         return {"model": self.name, "bias": list(self.bias)}
 
@@ -61,7 +62,7 @@ class UniformPerRun(OdometryModel):
         self._bias = tuple(float(v) for v in rng.uniform(-1.0, 1.0, 3) * np.asarray(self.bound))
 
     @property
-    def bias(self) -> Tuple[float, float, float]:
+    def bias(self) -> tuple[float, float, float]:
         return self._bias  # type: ignore[return-value]
 
     def perturb(self, delta: Delta, rng: np.random.Generator) -> Delta:
@@ -69,7 +70,7 @@ class UniformPerRun(OdometryModel):
         ex, ey, eth = self._bias
         return dx * (1.0 + ex), dy + ey * dx, dth * (1.0 + eth)
 
-    def metadata(self) -> Dict[str, Any]:
+    def metadata(self) -> dict[str, Any]:
         return {"model": self.name, "bias": list(self.bias), "bound": list(self.bound)}
 
 
@@ -82,7 +83,7 @@ class FixedBias(OdometryModel):
         self._bias = tuple(float(b) for b in bias)
 
     @property
-    def bias(self) -> Tuple[float, float, float]:
+    def bias(self) -> tuple[float, float, float]:
         return self._bias  # type: ignore[return-value]
 
     def perturb(self, delta: Delta, rng: np.random.Generator) -> Delta:
@@ -109,12 +110,12 @@ class GaussianPerStep(OdometryModel):
         sq = math.sqrt(ds)
         return (dx + self.k_x * sq * n[0], dy + self.k_y * sq * n[1], dth + std_th * n[2])
 
-    def metadata(self) -> Dict[str, Any]:
+    def metadata(self) -> dict[str, Any]:
         return {"model": self.name, "bias": [0.0, 0.0, 0.0],
                 "gaussian": [self.k_x, self.k_y, self.k_thth, self.k_ths]}
 
 
-def world_error(odom_error: Sequence[float]) -> Tuple[float, float, float]:
+def world_error(odom_error: Sequence[float]) -> tuple[float, float, float]:
     """(e_x, e_y, e_θ) from a World's 4-element odom_error (x, y, z, yaw rad); z is unused."""
     values = tuple(float(v) for v in odom_error)
     if len(values) == 4:

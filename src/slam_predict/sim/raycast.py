@@ -21,7 +21,6 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-
 _JUMP_CACHE: dict = {}  # id(bitmap) → (weak reference to it, its jump table)
 _MIN_LEAP = 3.0  # cells: shorter leaps are not worth restarting the walk
 
@@ -35,7 +34,7 @@ class GridFrame:
     resolution: float
 
     @classmethod
-    def of_world(cls, world) -> "GridFrame":
+    def of_world(cls, world) -> GridFrame:
         """The frame of a :class:`~slam_predict.world.model.World`'s bitmap."""
         xmin, _, _, ymax = world.extent
         return cls(xmin, ymax, world.resolution)
@@ -212,7 +211,7 @@ class LaserGrid:
         self.jump = cached_jump_table(self.occupied)
 
     @classmethod
-    def of_world(cls, world) -> "LaserGrid":
+    def of_world(cls, world) -> LaserGrid:
         """The grid of a :class:`~slam_predict.world.model.World`."""
         return cls(world.occupied, GridFrame.of_world(world))
 

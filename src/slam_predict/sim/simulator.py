@@ -17,7 +17,7 @@ import dataclasses
 import logging
 import math
 from dataclasses import dataclass
-from typing import Any, Dict, Optional, Tuple
+from typing import Any
 
 import numpy as np
 
@@ -50,11 +50,11 @@ class SimState:
     t: float
     true_pose: np.ndarray
     odom_pose: np.ndarray
-    velocity: Tuple[float, float]
+    velocity: tuple[float, float]
     stalled: bool
-    scan: Optional[np.ndarray] = None
-    scan_true_pose: Optional[np.ndarray] = None
-    scan_odom_pose: Optional[np.ndarray] = None
+    scan: np.ndarray | None = None
+    scan_true_pose: np.ndarray | None = None
+    scan_odom_pose: np.ndarray | None = None
 
 
 def _override(spec: Any, overrides: Any) -> Any:
@@ -129,7 +129,7 @@ class Simulator:
         return self.step_count * self.dt
 
     @property
-    def odom_error(self) -> Dict[str, Any]:
+    def odom_error(self) -> dict[str, Any]:
         """The odometry model and the per-run errors actually in use (for run metadata)."""
         return self.odometry.metadata()
 
@@ -188,7 +188,7 @@ class Simulator:
             self._attach_scan(state)
         return state
 
-    def _move(self, delta: Tuple[float, float, float]) -> None:
+    def _move(self, delta: tuple[float, float, float]) -> None:
         """Apply ``delta`` to the true pose unless the footprint would hit something."""
         if delta == (0.0, 0.0, 0.0):
             self.stalled = False  # not trying to move

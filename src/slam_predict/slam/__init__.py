@@ -17,8 +17,9 @@ from __future__ import annotations
 
 import importlib
 import os
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable, ClassVar, Dict, Optional, Tuple, Union
+from typing import Any, ClassVar, Dict, Optional, Tuple, Union
 
 import numpy as np
 
@@ -32,7 +33,7 @@ class LaserGeometry:
     base frame (x m, y m, yaw rad) and the sensor's maximum range (m; NaN if unknown)."""
 
     angles: np.ndarray
-    pose_in_base: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    pose_in_base: tuple[float, float, float] = (0.0, 0.0, 0.0)
     range_max: float = float("nan")
 
     def __post_init__(self):
@@ -53,7 +54,7 @@ class OccupancyGrid:
 
     data: np.ndarray
     resolution: float
-    origin: Tuple[float, float]
+    origin: tuple[float, float]
 
     @property
     def width(self) -> int:
@@ -76,8 +77,8 @@ class SlamNodeParams:
     map_frame: str = "map"
     odom_frame: str = "odom"
     transform_publish_period: float = 0.05
-    tf_delay: Optional[float] = None          # None: = transform_publish_period
-    RANGES: ClassVar[Dict[str, Range]] = {"throttle_scans": AT_LEAST_ONE,
+    tf_delay: float | None = None          # None: = transform_publish_period
+    RANGES: ClassVar[dict[str, Range]] = {"throttle_scans": AT_LEAST_ONE,
                                           "transform_publish_period": NON_NEGATIVE,
                                           "tf_delay": NON_NEGATIVE}
 
@@ -113,7 +114,7 @@ class SlamBackend:
         return cls.params_from_dict({}, f"{cls.name} defaults")
 
     @classmethod
-    def extent_of(cls, params) -> Tuple[float, float, float, float]:
+    def extent_of(cls, params) -> tuple[float, float, float, float]:
         """(xmin, ymin, xmax, ymax) m of the largest map ``params`` let the back-end publish:
         the canvas of the stop rule's snapshots."""
         raise NotImplementedError
@@ -125,7 +126,7 @@ class SlamBackend:
 
     # --- what callers read from a running back-end
     @property
-    def map_extent(self) -> Tuple[float, float, float, float]:
+    def map_extent(self) -> tuple[float, float, float, float]:
         """(xmin, ymin, xmax, ymax) m, see :meth:`extent_of`."""
         return self.extent_of(self.params)
 
@@ -140,7 +141,7 @@ class SlamBackend:
         many readings."""
         raise NotImplementedError
 
-    def update(self, odom_pose, scan_ranges, t: float) -> Optional[np.ndarray]:
+    def update(self, odom_pose, scan_ranges, t: float) -> np.ndarray | None:
         """Feed one scan with the odometry pose at its time; the new map-frame pose if the scan
         was processed, else None."""
         raise NotImplementedError
@@ -157,7 +158,7 @@ class SlamBackend:
         """The odom frame's pose in the map frame."""
         raise NotImplementedError
 
-    def trajectory(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def trajectory(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(processed-scan numbers (K,), times s (K,), map-frame robot poses (K, 3)): the
         back-end's final estimate at each processed scan, oldest first."""
         raise NotImplementedError
@@ -173,7 +174,7 @@ class SlamBackend:
 
 
 # name -> factory, or "module:attribute" resolved on first use (keeps imports light)
-_REGISTRY: Dict[str, Union[str, Callable[..., SlamBackend]]] = {
+_REGISTRY: dict[str, str | Callable[..., SlamBackend]] = {
     "gmapping": "slam_predict.slam.gmapping.filter:GMapping",
 }
 # Modules (or .py files) that register more back-ends, comma-separated; imported once, on the
@@ -183,7 +184,7 @@ ENTRY_POINT_GROUP = "slam_predict.slam_backends"
 _plugins_loaded = False
 
 
-def register(name: str, factory: Union[str, Callable[..., SlamBackend]]) -> None:
+def register(name: str, factory: str | Callable[..., SlamBackend]) -> None:
     """Register a back-end factory under ``name``; duplicate names are refused."""
     if name in _REGISTRY:
         raise ValueError(f"SLAM back-end '{name}' is already registered")
@@ -206,7 +207,7 @@ def load_plugins() -> None:
     import_plugins(os.environ.get(EXTRA_BACKENDS_ENV, ""), ENTRY_POINT_GROUP)
 
 
-def available() -> Tuple[str, ...]:
+def available() -> tuple[str, ...]:
     """Registered back-end names."""
     load_plugins()
     return tuple(sorted(_REGISTRY))
@@ -259,6 +260,6 @@ class SlamChoice:
         from slam_predict.config import config_hash
         return config_hash(self.params)
 
-    def record(self) -> Dict[str, str]:
+    def record(self) -> dict[str, str]:
         """run.json's ``slam`` entry: the back-end's name and its parameters' hash."""
         return {"type": self.type, "params_hash": self.params_hash()}

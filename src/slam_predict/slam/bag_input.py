@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -38,10 +37,10 @@ class TfTree:
     """Transforms parent → child from tf messages: static, or dynamic samples over time."""
 
     def __init__(self):
-        self.parent: Dict[str, str] = {}
-        self.samples: Dict[str, List[Tuple[float, np.ndarray]]] = {}
-        self.static: Dict[str, np.ndarray] = {}
-        self._times: Dict[str, np.ndarray] = {}   # sample times per child, rebuilt after adds
+        self.parent: dict[str, str] = {}
+        self.samples: dict[str, list[tuple[float, np.ndarray]]] = {}
+        self.static: dict[str, np.ndarray] = {}
+        self._times: dict[str, np.ndarray] = {}   # sample times per child, rebuilt after adds
 
     def add(self, parent: str, child: str, t: float, value: np.ndarray, static: bool) -> None:
         """One transform: ``value`` = (tx, ty, tz, qx, qy, qz, qw)."""
@@ -57,7 +56,7 @@ class TfTree:
             self._times[child] = np.array([r[0] for r in self.samples[child]])
         return self._times[child]
 
-    def _link(self, child: str, t: float) -> Optional[np.ndarray]:
+    def _link(self, child: str, t: float) -> np.ndarray | None:
         """The link at ``t``: a sample stamped exactly ``t`` unchanged (as tf returns it),
         else interpolated between the samples around ``t``."""
         if child in self.static:
@@ -110,7 +109,7 @@ def _planar_from_matrix(translation: np.ndarray, rotation: np.ndarray) -> np.nda
     return np.array([translation[0], translation[1], np.arctan2(rotation[1, 0], rotation[0, 0])])
 
 
-def _pick_topic(reader, path: str, topic: Optional[str], msgtype: str, what: str) -> str:
+def _pick_topic(reader, path: str, topic: str | None, msgtype: str, what: str) -> str:
     topics = {c.topic: c.msgtype for c in reader.connections}
     if topic is not None:
         if topic not in topics:
@@ -125,9 +124,9 @@ def _pick_topic(reader, path: str, topic: Optional[str], msgtype: str, what: str
     return found[0]
 
 
-def read_bag_input(path: os.PathLike | str, scan_topic: Optional[str] = None,
-                   odom_topic: Optional[str] = None, base_frame: str = "base_link",
-                   odom_frame: str = "odom", max_scans: Optional[int] = None) -> SlamInput:
+def read_bag_input(path: os.PathLike | str, scan_topic: str | None = None,
+                   odom_topic: str | None = None, base_frame: str = "base_link",
+                   odom_frame: str = "odom", max_scans: int | None = None) -> SlamInput:
     """A :class:`SlamInput` from a bag (see the module docstring)."""
     from slam_predict.formats.rosbag import _open
 
@@ -181,7 +180,7 @@ def _read_messages(reader, scan_topic: str, pose_topics):
     return scans, tree, poses
 
 
-def _poses_at(samples, times: np.ndarray) -> Optional[np.ndarray]:
+def _poses_at(samples, times: np.ndarray) -> np.ndarray | None:
     """Planar poses of an Odometry topic's samples at ``times`` (None if one is outside)."""
     tree = TfTree()
     for t, value in samples:
@@ -266,7 +265,7 @@ class LiveDecoder:
         t = messages.t
         return odometry_pose(_tree(messages.transforms, t), self.odom_frame, self.base_frame, t)
 
-    def scan(self, messages) -> Tuple[np.ndarray, np.ndarray, float]:
+    def scan(self, messages) -> tuple[np.ndarray, np.ndarray, float]:
         """(odometry pose, float64 ranges, stamp s) of a step that carries a scan."""
         d = self.description
         ranges = prepare_ranges(messages.ranges, d.range_min, d.range_max, self.reverse)

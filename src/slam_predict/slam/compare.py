@@ -7,8 +7,6 @@
 """
 from __future__ import annotations
 
-from typing import Tuple
-
 import numpy as np
 from scipy import ndimage
 
@@ -35,7 +33,7 @@ def apply_transform(transform: np.ndarray, poses: np.ndarray) -> np.ndarray:
 
 
 def map_agreement(a: np.ndarray, b: np.ndarray, tol: float = 2.0,
-                  occupied: int = 100) -> Tuple[float, float]:
+                  occupied: int = 100) -> tuple[float, float]:
     """(share of a's occupied cells near b's, share of b's near a's); "near" = within ``tol``
     cells (Euclidean). ``a`` and ``b`` are grids of the same shape and geometry."""
     occ_a = np.asarray(a) >= occupied

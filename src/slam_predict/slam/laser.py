@@ -2,8 +2,6 @@
 range clean-up. Pure numpy (shared by the ROS node and the bag reader)."""
 from __future__ import annotations
 
-from typing import Optional, Tuple
-
 import numpy as np
 
 from slam_predict.slam import LaserGeometry
@@ -18,7 +16,7 @@ def quaternion_matrix(x: float, y: float, z: float, w: float) -> np.ndarray:
 
 
 def laser_geometry(rotation: np.ndarray, translation, angle_min: float, angle_increment: float,
-                   beams: int, range_max: float) -> Tuple[Optional[LaserGeometry], bool]:
+                   beams: int, range_max: float) -> tuple[LaserGeometry | None, bool]:
     """(laser in the base frame, whether ranges must be reversed), or (None, False) when the
     laser is not planar (its z axis not within 0.001 of ±base z, slam_gmapping's test).
 

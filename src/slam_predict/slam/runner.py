@@ -15,9 +15,10 @@ import logging
 import os
 import resource
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Optional
+from typing import Any
 
 import numpy as np
 
@@ -41,13 +42,13 @@ class RunResult:
     times: np.ndarray
     poses: np.ndarray
     odometry: np.ndarray
-    reference: Optional[np.ndarray]
+    reference: np.ndarray | None
     grid: OccupancyGrid
     stats: dict
     slam: SlamBackend = field(repr=False, default=None)
 
 
-def read_input(path: os.PathLike | str, max_scans: Optional[int] = None,
+def read_input(path: os.PathLike | str, max_scans: int | None = None,
                **bag_options) -> SlamInput:
     """Read a CARMEN log or a ROS bag for :func:`run` (first ``max_scans`` scans only, when
     given). ``bag_options`` go to :func:`~.bag_input.read_bag_input` (scan_topic, odom_topic,
@@ -76,7 +77,7 @@ class RecordedRun:
         return np.random.default_rng(loop_seeds(self.seed)[2])
 
 
-def recorded_run(path: os.PathLike | str) -> Optional[RecordedRun]:
+def recorded_run(path: os.PathLike | str) -> RecordedRun | None:
     """The :class:`RecordedRun` of a sensor log inside a collected run folder (``run.json``
     beside it with a ``sensor_logs`` entry holding the back-end's parameters), else None."""
     run_json = Path(path).resolve().parent / "run.json"
@@ -96,8 +97,8 @@ def recorded_run(path: os.PathLike | str) -> Optional[RecordedRun]:
 
 
 def run(data: SlamInput, slam_type: str, params, seed: int,
-        progress: Optional[Callable[[int, int], None]] = None,
-        rng: Optional[np.random.Generator] = None) -> RunResult:
+        progress: Callable[[int, int], None] | None = None,
+        rng: np.random.Generator | None = None) -> RunResult:
     """Run back-end ``slam_type`` over ``data`` with a generator seeded by ``seed`` (or ``rng``
     when given, e.g. a collected run's SLAM generator); the map is built at the end."""
     cpu0, wall0 = time.process_time(), time.perf_counter()
@@ -151,7 +152,7 @@ def known_window(grid: OccupancyGrid, margin: int = 20):
 
 
 def write_run(out_dir: os.PathLike | str, result: RunResult, data: SlamInput,
-              params, seed: int, config_path: Optional[str] = None) -> Path:
+              params, seed: int, config_path: str | None = None) -> Path:
     """Write the run's files into ``out_dir`` (replaced atomically); returns its path."""
     import cv2
 

@@ -12,7 +12,6 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass, field
-from typing import Optional
 
 import numpy as np
 
@@ -30,14 +29,14 @@ class SlamInput:
     odometry: np.ndarray
     ranges: np.ndarray
     laser: LaserGeometry
-    reference: Optional[np.ndarray] = None
+    reference: np.ndarray | None = None
     info: dict = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(self.times)
 
 
-def read_carmen_input(path: os.PathLike | str, max_scans: Optional[int] = None) -> SlamInput:
+def read_carmen_input(path: os.PathLike | str, max_scans: int | None = None) -> SlamInput:
     """A CARMEN log as :class:`SlamInput` (first ``max_scans`` scans only, when given)."""
     from slam_predict.formats.carmen import read_log
 

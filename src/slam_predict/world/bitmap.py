@@ -20,7 +20,7 @@ import contextlib
 import contextvars
 import logging
 import os
-from typing import Iterator, Optional, Tuple
+from collections.abc import Iterator
 
 import cv2
 import numpy as np
@@ -36,7 +36,7 @@ _MAX_PIXELS = contextvars.ContextVar("max_pixels", default=DEFAULT_MAX_PIXELS)
 
 
 @contextlib.contextmanager
-def pixel_limit(max_pixels: Optional[int]) -> Iterator[None]:
+def pixel_limit(max_pixels: int | None) -> Iterator[None]:
     """Within the block, :func:`read_grey` refuses images above ``max_pixels`` (None: the
     default limit)."""
     if max_pixels is not None and max_pixels < 1:
@@ -48,7 +48,7 @@ def pixel_limit(max_pixels: Optional[int]) -> Iterator[None]:
         _MAX_PIXELS.reset(token)
 
 
-def header_size(path: str) -> Optional[Tuple[int, int]]:
+def header_size(path: str) -> tuple[int, int] | None:
     """(width, height) in px from the image header, without decoding; None if Pillow cannot
     identify the format (the decoder then has the last word)."""
     import warnings
@@ -117,7 +117,7 @@ def free_mask(grey: np.ndarray, free_threshold: int = FREE_THRESHOLD) -> np.ndar
     return grey >= free_threshold
 
 
-def remove_outside(free: np.ndarray, source: Optional[str] = None) -> np.ndarray:
+def remove_outside(free: np.ndarray, source: str | None = None) -> np.ndarray:
     """Free space without the parts 4-connected to the image border (the outside).
 
     Raises InputError when the image has no free space, or when no free space is enclosed.

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import json
 import os
-from typing import List, Tuple
 
 import numpy as np
 
@@ -18,13 +17,13 @@ from slam_predict.world.model import Door, Room
 DIGITS = 4
 
 
-def rooms_record(rooms: List[Room]) -> List[dict]:
+def rooms_record(rooms: list[Room]) -> list[dict]:
     """Rooms as plain dicts (polygons rounded to 0.1 mm)."""
     return [{"id": r.id, "label": r.label,
              "polygon": np.round(np.asarray(r.polygon, float), DIGITS).tolist()} for r in rooms]
 
 
-def doors_record(doors: List[Door]) -> List[dict]:
+def doors_record(doors: list[Door]) -> list[dict]:
     """Doors as plain dicts: the two room ids, the segment (m) and its length (m)."""
     out = []
     for d in doors:
@@ -34,7 +33,7 @@ def doors_record(doors: List[Door]) -> List[dict]:
     return out
 
 
-def from_record(record: dict, source: str = "") -> Tuple[List[Room], List[Door]]:
+def from_record(record: dict, source: str = "") -> tuple[list[Room], list[Door]]:
     """(rooms, doors) from a record written by :func:`rooms_record`/:func:`doors_record`."""
     try:
         rooms = [Room(id=str(r["id"]), label=str(r.get("label", "")),
@@ -47,7 +46,7 @@ def from_record(record: dict, source: str = "") -> Tuple[List[Room], List[Door]]
     return rooms, doors
 
 
-def read_ground_truth(path: os.PathLike | str) -> Tuple[List[Room], List[Door]]:
+def read_ground_truth(path: os.PathLike | str) -> tuple[list[Room], list[Door]]:
     """(rooms, doors) from a ground-truth JSON file."""
     path = require_file(path, "ground-truth JSON")
     try:

@@ -34,8 +34,8 @@ from __future__ import annotations
 import logging
 import os
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -59,7 +59,7 @@ class Space:
     kind: str
     polygon: np.ndarray
     walls: np.ndarray
-    portals: List[Tuple[np.ndarray, str]] = field(default_factory=list)
+    portals: list[tuple[np.ndarray, str]] = field(default_factory=list)
 
 
 @dataclass
@@ -69,8 +69,8 @@ class Layout:
     path: str
     unit_m: float
     building_type: str
-    spaces: List[Space]
-    extent: Tuple[float, float, float, float]  # min_x, min_y, max_x, max_y (units, truncated)
+    spaces: list[Space]
+    extent: tuple[float, float, float, float]  # min_x, min_y, max_x, max_y (units, truncated)
 
 
 @dataclass(frozen=True)
@@ -89,7 +89,7 @@ class Frame:
                         axis=-1)
 
 
-def _coord(point: ET.Element) -> Tuple[float, float]:
+def _coord(point: ET.Element) -> tuple[float, float]:
     """(x, y) of a ``<point>``; ValueError when an attribute is missing or not a finite number."""
     x, y = float(point.get("x", "nan")), float(point.get("y", "nan"))
     if not (np.isfinite(x) and np.isfinite(y)):
@@ -97,13 +97,13 @@ def _coord(point: ET.Element) -> Tuple[float, float]:
     return x, y
 
 
-def _points(element: Optional[ET.Element]) -> np.ndarray:
+def _points(element: ET.Element | None) -> np.ndarray:
     if element is None:
         return np.zeros((0, 2))
     return np.array([_coord(p) for p in element.findall("point")], dtype=float).reshape(-1, 2)
 
 
-def _text(element: Optional[ET.Element], default: str = "") -> str:
+def _text(element: ET.Element | None, default: str = "") -> str:
     if element is None or element.text is None:
         return default
     return element.text.strip()
@@ -129,7 +129,7 @@ def _scale(root: ET.Element, path: str) -> float:
     return real * UNIT_TO_M[um] / units
 
 
-def _space(element: ET.Element, path: str) -> Optional[Space]:
+def _space(element: ET.Element, path: str) -> Space | None:
     polygon = _points(element.find("bounding_polygon"))
     if len(polygon) >= 2 and np.array_equal(polygon[0], polygon[-1]):
         polygon = polygon[:-1]
@@ -189,7 +189,7 @@ def centred_frame(layout: Layout) -> Frame:
     return Frame(layout.unit_m, layout.unit_m, (x0 + x1) / 2.0, (y0 + y1) / 2.0)
 
 
-def stretched_frame(layout: Layout, size_m: Tuple[float, float], mirror: bool = False) -> Frame:
+def stretched_frame(layout: Layout, size_m: tuple[float, float], mirror: bool = False) -> Frame:
     """The frame that maps the layout's point extent exactly onto ``size_m`` (W, H m), as the
     thesis' Stage worlds did (``floorplan size [W H]`` stretches the bitmap). ``mirror`` keeps
     the drawing's y axis as world y (a vertical mirror image of the drawing)."""
@@ -200,7 +200,7 @@ def stretched_frame(layout: Layout, size_m: Tuple[float, float], mirror: bool = 
 
 
 def layout_world(layout: Layout, frame: Frame, grid, wall_thickness: float,
-                 door_width: float, name: str, sample_m: Optional[float] = None) -> World:
+                 door_width: float, name: str, sample_m: float | None = None) -> World:
     """Rasterise ``layout`` onto ``grid`` (a :class:`raster.Grid`) through ``frame``; with
     ``sample_m`` (m) conservatively: a cell is an obstacle when any of its samples ``sample_m``
     apart is (:func:`layout_raster.rasterise_sampled`)."""
@@ -230,9 +230,9 @@ def _check_positive(value: float, what: str, path: str) -> None:
         raise InputError(f"{what} must be > 0 (got {value:g})", path)
 
 
-def rasterise_layout(path: os.PathLike | str, resolution: Optional[float] = None,
+def rasterise_layout(path: os.PathLike | str, resolution: float | None = None,
                      wall_thickness: float = DEFAULT_WALL, door_width: float = DEFAULT_DOOR,
-                     sample_m: Optional[float] = DEFAULT_SAMPLE) -> World:
+                     sample_m: float | None = DEFAULT_SAMPLE) -> World:
     """A layout XML as a World at its own scale, centred on the origin, without a start pose
     (``provenance['start_given']`` is False). The grid extent is whole 0.1 m cells and the
     plan is sampled every ``sample_m`` m (module docstring, "Resolution")."""
@@ -256,10 +256,10 @@ def rasterise_layout(path: os.PathLike | str, resolution: Optional[float] = None
     return world
 
 
-def load_layout(path: os.PathLike | str, resolution: Optional[float] = None,
+def load_layout(path: os.PathLike | str, resolution: float | None = None,
                 wall_thickness: float = DEFAULT_WALL, door_width: float = DEFAULT_DOOR,
-                start: Optional[Sequence[float]] = None, snap_start: bool = False,
-                sample_m: Optional[float] = DEFAULT_SAMPLE) -> World:
+                start: Sequence[float] | None = None, snap_start: bool = False,
+                sample_m: float | None = DEFAULT_SAMPLE) -> World:
     """Load a layout XML as a World at ``resolution`` m/px (default 0.05).
 
     Walls are ``wall_thickness`` m thick, doors ``door_width`` m wide; ``start`` is

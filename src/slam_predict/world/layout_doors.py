@@ -18,15 +18,14 @@ in the middle of the longest stretch of one outline lying within a tolerance of 
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 import shapely
 from shapely.geometry import LineString, Point, Polygon
 
 from slam_predict.world.model import Room
-
 
 
 @dataclass
@@ -37,7 +36,7 @@ class DoorCut:
     direction: np.ndarray
     gap: float
     width: float
-    rooms: Tuple[str, str]
+    rooms: tuple[str, str]
 
     @property
     def segment(self) -> np.ndarray:
@@ -46,9 +45,9 @@ class DoorCut:
         return np.array([self.centre - half, self.centre + half])
 
 
-def _pair_points(layout, frame) -> Dict[Tuple[str, str], Dict[str, List[np.ndarray]]]:
+def _pair_points(layout, frame) -> dict[tuple[str, str], dict[str, list[np.ndarray]]]:
     """{(a, b) sorted: {space id: [portal points toward the other, world m]}}."""
-    pairs: Dict[Tuple[str, str], Dict[str, List[np.ndarray]]] = {}
+    pairs: dict[tuple[str, str], dict[str, list[np.ndarray]]] = {}
     known = {s.id for s in layout.spaces}
     for space in layout.spaces:
         for point, other in space.portals:
@@ -59,15 +58,15 @@ def _pair_points(layout, frame) -> Dict[Tuple[str, str], Dict[str, List[np.ndarr
     return pairs
 
 
-def _dedupe(points: List[np.ndarray], tol: float) -> List[np.ndarray]:
-    kept: List[np.ndarray] = []
+def _dedupe(points: list[np.ndarray], tol: float) -> list[np.ndarray]:
+    kept: list[np.ndarray] = []
     for p in points:
         if all(np.hypot(*(p - q)) >= tol for q in kept):
             kept.append(p)
     return kept
 
 
-def _match(a_pts: List[np.ndarray], b_pts: List[np.ndarray]) -> List[np.ndarray]:
+def _match(a_pts: list[np.ndarray], b_pts: list[np.ndarray]) -> list[np.ndarray]:
     """Door centres from the two spaces' portal points, closest pairs first."""
     centres = []
     used_a, used_b = set(), set()
@@ -84,10 +83,10 @@ def _match(a_pts: List[np.ndarray], b_pts: List[np.ndarray]) -> List[np.ndarray]
     return centres
 
 
-def _edges_near(polygon: np.ndarray, centre: np.ndarray, radius: float) -> List[np.ndarray]:
+def _edges_near(polygon: np.ndarray, centre: np.ndarray, radius: float) -> list[np.ndarray]:
     """Unit directions of the polygon's edges passing within ``radius`` m of ``centre``."""
     dirs = []
-    for p, q in zip(polygon, np.roll(polygon, -1, axis=0)):
+    for p, q in zip(polygon, np.roll(polygon, -1, axis=0), strict=False):
         length = float(np.hypot(*(q - p)))
         if length == 0:
             continue
@@ -115,7 +114,7 @@ def _direction(centre, room_a: Room, room_b: Room, width: float) -> np.ndarray:
     return min(candidates, key=score)
 
 
-def find_doors(layout, frame, rooms: Sequence[Room], width: float) -> List[DoorCut]:
+def find_doors(layout, frame, rooms: Sequence[Room], width: float) -> list[DoorCut]:
     """One DoorCut per portal (rules 1-2 of the module docstring); rooms in layout order."""
     by_id = {r.id: r for r in rooms}
     doors = []
@@ -140,7 +139,7 @@ def is_circulation(room: Room) -> bool:
 
 
 def shared_wall_door(room_a: Room, room_b: Room, tolerance: float,
-                     width: float) -> Optional[Tuple[float, DoorCut]]:
+                     width: float) -> tuple[float, DoorCut] | None:
     """An inferred door in the middle of the longest stretch of A's outline lying within
     ``tolerance`` m of B's outline: (stretch length m, door), or None when no stretch is at
     least a door width long."""

@@ -28,8 +28,8 @@ than a cell (a leak at a wall corner) is left as a separate component after the 
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import List, Sequence, Tuple
 
 import numpy as np
 from scipy import ndimage
@@ -64,7 +64,7 @@ def outline_segments(rooms: Sequence[Room]) -> np.ndarray:
 
 def build_canvas(rooms: Sequence[Room], walls: Sequence[np.ndarray], grid: raster.Grid,
                  wall_thickness: float,
-                 thick_walls: Sequence[Tuple[np.ndarray, float]] = ()) -> Canvas:
+                 thick_walls: Sequence[tuple[np.ndarray, float]] = ()) -> Canvas:
     """Step 1 of the module docstring; ``thick_walls`` adds (segments, thickness m) pairs drawn
     with their own thickness (e.g. a generated building's exterior walls)."""
     owner = np.zeros(grid.shape, dtype=np.int32)
@@ -85,7 +85,7 @@ def _door_rect(door: DoorCut, depth: float) -> np.ndarray:
     return raster.segment_rectangle(seg[0], seg[1], depth / 2.0, 0.0)
 
 
-def _window(canvas: Canvas, polygon: np.ndarray, pad: int = 2) -> Tuple[slice, slice]:
+def _window(canvas: Canvas, polygon: np.ndarray, pad: int = 2) -> tuple[slice, slice]:
     uv = canvas.grid.to_px(polygon)
     r0 = max(0, int(np.floor(uv[:, 1].min())) - pad)
     r1 = min(canvas.grid.rows, int(np.ceil(uv[:, 1].max())) + pad)
@@ -94,7 +94,7 @@ def _window(canvas: Canvas, polygon: np.ndarray, pad: int = 2) -> Tuple[slice, s
     return slice(r0, max(r0, r1)), slice(c0, max(c0, c1))
 
 
-def cut_door(canvas: Canvas, door: DoorCut, ids: Tuple[int, int], force: bool = True) -> bool:
+def cut_door(canvas: Canvas, door: DoorCut, ids: tuple[int, int], force: bool = True) -> bool:
     """Step 2 of the module docstring; ``ids`` are the two rooms' owner values. Returns whether
     the door joins both rooms (if not, the shallowest rectangle is cut when ``force``)."""
     res, t = canvas.grid.resolution, canvas.wall_thickness
@@ -132,7 +132,7 @@ def _room_components(canvas: Canvas, labels: np.ndarray, count: int) -> np.ndarr
     return best[1:]
 
 
-def _shared_walls(rooms: Sequence[Room], width: float) -> List[Tuple[float, int, int, DoorCut]]:
+def _shared_walls(rooms: Sequence[Room], width: float) -> list[tuple[float, int, int, DoorCut]]:
     """Candidate inferred doors (priority, room i, room j, door), best first."""
     import shapely
     from shapely.geometry import Polygon
@@ -152,9 +152,9 @@ def _shared_walls(rooms: Sequence[Room], width: float) -> List[Tuple[float, int,
     return sorted(found, key=lambda item: -item[0])
 
 
-def repair(canvas: Canvas, rooms: Sequence[Room], width: float) -> List[DoorCut]:
+def repair(canvas: Canvas, rooms: Sequence[Room], width: float) -> list[DoorCut]:
     """Step 3 of the module docstring: the inferred doors opened."""
-    inferred: List[DoorCut] = []
+    inferred: list[DoorCut] = []
     candidates = None
     while True:
         labels, count = raster.label_free(canvas.free)
@@ -179,7 +179,7 @@ def repair(canvas: Canvas, rooms: Sequence[Room], width: float) -> List[DoorCut]
     return inferred
 
 
-def keep_largest(free: np.ndarray, resolution: float) -> Tuple[np.ndarray, float]:
+def keep_largest(free: np.ndarray, resolution: float) -> tuple[np.ndarray, float]:
     """Step 4: close every free component but the largest; returns (free, closed area m²)."""
     labels, count = raster.label_free(free)
     if count <= 1:
@@ -205,7 +205,7 @@ def rasterise(rooms: Sequence[Room], walls: Sequence[np.ndarray], doors: Sequenc
     reached = np.bincount(canvas.owner[free & canvas.walls_free], minlength=len(rooms) + 1)
     report = {"closed_islands_m2": round(closed, 3), "portals_not_joined": len(unjoined),
               "inferred_doors": [list(d.rooms) for d in inferred],
-              "rooms_closed": [r.id for r, n in zip(rooms, reached[1:]) if n == 0]}
+              "rooms_closed": [r.id for r, n in zip(rooms, reached[1:], strict=False) if n == 0]}
     return free, inferred, report
 
 

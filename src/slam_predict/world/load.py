@@ -30,7 +30,7 @@ import importlib
 import logging
 import math
 import os
-from typing import Optional, Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -45,7 +45,7 @@ YAML_SUFFIXES = (".yaml", ".yml")
 PLAN_SUFFIXES = (".world",) + IMAGE_SUFFIXES + YAML_SUFFIXES + (".xml",)
 
 
-def _check_resolution(resolution: Optional[float], source: str, what: str = "--resolution"):
+def _check_resolution(resolution: float | None, source: str, what: str = "--resolution"):
     if resolution is None:
         return None
     try:
@@ -86,7 +86,7 @@ def _load_map_yaml(path: str) -> World:
                              "map_origin": list(meta.origin), "start_given": False})
 
 
-def _yaml_beside(image: str) -> Optional[str]:
+def _yaml_beside(image: str) -> str | None:
     stem = os.path.splitext(image)[0]
     for suffix in YAML_SUFFIXES:
         if os.path.isfile(stem + suffix):
@@ -94,7 +94,7 @@ def _yaml_beside(image: str) -> Optional[str]:
     return None
 
 
-def _load_image(path: str, resolution: Optional[float], free_threshold: int) -> World:
+def _load_image(path: str, resolution: float | None, free_threshold: int) -> World:
     origin, provenance = (0.0, 0.0), {"source": os.path.abspath(path), "format": "image"}
     occupied = bitmap.load_occupancy(path, free_threshold)
     yaml_path = _yaml_beside(path)
@@ -126,11 +126,11 @@ def _load_layout(path: str, resolution, start, snap_start, layout_options) -> Wo
     return layout.load_layout(path, start=start, snap_start=snap_start, **kwargs)
 
 
-def load_plan(path: os.PathLike | str, resolution: Optional[float] = None,
-              start: Optional[Sequence[float]] = None, snap_start: bool = False,
+def load_plan(path: os.PathLike | str, resolution: float | None = None,
+              start: Sequence[float] | None = None, snap_start: bool = False,
               free_threshold: int = bitmap.FREE_THRESHOLD, *,
-              wall_thickness: Optional[float] = None,
-              door_width: Optional[float] = None) -> World:
+              wall_thickness: float | None = None,
+              door_width: float | None = None) -> World:
     """Load a floor plan (.world, image, map_server YAML or layout XML) as a World.
 
     Args:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Tuple
+from typing import Any
 
 import numpy as np
 
@@ -30,7 +30,7 @@ class RobotSpec:
     max_vel_theta: float = 90.0 * DEG
     max_acc_x: float = 1.5
     max_acc_theta: float = 0.0  # 0 = unlimited, as Stage
-    odom_error: Tuple[float, float, float, float] = (0.01, 0.01, 0.0, 2.0 * DEG)
+    odom_error: tuple[float, float, float, float] = (0.01, 0.01, 0.0, 2.0 * DEG)
     localization: str = "odom"
     drive: str = "diff"
 
@@ -49,7 +49,7 @@ class Door:
     """A ground-truth passage: segment endpoints (2, 2) in world metres, the two room ids."""
 
     segment: np.ndarray
-    rooms: Tuple[str, str] = ("", "")
+    rooms: tuple[str, str] = ("", "")
 
 
 @dataclass
@@ -68,13 +68,13 @@ class World:
     occupied: np.ndarray
     resolution: float
     start_pose: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    origin: Tuple[float, float] = (0.0, 0.0)
+    origin: tuple[float, float] = (0.0, 0.0)
     robot: RobotSpec = field(default_factory=RobotSpec)
     laser: LaserSpec = field(default_factory=LaserSpec)
     interval_sim: float = 0.1
-    rooms: List[Room] = field(default_factory=list)
-    doors: List[Door] = field(default_factory=list)
-    provenance: Dict[str, Any] = field(default_factory=dict)
+    rooms: list[Room] = field(default_factory=list)
+    doors: list[Door] = field(default_factory=list)
+    provenance: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.occupied = np.ascontiguousarray(self.occupied, dtype=bool)
@@ -85,12 +85,12 @@ class World:
             raise ValueError("resolution must be > 0")
 
     @property
-    def shape(self) -> Tuple[int, int]:
+    def shape(self) -> tuple[int, int]:
         """(rows, cols) of the bitmap."""
         return self.occupied.shape  # type: ignore[return-value]
 
     @property
-    def size_m(self) -> Tuple[float, float]:
+    def size_m(self) -> tuple[float, float]:
         """(width, height) of the bitmap in metres."""
         rows, cols = self.shape
         return cols * self.resolution, rows * self.resolution
@@ -139,7 +139,7 @@ class World:
         c = np.clip(rc[..., 1], 0, cols - 1)
         return inside & ~self.occupied[r, c]
 
-    def replace(self, **changes: Any) -> "World":
+    def replace(self, **changes: Any) -> World:
         """A copy with some fields changed."""
         return dataclasses.replace(self, **changes)
 

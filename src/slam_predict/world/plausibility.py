@@ -17,7 +17,6 @@ has a closed 10.6 m² room.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 from scipy import ndimage
@@ -47,7 +46,7 @@ def free_area_m2(world: World) -> float:
     return float(np.count_nonzero(~world.occupied)) * world.resolution ** 2
 
 
-def _scale_problem(area: float, extent: tuple) -> Optional[str]:
+def _scale_problem(area: float, extent: tuple) -> str | None:
     if area < MIN_FREE_M2:
         return f"free area {area:.3g} m² is smaller than any building (< {MIN_FREE_M2:g} m²)"
     if area > MAX_FREE_M2:
@@ -104,7 +103,7 @@ def reachability(world: World) -> Reachability:
     return Reachability(reachable, float(sizes.sum()) + reachable, float(sizes.max()))
 
 
-def unreachable_warning(world: World) -> Optional[str]:
+def unreachable_warning(world: World) -> str | None:
     """A warning when a room-sized part of the free space cannot be reached from the start."""
     reach = reachability(world)
     if reach.largest_cut_m2 < MIN_ROOM_M2:

@@ -11,8 +11,8 @@ bitmap of ``rows`` x ``cols`` cells of ``resolution`` m whose centre is the worl
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Iterable, Sequence, Tuple
 
 import numba
 import numpy as np
@@ -28,18 +28,18 @@ class Grid:
     rows: int
     cols: int
     resolution: float
-    origin: Tuple[float, float] = (0.0, 0.0)
+    origin: tuple[float, float] = (0.0, 0.0)
 
     @classmethod
     def covering(cls, xmin: float, ymin: float, xmax: float, ymax: float, resolution: float,
-                 margin: float = 0.0) -> "Grid":
+                 margin: float = 0.0) -> Grid:
         """The smallest grid centred on the box centre that holds the box plus ``margin`` m."""
         cols = int(math.ceil((xmax - xmin + 2 * margin) / resolution - 1e-9))
         rows = int(math.ceil((ymax - ymin + 2 * margin) / resolution - 1e-9))
         return cls(max(rows, 1), max(cols, 1), resolution, ((xmin + xmax) / 2, (ymin + ymax) / 2))
 
     @property
-    def shape(self) -> Tuple[int, int]:
+    def shape(self) -> tuple[int, int]:
         """(rows, cols)."""
         return self.rows, self.cols
 
@@ -50,7 +50,7 @@ class Grid:
         v = self.rows / 2.0 - (xy[..., 1] - self.origin[1]) / self.resolution
         return np.stack([u, v], axis=-1)
 
-    def window(self, r0: int, r1: int, c0: int, c1: int) -> "Grid":
+    def window(self, r0: int, r1: int, c0: int, c1: int) -> Grid:
         """The grid of the sub-bitmap ``[r0:r1, c0:c1]`` (same world coordinates)."""
         x = self.origin[0] + ((c0 + c1) / 2.0 - self.cols / 2.0) * self.resolution
         y = self.origin[1] + (self.rows / 2.0 - (r0 + r1) / 2.0) * self.resolution
@@ -144,7 +144,7 @@ def fill_box(mask: np.ndarray, grid: Grid, xmin: float, ymin: float, xmax: float
         mask[r0:r1, c0:c1] = value
 
 
-def label_free(free: np.ndarray) -> Tuple[np.ndarray, int]:
+def label_free(free: np.ndarray) -> tuple[np.ndarray, int]:
     """4-connected components of free cells: (labels, count). 4-connectivity because a robot
     cannot squeeze through a diagonal pixel contact."""
     labels, count = ndimage.label(free, structure=FOUR_CONNECTED)

@@ -9,7 +9,6 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
-from typing import Optional
 
 import numpy as np
 
@@ -77,7 +76,7 @@ def _draw_scale_bar(ax, world: World) -> None:
 
 
 def render_world(world: World, out: os.PathLike | str, dpi: int = 150,
-                 title: Optional[str] = None) -> Path:
+                 title: str | None = None) -> Path:
     """Draw ``world`` to the image file ``out`` (.png, .pdf, .svg or .jpg), atomically."""
     out = Path(out)
     if out.suffix.lower() not in FORMATS:

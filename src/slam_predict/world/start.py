@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Optional, Sequence
+from collections.abc import Sequence
 
 import numpy as np
 from scipy import ndimage
@@ -56,7 +56,7 @@ def snap_to_free(world: World, pose: np.ndarray) -> np.ndarray:
     return snapped
 
 
-def parse_start(values: Optional[Sequence[float]]) -> Optional[np.ndarray]:
+def parse_start(values: Sequence[float] | None) -> np.ndarray | None:
     """``--start X Y [YAW]`` (m, m, deg) → (x, y, yaw rad), or None when not given."""
     if values is None:
         return None
@@ -66,7 +66,7 @@ def parse_start(values: Optional[Sequence[float]]) -> Optional[np.ndarray]:
     return np.array([float(values[0]), float(values[1]), yaw])
 
 
-def check_start(world: World, pose: np.ndarray, source: Optional[str] = None) -> None:
+def check_start(world: World, pose: np.ndarray, source: str | None = None) -> None:
     """Raise InputError when ``pose`` is outside the map or inside a wall."""
     rc = world.world_to_cell(pose[:2])
     if not world.in_bounds(rc):
@@ -77,7 +77,7 @@ def check_start(world: World, pose: np.ndarray, source: Optional[str] = None) ->
                          "(use --snap-start)", source)
 
 
-def resolve_start(world: World, start: Optional[Sequence[float]] = None,
+def resolve_start(world: World, start: Sequence[float] | None = None,
                   snap: bool = False) -> World:
     """Apply the start-pose rule: explicit ``start`` (m, m, deg), else the world's, else default.
 

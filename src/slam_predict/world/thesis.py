@@ -50,7 +50,6 @@ import csv
 import logging
 import os
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -76,8 +75,8 @@ class ThesisEnv:
     env: str
     source: str
     plan: str
-    size_m: Tuple[float, float]
-    start: Tuple[float, float, float]
+    size_m: tuple[float, float]
+    start: tuple[float, float, float]
 
 
 def _number(text: str, what: str, path: str, line: int) -> float:
@@ -90,8 +89,8 @@ def _number(text: str, what: str, path: str, line: int) -> float:
     return value
 
 
-def read_environments(path: os.PathLike | str, plans_dir: Optional[str] = None
-                      ) -> List[ThesisEnv]:
+def read_environments(path: os.PathLike | str, plans_dir: str | None = None
+                      ) -> list[ThesisEnv]:
     """The rows of environments.csv that have a plan; InputError for a malformed file."""
     path = require_file(path, "environments CSV")
     plans_dir = plans_dir or os.path.join(os.path.dirname(os.path.abspath(path)), os.pardir,
@@ -122,7 +121,7 @@ def read_environments(path: os.PathLike | str, plans_dir: Optional[str] = None
     return envs
 
 
-def resample_conservative(occupied: np.ndarray, size_m: Tuple[float, float],
+def resample_conservative(occupied: np.ndarray, size_m: tuple[float, float],
                           resolution: float) -> np.ndarray:
     """Resample a bitmap stretched to ``size_m`` (W, H m) onto square ``resolution`` cells;
     a cell is occupied when any source pixel overlapping it (by > 1 % of a pixel) is."""
@@ -156,7 +155,7 @@ def _largest_component(free: np.ndarray) -> np.ndarray:
     return labels == int(np.argmax(sizes))
 
 
-def _fit_crop(occupied: np.ndarray, size_m: Tuple[float, float]) -> Tuple[np.ndarray, float]:
+def _fit_crop(occupied: np.ndarray, size_m: tuple[float, float]) -> tuple[np.ndarray, float]:
     """The image cropped/padded around the bounding box of its largest free component (the
     building, without scan fragments outside it) to the aspect of ``size_m``, and the isotropic
     m/px that fits that box into the world with FIT_MARGIN m around it."""
@@ -172,7 +171,7 @@ def _fit_crop(occupied: np.ndarray, size_m: Tuple[float, float]) -> Tuple[np.nda
     return canvas, float(scale)
 
 
-def _ipa_world(env: ThesisEnv, resolution: float) -> Tuple[World, str]:
+def _ipa_world(env: ThesisEnv, resolution: float) -> tuple[World, str]:
     occupied = bitmap.load_occupancy(require_file(env.plan, "plan image"))
     note = ""
     size_m = env.size_m
@@ -199,7 +198,7 @@ def _ipa_world(env: ThesisEnv, resolution: float) -> Tuple[World, str]:
 
 
 def _layout_world(env: ThesisEnv, resolution: float, wall: float, door: float,
-                  sample_m: Optional[float]) -> World:
+                  sample_m: float | None) -> World:
     from slam_predict.world.layout import layout_world, parse_layout, stretched_frame
     from slam_predict.world.layout_raster import nested_cells
     from slam_predict.world.raster import Grid
@@ -214,8 +213,8 @@ def _layout_world(env: ThesisEnv, resolution: float, wall: float, door: float,
 
 
 def thesis_world(env: ThesisEnv, resolution: float = 0.05, wall_thickness: float = 0.15,
-                 door_width: float = 0.9, layout_sample_m: Optional[float] = DEFAULT_SAMPLE
-                 ) -> Tuple[World, dict]:
+                 door_width: float = 0.9, layout_sample_m: float | None = DEFAULT_SAMPLE
+                 ) -> tuple[World, dict]:
     """(World with its start pose, index row) of one thesis building; layouts are rasterised
     conservatively on ``layout_sample_m`` m samples (None: pixel-centre rule at ``resolution``)."""
     from slam_predict.world.start import resolve_start

@@ -6,7 +6,8 @@ frame (vx m/s, vy m/s, ω rad/s).
 """
 from __future__ import annotations
 
-from typing import NamedTuple, Sequence, Tuple
+from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 import rospy
@@ -53,12 +54,12 @@ def twist_to_ros(velocity: Sequence[float]) -> Twist:
     return msg
 
 
-def twist_from_ros(msg: Twist) -> Tuple[float, float, float]:
+def twist_from_ros(msg: Twist) -> tuple[float, float, float]:
     """geometry_msgs/Twist → (vx, vy, ω) (the planar part, as stageros' SetSpeed)."""
     return float(msg.linear.x), float(msg.linear.y), float(msg.angular.z)
 
 
-def _velocity3(velocity: Sequence[float]) -> Tuple[float, float, float]:
+def _velocity3(velocity: Sequence[float]) -> tuple[float, float, float]:
     if len(velocity) == 2:
         return float(velocity[0]), 0.0, float(velocity[1])
     return float(velocity[0]), float(velocity[1]), float(velocity[2])
@@ -71,7 +72,7 @@ class OdometryData(NamedTuple):
     frame_id: str
     child_frame_id: str
     pose: np.ndarray
-    twist: Tuple[float, float, float]
+    twist: tuple[float, float, float]
 
 
 def odometry_to_ros(pose: Sequence[float], velocity: Sequence[float], stamp: float,

@@ -9,7 +9,6 @@ origin − (W/2, H/2). Our world frame is used as the map frame (no rotation).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional, Tuple
 
 import numpy as np
 
@@ -32,9 +31,9 @@ class OccupancyMap:
 
     values: np.ndarray
     resolution: float
-    origin: Tuple[float, float] = (0.0, 0.0)
+    origin: tuple[float, float] = (0.0, 0.0)
     frame_id: str = "map"
-    stamp: Optional[object] = field(default=None, compare=False)
+    stamp: object | None = field(default=None, compare=False)
 
     def occupied(self, unknown_is_occupied: bool = True, threshold: int = 50) -> np.ndarray:
         """Bool occupancy: cells ≥ ``threshold`` (and unknown ones, by default) are obstacles."""
@@ -52,7 +51,7 @@ def world_values(world: World) -> np.ndarray:
     return np.where(world.occupied, OCCUPIED, FREE).astype(np.int8)
 
 
-def occupancy_to_ros(grid, frame_id: Optional[str] = None, stamp=None):
+def occupancy_to_ros(grid, frame_id: str | None = None, stamp=None):
     """A ``nav_msgs/OccupancyGrid`` from a :class:`World` or an :class:`OccupancyMap`.
 
     ``frame_id`` defaults to the OccupancyMap's frame ("map" for a World).

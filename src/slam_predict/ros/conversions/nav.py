@@ -11,7 +11,7 @@
 from __future__ import annotations
 
 import math
-from typing import List, Optional, Sequence, Tuple
+from collections.abc import Sequence
 
 import numpy as np
 from geometry_msgs.msg import Point, Point32, PolygonStamped, PoseStamped
@@ -113,7 +113,7 @@ def pose_stamped_to_ros(target: Sequence[float], frame_id: str, stamp: float = 0
     return msg
 
 
-def pose_stamped_from_ros(msg: PoseStamped) -> Optional[Tuple[np.ndarray, str]]:
+def pose_stamped_from_ros(msg: PoseStamped) -> tuple[np.ndarray, str] | None:
     """((x, y, yaw), frame_id), or None for an invalid quaternion."""
     if not quaternion_valid(msg.pose.orientation):
         return None
@@ -127,7 +127,7 @@ def goal_to_ros(target: Sequence[float], frame_id: str = "map", stamp: float = 0
     return goal
 
 
-def goal_from_ros(goal: MoveBaseGoal) -> Optional[Tuple[np.ndarray, str]]:
+def goal_from_ros(goal: MoveBaseGoal) -> tuple[np.ndarray, str] | None:
     """((x, y, yaw), frame_id) of a MoveBaseGoal, or None for an invalid quaternion."""
     return pose_stamped_from_ros(goal.target_pose)
 
@@ -154,7 +154,7 @@ def frontiers_to_ros(frontiers, frame_id: str, stamp: float = 0.0,
     return out
 
 
-def frontiers_from_ros(msg: MarkerArray) -> List[Tuple[np.ndarray, np.ndarray]]:
+def frontiers_from_ros(msg: MarkerArray) -> list[tuple[np.ndarray, np.ndarray]]:
     """[(cells (n, 2), goal (2,)), ...] of a frontier MarkerArray, in id order."""
     points = {m.id: m for m in msg.markers if m.type == Marker.POINTS}
     spheres = {m.id: m for m in msg.markers if m.type == Marker.SPHERE}

@@ -7,7 +7,6 @@ the sensor, time_increment = scan_time = 0, and intensities = the hit model's ra
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
 
 import numpy as np
 from sensor_msgs.msg import LaserScan
@@ -94,7 +93,7 @@ def scan_to_ros(scan: ScanData) -> LaserScan:
     return msg
 
 
-def scan_from_ros(msg: LaserScan, stamp: Optional[float] = None) -> ScanData:
+def scan_from_ros(msg: LaserScan, stamp: float | None = None) -> ScanData:
     """sensor_msgs/LaserScan → :class:`ScanData` (``stamp`` overrides the header's)."""
     return ScanData(np.asarray(msg.ranges, dtype=np.float32), float(msg.angle_min),
                     float(msg.angle_increment), float(msg.range_min), float(msg.range_max),

@@ -13,7 +13,6 @@ All poses here are poses of the laser in the odom/map frames (m, rad).
 from __future__ import annotations
 
 import logging
-from typing import List, Optional
 
 import numpy as np
 
@@ -108,10 +107,10 @@ class GridSlamProcessor:
         self.count = 0
         self.reading_count = 0
         self.neff = float(params.particles)
-        self.neff_history: List[float] = []
+        self.neff_history: list[float] = []
         self.resamples = 0
-        self.pool: Optional[PatchPool] = None
-        self.maps: List[ParticleMap] = []
+        self.pool: PatchPool | None = None
+        self.maps: list[ParticleMap] = []
 
     # ------------------------------------------------------------------ setup
     def init(self, initial_pose) -> None:
@@ -254,7 +253,7 @@ class GMapping(SlamBackend):
         return (params.xmin, params.ymin, params.xmax, params.ymax)
 
     def __init__(self, params: GMappingParams, laser: LaserGeometry,
-                 rng: Optional[np.random.Generator] = None):
+                 rng: np.random.Generator | None = None):
         from slam_predict.slam.gmapping.gridmap import IncrementalMap, MapBuilder
 
         self.laser_in_base, angles = centred_laser(laser)
@@ -278,7 +277,7 @@ class GMapping(SlamBackend):
         """The (centred) laser pose in the odom frame for a robot odometry pose."""
         return compose(np.asarray(odom_pose, dtype=float), self.laser_in_base)
 
-    def update(self, odom_pose, scan_ranges, t: float) -> Optional[np.ndarray]:
+    def update(self, odom_pose, scan_ranges, t: float) -> np.ndarray | None:
         self._odom = np.asarray(odom_pose, dtype=float)
         laser = self.laser_pose(odom_pose)
         ranges = np.asarray(scan_ranges, dtype=float)

@@ -14,8 +14,6 @@ which the new trajectory differs (issue #7: the full rebuild grew with the run).
 """
 from __future__ import annotations
 
-from typing import Optional, Tuple
-
 import numpy as np
 
 from slam_predict.slam import OccupancyGrid
@@ -35,10 +33,10 @@ class MapBuilder:
         self.ca = np.cos(angles)
         self.sa = np.sin(angles)
         self.bounds = (params.xmin, params.ymin, params.xmax, params.ymax)
-        self._published_size: Tuple[int, int] = (0, 0)
+        self._published_size: tuple[int, int] = (0, 0)
 
     def geometry(self, poses: np.ndarray, readings: np.ndarray,
-                 start: Optional[Geometry] = None) -> Geometry:
+                 start: Geometry | None = None) -> Geometry:
         """The map geometry after registering the scans in order (growing as needed), starting
         from ``start`` or from the current bounds."""
         p = self.params

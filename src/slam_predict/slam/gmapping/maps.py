@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Optional, Tuple
 
 import numpy as np
 
@@ -19,7 +18,7 @@ from slam_predict.slam.gmapping import kernels
 from slam_predict.slam.gmapping.params import ENLARGE_STEP, PATCH_MAGNITUDE
 
 PATCH = 1 << PATCH_MAGNITUDE
-Window = Tuple[int, int, int, int]  # patch index range (pxmin, pymin, pxmax, pymax), max excluded
+Window = tuple[int, int, int, int]  # patch index range (pxmin, pymin, pxmax, pymax), max excluded
 
 
 @dataclass
@@ -36,7 +35,7 @@ class Geometry:
 
     @classmethod
     def particle_map(cls, xmin: float, ymin: float, xmax: float, ymax: float,
-                     delta: float) -> "Geometry":
+                     delta: float) -> Geometry:
         """Map(center, worldSizeX, worldSizeY, delta): the particle maps' initial geometry."""
         nx = int(math.ceil((xmax - xmin) / delta)) >> PATCH_MAGNITUDE
         ny = int(math.ceil((ymax - ymin) / delta)) >> PATCH_MAGNITUDE
@@ -45,7 +44,7 @@ class Geometry:
 
     @classmethod
     def bounded(cls, xmin: float, ymin: float, xmax: float, ymax: float,
-                delta: float) -> "Geometry":
+                delta: float) -> Geometry:
         """Map(center, xmin, ymin, xmax, ymax, delta): the published map's geometry."""
         cx, cy = (xmin + xmax) / 2.0, (ymin + ymax) / 2.0
         nx = int(math.ceil((xmax - xmin) / delta)) >> PATCH_MAGNITUDE
@@ -55,16 +54,16 @@ class Geometry:
                    nx, ny)
 
     @property
-    def size(self) -> Tuple[int, int]:
+    def size(self) -> tuple[int, int]:
         """Map size in cells (x, y)."""
         return self.nx * PATCH, self.ny * PATCH
 
-    def world_to_cell(self, x: float, y: float) -> Tuple[int, int]:
+    def world_to_cell(self, x: float, y: float) -> tuple[int, int]:
         """world2map: cell of point (x, y) m."""
         return (kernels.c_round((x - self.cx) / self.delta) + self.sx2,
                 kernels.c_round((y - self.cy) / self.delta) + self.sy2)
 
-    def cell_to_world(self, ix: float, iy: float) -> Tuple[float, float]:
+    def cell_to_world(self, ix: float, iy: float) -> tuple[float, float]:
         """map2world: the point (m) cell (ix, iy) is centred on."""
         return (ix - self.sx2) * self.delta + self.cx, (iy - self.sy2) * self.delta + self.cy
 
@@ -74,8 +73,8 @@ class Geometry:
         return ix >= 0 and iy >= 0 and (ix >> PATCH_MAGNITUDE) < self.nx \
             and (iy >> PATCH_MAGNITUDE) < self.ny
 
-    def grow_to(self, bounds: Tuple[float, float, float, float],
-                enlarge: float = ENLARGE_STEP) -> Optional[Window]:
+    def grow_to(self, bounds: tuple[float, float, float, float],
+                enlarge: float = ENLARGE_STEP) -> Window | None:
         """computeActiveArea's resize: when ``bounds`` (xmin, ymin, xmax, ymax) m leave the map,
         enlarge it ``enlarge`` m beyond them on the sides they leave.
 
@@ -108,7 +107,7 @@ class Geometry:
         self.sy2 -= window[1] * PATCH
         return window
 
-    def copy(self) -> "Geometry":
+    def copy(self) -> Geometry:
         """An independent copy."""
         return Geometry(self.cx, self.cy, self.delta, self.sx2, self.sy2, self.nx, self.ny)
 
@@ -167,13 +166,13 @@ class PatchPool:
 class ParticleMap:
     """One particle's map: its geometry and its patch table (shares patches through the pool)."""
 
-    def __init__(self, pool: PatchPool, geometry: Geometry, table: Optional[np.ndarray] = None):
+    def __init__(self, pool: PatchPool, geometry: Geometry, table: np.ndarray | None = None):
         self.pool = pool
         self.geometry = geometry
         self.table = (np.full((geometry.nx, geometry.ny), -1, dtype=np.int32)
                       if table is None else table)
 
-    def clone(self) -> "ParticleMap":
+    def clone(self) -> ParticleMap:
         """A copy sharing every patch (only the table is copied)."""
         kernels.retain_table(self.table, self.pool.ref)
         return ParticleMap(self.pool, self.geometry.copy(), self.table.copy())
@@ -212,7 +211,7 @@ class ParticleMap:
                 return status
             pool.grow(-status)
 
-    def cell(self, ix: int, iy: int) -> Tuple[int, float, float]:
+    def cell(self, ix: int, iy: int) -> tuple[int, float, float]:
         """(hits, mean x, mean y) of cell (ix, iy); hits 0 and NaN means when unknown."""
         if ix < 0 or iy < 0:
             return 0, math.nan, math.nan

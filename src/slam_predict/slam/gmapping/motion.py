@@ -13,7 +13,6 @@ translation noise and ``srt`` translation to rotation noise. Units: m, rad.
 from __future__ import annotations
 
 import math
-from typing import Tuple
 
 import numpy as np
 
@@ -25,7 +24,7 @@ def odometry_step(p_new, p_old) -> np.ndarray:
     return ominus(np.asarray(p_new, float), np.asarray(p_old, float))
 
 
-def noise_stds(delta, srr: float, srt: float, str_: float, stt: float) -> Tuple[float, float, float]:
+def noise_stds(delta, srr: float, srt: float, str_: float, stt: float) -> tuple[float, float, float]:
     """Standard deviations (m, m, rad) of the noise added to the odometry step ``delta``."""
     dx, dy, dth = (abs(float(v)) for v in delta)
     sx = srr * dx + str_ * dth + 0.3 * srr * dy
@@ -64,7 +63,7 @@ def compose_steps(poses: np.ndarray, steps: np.ndarray) -> np.ndarray:
     return out
 
 
-def travelled(p_new, p_old) -> Tuple[float, float]:
+def travelled(p_new, p_old) -> tuple[float, float]:
     """(|Δxy| m, |Δθ| rad) between consecutive odometry poses, as the update triggers count them.
 
     The translation is measured in the odometry frame, the rotation wrapped to [-π, π].

@@ -15,11 +15,20 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, ClassVar, Dict, Mapping, Optional, Tuple
+from typing import Any, ClassVar
 
-from slam_predict.config import (AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, PROBABILITY, Range,
-                                 from_dict, load_yaml, to_dict)
+from slam_predict.config import (
+    AT_LEAST_ONE,
+    NON_NEGATIVE,
+    POSITIVE,
+    PROBABILITY,
+    Range,
+    from_dict,
+    load_yaml,
+    to_dict,
+)
 from slam_predict.errors import InputError
 from slam_predict.slam import SlamNodeParams
 
@@ -40,8 +49,8 @@ class GMappingParams(SlamNodeParams):
 
     map_update_interval: float = 5.0
     # --- laser
-    maxRange: Optional[float] = None          # None: first scan's range_max - 0.01
-    maxUrange: Optional[float] = None         # None: = maxRange
+    maxRange: float | None = None          # None: first scan's range_max - 0.01
+    maxUrange: float | None = None         # None: = maxRange
     # --- scan matcher
     minimumScore: float = 0.0
     sigma: float = 0.05
@@ -78,7 +87,7 @@ class GMappingParams(SlamNodeParams):
     # --- ours
     reproduce_freecell_bug: bool = True
     range_sensor_angles: bool = True          # filter beams as the node's RangeSensor sets them
-    RANGES: ClassVar[Dict[str, Range]] = {
+    RANGES: ClassVar[dict[str, Range]] = {
         "throttle_scans": AT_LEAST_ONE, "transform_publish_period": NON_NEGATIVE,
         "tf_delay": NON_NEGATIVE, "map_update_interval": NON_NEGATIVE, "maxRange": POSITIVE,
         "maxUrange": POSITIVE, "minimumScore": NON_NEGATIVE, "sigma": POSITIVE,
@@ -109,7 +118,7 @@ class GMappingParams(SlamNodeParams):
                 raise ValueError(f"{name} must be >= 0")
 
 
-def params_from_dict(data: Optional[Mapping[str, Any]], source: _Str = "<config>") -> GMappingParams:
+def params_from_dict(data: Mapping[str, Any] | None, source: _Str = "<config>") -> GMappingParams:
     """Strict construction from a mapping of slam_gmapping names (unknown keys rejected).
 
     A ``type: gmapping`` entry (the SLAM back-end selector) is accepted and ignored.
@@ -131,7 +140,7 @@ def params_to_dict(params: GMappingParams) -> dict:
     return to_dict(params)
 
 
-def resolve_ranges(params: GMappingParams, sensor_range_max: float) -> Tuple[float, float]:
+def resolve_ranges(params: GMappingParams, sensor_range_max: float) -> tuple[float, float]:
     """(maxRange, maxUrange) in m as slam_gmapping sets them at the first scan.
 
     maxRange defaults to the sensor's range_max − 0.01; maxUrange to maxRange.

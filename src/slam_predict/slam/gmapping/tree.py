@@ -8,7 +8,7 @@ so trajectories share their common past. Nodes no particle leads to any more are
 """
 from __future__ import annotations
 
-from typing import Dict, List, Sequence, Tuple
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -23,8 +23,8 @@ class TrajectoryTree:
         self.scan = np.full(capacity, -1, dtype=np.int64)
         self.pose[0] = np.asarray(root_pose, dtype=float)
         self.size = 1
-        self.readings: Dict[int, np.ndarray] = {}
-        self.times: Dict[int, float] = {}
+        self.readings: dict[int, np.ndarray] = {}
+        self.times: dict[int, float] = {}
         self._live_after_compact = 1
 
     def add_reading(self, index: int, ranges: np.ndarray, t: float) -> None:
@@ -51,13 +51,13 @@ class TrajectoryTree:
 
     def path(self, node: int) -> np.ndarray:
         """Node indices from the root to ``node`` (inclusive), oldest first."""
-        out: List[int] = []
+        out: list[int] = []
         while node >= 0:
             out.append(int(node))
             node = int(self.parent[node])
         return np.array(out[::-1], dtype=np.int64)
 
-    def trajectory(self, node: int) -> Tuple[np.ndarray, np.ndarray]:
+    def trajectory(self, node: int) -> tuple[np.ndarray, np.ndarray]:
         """(scan indices (K,), laser poses (K, 3)) of the nodes with a reading up to ``node``."""
         nodes = self.path(node)
         nodes = nodes[self.scan[nodes] >= 0]

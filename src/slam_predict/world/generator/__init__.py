@@ -47,7 +47,7 @@ def _check(kind: str, area_m2: float, seed: int, resolution: float) -> None:
 
 
 def generate(kind: str, area_m2: float, seed: int, resolution: float = 0.05,
-             name: Optional[str] = None) -> World:
+             name: str | None = None) -> World:
     """A generated ``kind`` ('office' or 'school') building of about ``area_m2`` m² free area.
 
     Deterministic from ``seed``. The metadata (kind, areas, seed, shape, parameters, version)
@@ -87,9 +87,9 @@ def metadata(world: World) -> dict:
     info = dict(world.provenance.get("generator", {}))
     categories = info.pop("room_categories", [""] * len(world.rooms))
     passages = info.pop("passages", [False] * len(world.doors))
-    rooms = [{**r, "category": c} for r, c in zip(rooms_record(world.rooms), categories)]
+    rooms = [{**r, "category": c} for r, c in zip(rooms_record(world.rooms), categories, strict=False)]
     doors = [{**d, "kind": "passage" if p else "door"}
-             for d, p in zip(doors_record(world.doors), passages)]
+             for d, p in zip(doors_record(world.doors), passages, strict=False)]
     x, y, yaw = (float(v) for v in world.start_pose)
     return {**info, "name": world.name, "resolution": world.resolution,
             "size_m": [round(v, 4) for v in world.size_m],

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
-from typing import List
 
 import numpy as np
 import shapely
@@ -36,8 +35,8 @@ class Plan:
     """A planned building in metres, centred on the origin."""
 
     shape: str
-    spaces: List[Space]
-    doors: List[PlannedDoor]
+    spaces: list[Space]
+    doors: list[PlannedDoor]
     params: BuildingParams
     length: float
 

@@ -13,7 +13,6 @@ Rules (m):
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 import shapely
@@ -38,7 +37,7 @@ class PlannedDoor:
     passage: bool = False
 
 
-def shared_segments(a: Polygon, b: Polygon, min_length: float) -> List[Tuple[np.ndarray,
+def shared_segments(a: Polygon, b: Polygon, min_length: float) -> list[tuple[np.ndarray,
                                                                                np.ndarray]]:
     """Straight pieces (p, q) of A's outline lying on B's outline, at least ``min_length`` m."""
     shared = a.exterior.intersection(b.buffer(1e-6, join_style="mitre"))
@@ -52,7 +51,7 @@ def shared_segments(a: Polygon, b: Polygon, min_length: float) -> List[Tuple[np.
     return out
 
 
-def _straight_runs(coords: np.ndarray) -> List[Tuple[np.ndarray, np.ndarray]]:
+def _straight_runs(coords: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
     """A polyline split into its straight runs (p, q) (collinear vertices merged)."""
     runs, start = [], 0
     for k in range(1, len(coords) - 1):
@@ -67,7 +66,7 @@ def _straight_runs(coords: np.ndarray) -> List[Tuple[np.ndarray, np.ndarray]]:
     return runs
 
 
-def _place(seg, width: float, wall: float, rng, fraction: Optional[Tuple[float, float]] = None):
+def _place(seg, width: float, wall: float, rng, fraction: tuple[float, float] | None = None):
     """(centre, direction) of a door on segment ``seg`` or None when it does not fit."""
     p, q = seg
     length = float(np.hypot(*(q - p)))
@@ -81,9 +80,9 @@ def _place(seg, width: float, wall: float, rng, fraction: Optional[Tuple[float, 
     return p + d * float(rng.uniform(lo, hi)), d
 
 
-def _neighbours(spaces: List[Space]) -> Dict[int, List[int]]:
+def _neighbours(spaces: list[Space]) -> dict[int, list[int]]:
     tree = shapely.STRtree([s.polygon for s in spaces])
-    out: Dict[int, List[int]] = {i: [] for i in range(len(spaces))}
+    out: dict[int, list[int]] = {i: [] for i in range(len(spaces))}
     for i, space in enumerate(spaces):
         for j in tree.query(space.polygon.buffer(1e-3, join_style="mitre")):
             if int(j) != i:
@@ -101,13 +100,13 @@ def _best_wall(spaces, i, candidates, min_length):
     return best
 
 
-def plan_doors(spaces: List[Space], params: BuildingParams,
-               rng: np.random.Generator) -> Tuple[List[PlannedDoor], List[int]]:
+def plan_doors(spaces: list[Space], params: BuildingParams,
+               rng: np.random.Generator) -> tuple[list[PlannedDoor], list[int]]:
     """(doors, indices of dropped spaces) by the rules of the module docstring."""
     style, wall = STYLES[params.kind], max(params.wall_inner, params.wall_outer)
     near = _neighbours(spaces)
     corridors = [i for i, s in enumerate(spaces) if s.category == "corridor"]
-    doors: List[PlannedDoor] = []
+    doors: list[PlannedDoor] = []
     for i in corridors:
         for j in near[i]:
             if j > i and spaces[j].category == "corridor":

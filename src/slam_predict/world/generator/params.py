@@ -6,11 +6,10 @@ with the seeded generator it is given, so a seed fixes the whole building.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
-from typing import Dict, Tuple
 
 import numpy as np
 
-Range = Tuple[float, float]
+Range = tuple[float, float]
 
 
 @dataclass(frozen=True)
@@ -28,12 +27,12 @@ class Style:
     hall_door_width: Range
     suite_door_prob: float
     max_wing: float
-    room_labels: Tuple[str, ...]
-    small_labels: Tuple[str, ...]
-    hall_labels: Tuple[str, ...]
+    room_labels: tuple[str, ...]
+    small_labels: tuple[str, ...]
+    hall_labels: tuple[str, ...]
 
 
-STYLES: Dict[str, Style] = {
+STYLES: dict[str, Style] = {
     "office": Style(corridor_width=(1.6, 2.4), room_depth=(4.0, 6.5), room_width=(2.6, 6.0),
                     small_room_width=(1.8, 2.6), small_room_prob=0.15, hall_width=(8.0, 16.0),
                     hall_prob=0.08, door_width=(0.8, 1.0), hall_door_width=(1.2, 1.5),

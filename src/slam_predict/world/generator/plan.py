@@ -15,7 +15,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import List, Tuple
 
 import numpy as np
 import shapely
@@ -54,13 +53,13 @@ def _rect(p, u, n, s0, s1, t0, t1) -> Polygon:
     return box(x0, y0, x1, y1)
 
 
-def _parts(geom) -> List[Polygon]:
+def _parts(geom) -> list[Polygon]:
     """The polygons of a shapely result, dropping degenerate slivers."""
     polys = [g for g in getattr(geom, "geoms", [geom]) if isinstance(g, Polygon)]
     return [shapely.normalize(g) for g in polys if g.area > 1e-6]
 
 
-def corridor_pieces(wings: List[Wing], width: float) -> List[Space]:
+def corridor_pieces(wings: list[Wing], width: float) -> list[Space]:
     """Step 1 of the module docstring."""
     pieces, taken = [], Polygon()
     for wing in wings:
@@ -73,7 +72,7 @@ def corridor_pieces(wings: List[Wing], width: float) -> List[Space]:
     return pieces
 
 
-def _slots(length: float, params: BuildingParams, rng: np.random.Generator) -> List[tuple]:
+def _slots(length: float, params: BuildingParams, rng: np.random.Generator) -> list[tuple]:
     """(start, end, category, label) slots along a band of ``length`` m."""
     style = STYLES[params.kind]
     slots, pos = [], 0.0
@@ -94,7 +93,7 @@ def _slots(length: float, params: BuildingParams, rng: np.random.Generator) -> L
     return slots
 
 
-def _split_deep(piece: Polygon, p, u, n, side: int, near: float, rng, params) -> List[tuple]:
+def _split_deep(piece: Polygon, p, u, n, side: int, near: float, rng, params) -> list[tuple]:
     """Step 3's depth split: [(polygon, is_front)]."""
     t = np.array([np.dot(np.asarray(c) - p, n) * side for c in piece.exterior.coords])
     if t.max() - near <= MAX_DEPTH:
@@ -106,8 +105,8 @@ def _split_deep(piece: Polygon, p, u, n, side: int, near: float, rng, params) ->
     return [(g, True) for g in front] + [(g, False) for g in back]
 
 
-def band_rooms(wings: List[Wing], corridors: List[Space], params: BuildingParams,
-               rng: np.random.Generator) -> List[Space]:
+def band_rooms(wings: list[Wing], corridors: list[Space], params: BuildingParams,
+               rng: np.random.Generator) -> list[Space]:
     """Steps 2–3 of the module docstring."""
     style = STYLES[params.kind]
     cw = params.corridor_width
@@ -151,7 +150,7 @@ def _shared_length(a: Polygon, b: Polygon) -> float:
     return float(a.exterior.intersection(b.buffer(1e-6, join_style="mitre")).length)
 
 
-def _split_narrow(rooms: List[Space]) -> Tuple[List[Space], List[Space]]:
+def _split_narrow(rooms: list[Space]) -> tuple[list[Space], list[Space]]:
     """(fat rooms, slivers): every room loses its narrow appendages, which become slivers."""
     fat, slivers = [], []
     for room in rooms:
@@ -167,7 +166,7 @@ def _split_narrow(rooms: List[Space]) -> Tuple[List[Space], List[Space]]:
     return fat, slivers
 
 
-def merge_thin(rooms: List[Space]) -> List[Space]:
+def merge_thin(rooms: list[Space]) -> list[Space]:
     """Step 4 of the module docstring: narrow appendages and too-thin pieces are merged into
     the neighbour sharing the longest wall with them when the result has no narrow part;
     otherwise they are dropped."""

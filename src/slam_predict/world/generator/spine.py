@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -48,7 +47,7 @@ class Wing:
         return float(np.hypot(self.q[0] - self.p[0], self.q[1] - self.p[1]))
 
 
-Result = Tuple[Optional[str], List[Wing]]  # (None | SHORT | LONG, wings)
+Result = tuple[str | None, list[Wing]]  # (None | SHORT | LONG, wings)
 
 
 def _band(params: BuildingParams) -> float:
@@ -121,7 +120,7 @@ def _comb(params: BuildingParams, length: float) -> Result:
     return None, wings
 
 
-def _grid_size(length: float, pitch: float, min_pitch: float) -> Tuple[int, int, float]:
+def _grid_size(length: float, pitch: float, min_pitch: float) -> tuple[int, int, float]:
     """(nx, ny, fitted pitch m) of the courtyard grid whose corridor length is ``length``: the
     grid (nx = ny or ny + 1) whose fitted pitch is closest to the nominal ``pitch`` and at
     least ``min_pitch`` (one ring when even that is too small)."""
@@ -164,7 +163,7 @@ SIMPLER = {"ring": "U", "U": "L", "L": "straight", "comb": "T", "T": "L"}
 BIGGER = {"straight": "L", "L": "T", "T": "comb", "U": "comb", "comb": "ring"}
 
 
-def make_spine(params: BuildingParams, length: float) -> Tuple[str, List[Wing]]:
+def make_spine(params: BuildingParams, length: float) -> tuple[str, list[Wing]]:
     """(shape actually used, wings) for a total corridor centre-line length (m)."""
     shape, seen = params.shape, set()
     while True:

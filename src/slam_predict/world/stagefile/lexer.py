@@ -12,8 +12,8 @@ trees that work in Stage work here too. Include cycles are an error.
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import List, Optional, Sequence
 
 from slam_predict.errors import InputError
 
@@ -34,7 +34,7 @@ class Token:
     line: int
 
 
-def _read_text(path: str, included_from: Optional[Token]) -> str:
+def _read_text(path: str, included_from: Token | None) -> str:
     if not os.path.isfile(path):
         if included_from is None:
             raise InputError("world file not found", path)
@@ -50,9 +50,9 @@ def _read_text(path: str, included_from: Optional[Token]) -> str:
     return data.decode("utf-8", errors="replace")
 
 
-def _scan(text: str, path: str) -> List[Token]:
+def _scan(text: str, path: str) -> list[Token]:
     """Split one file's text into tokens (comments and white space dropped)."""
-    tokens: List[Token] = []
+    tokens: list[Token] = []
     i, line, n = 0, 1, len(text)
     while i < n:
         ch = text[i]
@@ -104,20 +104,20 @@ def _resolve_include(name_token: Token, top_dir: str) -> str:
     return fallback if os.path.isfile(fallback) else beside
 
 
-def tokenize(path: os.PathLike | str) -> List[Token]:
+def tokenize(path: os.PathLike | str) -> list[Token]:
     """All tokens of the world file ``path`` with every ``include`` expanded in place."""
     path = os.path.abspath(os.fspath(path))
     return _tokenize(path, os.path.dirname(path), (), None)
 
 
 def _tokenize(path: str, top_dir: str, stack: Sequence[str],
-              included_from: Optional[Token]) -> List[Token]:
+              included_from: Token | None) -> list[Token]:
     real = os.path.realpath(path)
     if real in stack:
         raise InputError(f"include cycle: '{included_from.text}' includes itself again",
                          included_from.path, included_from.line)
     raw = _scan(_read_text(path, included_from), path)
-    out: List[Token] = []
+    out: list[Token] = []
     i = 0
     while i < len(raw):
         tok = raw[i]

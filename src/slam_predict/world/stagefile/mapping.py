@@ -32,22 +32,21 @@ from __future__ import annotations
 import logging
 import math
 import os
-from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 
 from slam_predict.errors import InputError
 from slam_predict.geometry import compose, inverse, transform_points
 from slam_predict.world import bitmap
-from slam_predict.world.raster import Grid, fill_polygons
 from slam_predict.world.model import LaserSpec, RobotSpec, World, check_occupancy
+from slam_predict.world.raster import Grid, fill_polygons
 from slam_predict.world.stagefile.parser import Entity
 from slam_predict.world.stagefile.values import Units, read_tuple, read_value
 
 LOG = logging.getLogger(__name__)
 
 
-def _where(entity: Entity, name: Optional[str] = None) -> Tuple[str, Optional[int]]:
+def _where(entity: Entity, name: str | None = None) -> tuple[str, int | None]:
     token = entity.props[name].token if name and name in entity.props else entity.token
     return (token.path, token.line) if token is not None else (None, None)
 
@@ -58,7 +57,7 @@ def _pose(entity: Entity, units: Units) -> np.ndarray:
     return np.array([x, y, a])
 
 
-def global_poses(root: Entity, units: Units) -> Dict[int, np.ndarray]:
+def global_poses(root: Entity, units: Units) -> dict[int, np.ndarray]:
     """Global pose of every entity (keyed by id()); children are relative to their parent."""
     poses = {id(root): np.zeros(3)}
     for entity, parent in root.walk():
@@ -78,7 +77,7 @@ def _normalised(pose: np.ndarray) -> np.ndarray:
     return pose
 
 
-def _size(entity: Entity, units: Units, required: bool) -> Optional[Tuple[float, float]]:
+def _size(entity: Entity, units: Units, required: bool) -> tuple[float, float] | None:
     prop = entity.props.get("size")
     if prop is None:
         if required:
@@ -111,7 +110,7 @@ def _bitmap_path(entity: Entity, top_path: str) -> str:
 
 
 def _read_bitmap(entity: Entity, free_threshold: int, top_path: str,
-                 floorplan: bool = True) -> Tuple[np.ndarray, str]:
+                 floorplan: bool = True) -> tuple[np.ndarray, str]:
     """Occupancy of an entity's bitmap; only the floor plan loses its border-connected space."""
     path = _bitmap_path(entity, top_path)
     if not os.path.isfile(path):
@@ -132,11 +131,11 @@ def _under_robot(root: Entity) -> set:
     return inside
 
 
-def _floorplan_candidates(root: Entity, robot_parts: set) -> List[Entity]:
+def _floorplan_candidates(root: Entity, robot_parts: set) -> list[Entity]:
     return [e for e, _ in root.walk() if "bitmap" in e.props and id(e) not in robot_parts]
 
 
-def _stretch(occupied: np.ndarray, size: Tuple[float, float]) -> Tuple[np.ndarray, float, bool]:
+def _stretch(occupied: np.ndarray, size: tuple[float, float]) -> tuple[np.ndarray, float, bool]:
     """Square-pixel occupancy of a bitmap stretched to ``size`` m, its m/px, resampled?"""
     rows, cols = occupied.shape
     res_x, res_y = size[0] / cols, size[1] / rows
@@ -158,7 +157,7 @@ def _quarter_turns(yaw: float, main: Entity) -> int:
     return int(round(turns)) % 4
 
 
-def _model_polygons(entity: Entity, units: Units, size) -> List[np.ndarray]:
+def _model_polygons(entity: Entity, units: Units, size) -> list[np.ndarray]:
     """Footprint polygons of a bitmap-less model in its local frame (m)."""
     blocks = [c for c in entity.children if c.type == "block"]
     if not blocks:
@@ -208,7 +207,7 @@ def _draw_obstacles(world: World, root: Entity, main: Entity, poses, units: Unit
     return occupied
 
 
-def _robot_spec(robot: Entity, units: Units) -> Tuple[RobotSpec, List[str]]:
+def _robot_spec(robot: Entity, units: Units) -> tuple[RobotSpec, list[str]]:
     spec, defaults = RobotSpec(), []
     size = _size(robot, units, required=False)
     if size is None:
@@ -236,7 +235,7 @@ def _robot_spec(robot: Entity, units: Units) -> Tuple[RobotSpec, List[str]]:
                      localization=localization, drive=drive), defaults
 
 
-def _laser_spec(robot: Entity, units: Units) -> Tuple[LaserSpec, List[str]]:
+def _laser_spec(robot: Entity, units: Units) -> tuple[LaserSpec, list[str]]:
     for ranger in (c for c in robot.children if c.type == "ranger"):
         sensors = [c for c in ranger.children if c.type == "sensor"]
         if not sensors:

@@ -16,12 +16,20 @@ import logging
 import os
 import re
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Tuple
 
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.world.stagefile import schema
-from slam_predict.world.stagefile.lexer import (CLOSE, NUMBER, OPEN, STRING, TUPLE_CLOSE,
-                                                TUPLE_OPEN, WORD, Token, tokenize)
+from slam_predict.world.stagefile.lexer import (
+    CLOSE,
+    NUMBER,
+    OPEN,
+    STRING,
+    TUPLE_CLOSE,
+    TUPLE_OPEN,
+    WORD,
+    Token,
+    tokenize,
+)
 
 LOG = logging.getLogger(__name__)
 MAX_MACRO_DEPTH = 64
@@ -33,7 +41,7 @@ class Prop:
     """A property: its name token and value tokens (NUMBER or STRING); ``is_tuple`` for [..]."""
 
     token: Token
-    values: Tuple[Token, ...]
+    values: tuple[Token, ...]
     is_tuple: bool
 
     @property
@@ -50,10 +58,10 @@ class Entity:
     """
 
     type: str
-    token: Optional[Token]
-    macros: Tuple[str, ...] = ()
-    props: Dict[str, Prop] = field(default_factory=dict)
-    children: List["Entity"] = field(default_factory=list)
+    token: Token | None
+    macros: tuple[str, ...] = ()
+    props: dict[str, Prop] = field(default_factory=dict)
+    children: list[Entity] = field(default_factory=list)
 
     def walk(self):
         """This entity and all its descendants, depth first, with their parents."""
@@ -73,7 +81,7 @@ class Entity:
 class _Macro:
     name: str
     base: Token
-    body: Tuple[Token, ...]
+    body: tuple[Token, ...]
 
 
 def _same_line(a: Token, b: Token) -> bool:
@@ -83,12 +91,12 @@ def _same_line(a: Token, b: Token) -> bool:
 class _Parser:
     """Recursive-descent parser over one token list (includes already expanded)."""
 
-    def __init__(self, tokens: List[Token], path: str):
+    def __init__(self, tokens: list[Token], path: str):
         self.tokens = tokens
         self.path = path
-        self.macros: Dict[str, _Macro] = {}
+        self.macros: dict[str, _Macro] = {}
 
-    def _error(self, problem: str, token: Optional[Token]) -> InputError:
+    def _error(self, problem: str, token: Token | None) -> InputError:
         if token is None:
             return InputError(problem, self.path)
         return InputError(problem, token.path, token.line)
@@ -109,7 +117,7 @@ class _Parser:
         return root
 
     # -- statements -------------------------------------------------------------------------
-    def _define(self, toks: List[Token], i: int) -> int:
+    def _define(self, toks: list[Token], i: int) -> int:
         head = toks[i]
         if i + 3 >= len(toks) or toks[i + 1].kind != WORD or toks[i + 2].kind != WORD \
                 or toks[i + 3].kind != OPEN:
@@ -126,7 +134,7 @@ class _Parser:
             self.macros[name.text] = _Macro(name.text, base, tuple(toks[i + 4:end]))
         return end + 1
 
-    def _matching_close(self, toks: List[Token], open_index: int) -> int:
+    def _matching_close(self, toks: list[Token], open_index: int) -> int:
         depth = 0
         for j in range(open_index, len(toks)):
             if toks[j].kind == OPEN:

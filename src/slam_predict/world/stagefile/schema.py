@@ -9,7 +9,6 @@ not change the World.
 from __future__ import annotations
 
 import re
-from typing import FrozenSet, Optional
 
 # Entity types Stage 4 knows (typetable.cc) plus the sub-blocks that are not models.
 MODEL_TYPES = frozenset({
@@ -50,7 +49,7 @@ HINTS = {
 }
 
 
-def allowed_props(entity_type: str) -> Optional[FrozenSet[str]]:
+def allowed_props(entity_type: str) -> frozenset[str] | None:
     """Property names an entity of ``entity_type`` may set; None = not checked."""
     if entity_type in LOOSE_TYPES or entity_type in GUI_TYPES:
         return None

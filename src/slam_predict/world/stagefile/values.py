@@ -8,8 +8,8 @@ format is an error (Stage exits on it); extra elements are ignored, as in Stage.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Optional, Sequence, Tuple
 
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.world.stagefile import schema
@@ -63,7 +63,7 @@ def _convert(token: Token, letter: str, prop: Prop, units: Units):
 
 
 def read_tuple(entity: Entity, name: str, fmt: str, units: Units,
-               default: Optional[Sequence] = None) -> Optional[Tuple]:
+               default: Sequence | None = None) -> tuple | None:
     """The values of tuple property ``name`` converted by ``fmt``, or ``default`` if unset."""
     prop = entity.props.get(name)
     if prop is None:
@@ -71,7 +71,7 @@ def read_tuple(entity: Entity, name: str, fmt: str, units: Units,
     if len(prop.values) < len(fmt):
         raise InputError(f"property '{name}' needs {len(fmt)} values, got {len(prop.values)}",
                          *_where(prop.token))
-    return tuple(_convert(tok, letter, prop, units) for tok, letter in zip(prop.values, fmt))
+    return tuple(_convert(tok, letter, prop, units) for tok, letter in zip(prop.values, fmt, strict=False))
 
 
 def read_value(entity: Entity, name: str, letter: str, units: Units, default=None):
