@@ -2,11 +2,9 @@
 the order of the limits that end a run."""
 import numpy as np
 
+from slam_predict.formats.mapserver import FREE, OCCUPIED, UNKNOWN
 from slam_predict.collect.stopping import (
-    FREE,
-    OCCUPIED,
     STUCK_DISTANCE_M,
-    UNKNOWN,
     SnapshotMSE,
     StopConfig,
     StuckDetector,
