@@ -2,7 +2,6 @@
 the order of the limits that end a run."""
 import numpy as np
 
-from slam_predict.formats.mapserver import FREE, OCCUPIED, UNKNOWN
 from slam_predict.collect.stopping import (
     STUCK_DISTANCE_M,
     SnapshotMSE,
@@ -12,6 +11,7 @@ from slam_predict.collect.stopping import (
     snapshot_mse,
     stop_reason,
 )
+from slam_predict.formats.mapserver import FREE, OCCUPIED, UNKNOWN
 
 
 def test_grid_to_snapshot_map_saver_values():
