@@ -45,7 +45,7 @@ def _open(path: str):
     try:
         reader.open()
     except Exception as exc:  # rosbags raises several reader-specific errors
-        raise InputError(f"cannot open ROS bag: {exc}".splitlines()[0], path)
+        raise InputError(f"cannot open ROS bag: {exc}".splitlines()[0], path) from None
     return reader
 
 

@@ -16,7 +16,6 @@ that closing every door splits the free space into exactly one region per room.
 from __future__ import annotations
 
 import math
-from typing import Optional
 
 import numpy as np
 
