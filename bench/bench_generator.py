@@ -33,7 +33,8 @@ def bench_generator(repeat: int, seed: int) -> None:
           f"{'rooms':>5s} {'cells':>11s} {'time s':>7s}")
     for area in (500.0, 1500.0, 3000.0, 6000.0, 10000.0):
         for kind in ("office", "school"):
-            seconds, world = best_of(repeat, lambda kind=kind, area=area: generate(kind, area, seed))
+            seconds, world = best_of(repeat,
+                                     lambda kind=kind, area=area: generate(kind, area, seed))
             info = world.provenance["generator"]
             print(f"{kind:7s} {area:8.0f} {info['shape']:>8s} {world.free_area_m2:8.1f} "
                   f"{100 * (world.free_area_m2 / area - 1):+6.1f} {len(world.rooms):5d} "

@@ -118,4 +118,5 @@ class CarmenLog:
         try:
             return float(self.params[name])
         except ValueError as exc:
-            raise InputError(f"PARAM {name} is not a number: {self.params[name]!r}", self.path) from exc
+            raise InputError(f"PARAM {name} is not a number: {self.params[name]!r}",
+                             self.path) from exc

@@ -1,4 +1,4 @@
-"""ROS map_server maps: an 8-bit PGM image plus a YAML file, as map_saver writes and map_server reads.
+"""ROS map_server maps: an 8-bit PGM image plus a YAML file (as map_saver writes, map_server reads).
 
 Image orientation: row 0 of ``image`` is the TOP of the map (largest y), as in the PGM file; an
 ``nav_msgs/OccupancyGrid`` stores row 0 at the BOTTOM (at ``origin``), so the conversions below

@@ -54,7 +54,8 @@ def read_relations(path: os.PathLike | str) -> Relations:
     data = np.array(rows, dtype=float).reshape(-1, 8)
     off_plane = np.abs(data[:, [4, 5, 6]]).max(initial=0.0)
     if off_plane > 1e-9:
-        log.warning("%s: non-zero z/roll/pitch (up to %.3g) ignored: planar metric", path, off_plane)
+        log.warning("%s: non-zero z/roll/pitch (up to %.3g) ignored: planar metric",
+                    path, off_plane)
     return Relations(data[:, 0], data[:, 1], data[:, [2, 3, 7]])
 
 

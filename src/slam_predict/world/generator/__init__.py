@@ -86,7 +86,8 @@ def metadata(world: World) -> dict:
     info = dict(world.provenance.get("generator", {}))
     categories = info.pop("room_categories", [""] * len(world.rooms))
     passages = info.pop("passages", [False] * len(world.doors))
-    rooms = [{**r, "category": c} for r, c in zip(rooms_record(world.rooms), categories, strict=False)]
+    rooms = [{**r, "category": c}
+             for r, c in zip(rooms_record(world.rooms), categories, strict=False)]
     doors = [{**d, "kind": "passage" if p else "door"}
              for d, p in zip(doors_record(world.doors), passages, strict=False)]
     x, y, yaw = (float(v) for v in world.start_pose)
