@@ -92,7 +92,8 @@ def row(summary) -> dict:
             "wall_s": summary["wall_time_s"], "distance_m": round(summary["distance_m"], 1),
             "stalls": summary["stalls"], "stop": summary["stop_reason"],
             "limits_ok": limits_kept(cmd), "violations": cmd.get("violations"),
-            "max_v": round(cmd.get("max_abs_v", 0.0), 3), "max_w": round(cmd.get("max_abs_w", 0.0), 3),
+            "max_v": round(cmd.get("max_abs_v", 0.0), 3),
+            "max_w": round(cmd.get("max_abs_w", 0.0), 3),
             "max_acc_v": round(cmd.get("max_acc_v", 0.0), 3),
             "max_acc_w": round(cmd.get("max_acc_w", 0.0), 3),
             "goals": summary["explorer_goals"],
@@ -178,7 +179,8 @@ def run_components(args, settings) -> int:
         for name, seconds in sorted(summary["timing"].items(), key=lambda kv: -kv[1]):
             print(f"  {name:<12} {seconds:8.1f} s  {100 * seconds / wall:5.1f} %")
         for name, seconds in sorted(totals.items(), key=lambda kv: -kv[1]):
-            print(f"    navigator kernel {name:<22} {seconds:8.1f} s  {100 * seconds / wall:5.1f} %")
+            print(f"    navigator kernel {name:<22} {seconds:8.1f} s  "
+                  f"{100 * seconds / wall:5.1f} %")
     return 0
 
 

@@ -28,12 +28,13 @@ def best_of(repeat, fn):
 def bench_generator(repeat: int, seed: int) -> None:
     from slam_predict.world.generator import generate
 
-    print("generator (best of %d, seed %d)" % (repeat, seed))
+    print(f"generator (best of {repeat}, seed {seed})")
     print(f"{'kind':7s} {'area m2':>8s} {'shape':>8s} {'free m2':>8s} {'err %':>6s} "
           f"{'rooms':>5s} {'cells':>11s} {'time s':>7s}")
     for area in (500.0, 1500.0, 3000.0, 6000.0, 10000.0):
         for kind in ("office", "school"):
-            seconds, world = best_of(repeat, lambda: generate(kind, area, seed))
+            seconds, world = best_of(repeat,
+                                     lambda kind=kind, area=area: generate(kind, area, seed))
             info = world.provenance["generator"]
             print(f"{kind:7s} {area:8.0f} {info['shape']:>8s} {world.free_area_m2:8.1f} "
                   f"{100 * (world.free_area_m2 / area - 1):+6.1f} {len(world.rooms):5d} "

@@ -73,7 +73,8 @@ def table(results: dict, baseline: dict) -> str:
             f"| {log} | {runs[0]['scans_processed']} / {runs[0]['input_info']['scans_in_log']} "
             f"| {trans.mean():.3f} | {np.median(trans):.3f} | {trans.min():.3f}–{trans.max():.3f} "
             f"| {rot.mean():.2f} | {cpu:.1f} | {rss:.0f} | {odo:.1f} "
-            f"| {base['trans_mean_over_seeds_m']:.3f} | {ratio:.2f} | {np.mean(base['cpu_s']):.1f} |")
+            f"| {base['trans_mean_over_seeds_m']:.3f} | {ratio:.2f} "
+            f"| {np.mean(base['cpu_s']):.1f} |")
     seeds = len(next(iter(results.values())))
     lines.append("")
     lines.append(f"Seeds per log: {seeds}. Mean ratio over logs: {np.mean(ratios):.3f} "

@@ -47,10 +47,13 @@ def bench_formats(shared: Path) -> None:
     if not log_path.exists():
         print(f"skipping CARMEN figures: {log_path} not found")
         return
-    log, _ = timed("read_log freiburg-079 (4791 FLASER x 360 + 4791 ODOM, gzip)", lambda: read_log(log_path))
+    log, _ = timed("read_log freiburg-079 (4791 FLASER x 360 + 4791 ODOM, gzip)",
+                   lambda: read_log(log_path))
     with tempfile.TemporaryDirectory() as tmp:
-        timed("write_log freiburg-079 (plain text)", lambda: write_log(os.path.join(tmp, "a.log"), log))
-        timed("write_log freiburg-079 (gzip)", lambda: write_log(os.path.join(tmp, "a.log.gz"), log), 1)
+        timed("write_log freiburg-079 (plain text)",
+              lambda: write_log(os.path.join(tmp, "a.log"), log))
+        timed("write_log freiburg-079 (gzip)",
+              lambda: write_log(os.path.join(tmp, "a.log.gz"), log), 1)
         rng = np.random.default_rng(0)
         t = np.arange(60_000) * 0.1
         poses = walk(rng, 60_000)
@@ -73,7 +76,8 @@ def bench_metric() -> None:
     _, secs = timed(f"all forward pairs on {n} poses ({n * (n - 1) // 2:,} relations)",
                     lambda: evaluate_all_pairs(est[:n], ref[:n]), 1)
     rate = n * (n - 1) / 2 / secs
-    print(f"  -> {rate / 1e6:.1f} M relations/s; all 243 M pairs of 15,600 poses ≈ {243e6 / rate:.0f} s")
+    print(f"  -> {rate / 1e6:.1f} M relations/s; "
+          f"all 243 M pairs of 15,600 poses ≈ {243e6 / rate:.0f} s")
     t_a = np.sort(rng.uniform(0, 6000, 60_000))
     t_b = np.sort(t_a + rng.normal(0, 0.003, 60_000))
     timed("associate 60,000 x 60,000 stamps", lambda: associate(t_a, t_b, 0.01))

@@ -56,10 +56,10 @@ def main() -> int:
                       if "gt_segmentation" not in p.name) if SHARED.is_dir() else []
         total_load = total_write = total_read = 0.0
         for path in maps:
-            t_load, world = best_of(args.repeat, lambda: load_plan(path, resolution=0.05))
+            t_load, world = best_of(args.repeat, lambda path=path: load_plan(path, resolution=0.05))
             out = tmp / f"{path.stem}.world"
-            t_write, _ = best_of(args.repeat, lambda: write_world(world, out))
-            t_read, _ = best_of(args.repeat, lambda: read_world(out))
+            t_write, _ = best_of(args.repeat, lambda world=world, out=out: write_world(world, out))
+            t_read, _ = best_of(args.repeat, lambda out=out: read_world(out))
             total_load, total_write, total_read = (total_load + t_load, total_write + t_write,
                                                    total_read + t_read)
             rows, cols = world.shape
@@ -73,8 +73,8 @@ def main() -> int:
         for cells in (2000, 4000):
             world = big_world(cells)
             out = tmp / f"{world.name}.world"
-            t_write, _ = best_of(args.repeat, lambda: write_world(world, out))
-            t_read, _ = best_of(args.repeat, lambda: read_world(out))
+            t_write, _ = best_of(args.repeat, lambda world=world, out=out: write_world(world, out))
+            t_read, _ = best_of(args.repeat, lambda out=out: read_world(out))
             print(f"{world.name}: {cells} x {cells} px ({cells * 0.05:.0f} m square)  "
                   f"write_world {t_write:.2f} s  read_world {t_read:.2f} s")
     return 0

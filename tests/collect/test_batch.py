@@ -104,6 +104,7 @@ def test_dask_local_cluster(tmp_path):
     distributed = pytest.importorskip("dask.distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster:
-        config = BatchConfig(runs=1, episode=FAKE, progress=False, scheduler=cluster.scheduler_address)
+        config = BatchConfig(runs=1, episode=FAKE, progress=False,
+                             scheduler=cluster.scheduler_address)
         assert Batch(WORLDS, tmp_path, config).run() == 2
     assert len(snapshot(tmp_path)) == 2

@@ -42,7 +42,8 @@ def test_full_extent_grid_places_the_map():
     canvas = full_extent_grid(OccupancyGrid(data, 0.05, (1.0, -2.0)), extent)
     assert canvas.shape == (4000, 4000)
     row, col = int(round((-2.0 + 100) / 0.05)), int(round((1.0 + 100) / 0.05))
-    assert canvas[row, col] == 100 and (canvas == 0).sum() == 11 and (canvas == -1).sum() == 4000 ** 2 - 12
+    assert canvas[row, col] == 100 and (canvas == 0).sum() == 11
+    assert (canvas == -1).sum() == 4000 ** 2 - 12
 
 
 def test_short_episode_record_reloads_and_is_deterministic(tmp_path, run_record_keys):
@@ -102,7 +103,8 @@ def test_metric_evaluate_on_the_records_bag_gives_the_records_numbers(tmp_path, 
     assert out["stats"]["trans_abs"]["n"] == metric["n"]
     for ours, theirs in (("trans_mean", ("trans_abs", "mean")), ("trans_std", ("trans_abs", "std")),
                          ("rot_mean", ("rot_abs", "mean")), ("rot_std", ("rot_abs", "std"))):
-        assert out["stats"][theirs[0]][theirs[1]] == pytest.approx(metric[ours], rel=1e-9, abs=1e-12)
+        assert out["stats"][theirs[0]][theirs[1]] == pytest.approx(metric[ours], rel=1e-9,
+                                                                   abs=1e-12)
 
 
 def test_incremental_published_map_leaves_the_episode_unchanged(tmp_path, monkeypatch):

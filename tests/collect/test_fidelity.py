@@ -14,7 +14,8 @@ from slam_predict.collect.fidelity import (
 )
 
 THESIS_HEADER = ("dataset, Voronoi distance, Voronoi rotation, totalLen, totalRot, "
-                 "transError.mean.mean, transError.mean.std, rotError.mean.mean, rotError.mean.std\n")
+                 "transError.mean.mean, transError.mean.std, "
+                 "rotError.mean.mean, rotError.mean.std\n")
 
 
 def fake_campaign(root, per_world, areas=None):

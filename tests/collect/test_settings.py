@@ -43,7 +43,8 @@ def test_extends_resolves_paths_relative_to_each_file(tmp_path):
 
 def test_unknown_override_key_is_a_one_line_error(tmp_path, capsys):
     bad = tmp_path / "bad.yaml"
-    bad.write_text(f"extends: {CONFIG / 'collect.yaml'}\nsim_overrides:\n  laser:\n    rnage_max: 60\n")
+    bad.write_text(f"extends: {CONFIG / 'collect.yaml'}\n"
+                   "sim_overrides:\n  laser:\n    rnage_max: 60\n")
     with pytest.raises(InputError, match="rnage_max"):
         load_settings(bad)
     world = Path(__file__).resolve().parents[2] / "worlds" / "tiny.world"

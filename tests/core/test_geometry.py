@@ -56,7 +56,8 @@ def test_wrap_angle_range():
     angles = np.linspace(-20, 20, 1001)
     wrapped = g.wrap_angle(angles)
     assert wrapped.min() >= -np.pi and wrapped.max() < np.pi
-    assert np.allclose(np.sin(wrapped), np.sin(angles)) and np.allclose(np.cos(wrapped), np.cos(angles))
+    assert np.allclose(np.sin(wrapped), np.sin(angles))
+    assert np.allclose(np.cos(wrapped), np.cos(angles))
 
 
 def test_quaternion_round_trip():

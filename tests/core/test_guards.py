@@ -48,7 +48,8 @@ def test_path_under_a_file_can_never_be_created(tmp_path):
     (tmp_path / "f").write_text("x")
     with pytest.raises(InputError) as info:
         check_out_dir(tmp_path / "f" / "sub" / "out", force=True)
-    assert info.value.problem == f"--out cannot be created: {tmp_path / 'f'} is a file, not a folder"
+    assert info.value.problem == (f"--out cannot be created: {tmp_path / 'f'} "
+                                  "is a file, not a folder")
     with pytest.raises(InputError, match="--relations cannot be created"):
         check_out_file(tmp_path / "f" / "r.txt", force=True, option="--relations")
 

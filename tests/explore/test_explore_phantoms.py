@@ -79,7 +79,7 @@ def test_explorer_skips_the_phantom_and_goes_to_the_doorway():
         cfg = ExploreConfig(goal_clearance=0.0, near_frontier_distance=0.1,
                             min_unknown_width=width)
         goals = []
-        client = SimpleNamespace(send_goal=lambda target, t: goals.append(target),
+        client = SimpleNamespace(send_goal=lambda target, t, goals=goals: goals.append(target),
                                  status=lambda: None, plan_length=lambda: None,
                                  cancel=lambda t: None)
         Explorer(cfg, client, np.random.default_rng(0)).step(0.0, grid, robot)

@@ -45,7 +45,8 @@ def test_line_of_sight_matches_reference(seed):
 def test_digital_line_is_symmetric_in_extent():
     line = reference.digital_line(0, 0, 3, 7)
     assert line[-1] == (3, 7) and len(line) == 7
-    assert all(abs(r1 - r0) <= 1 and c1 - c0 == 1 for (r0, c0), (r1, c1) in zip(line, line[1:], strict=False))
+    assert all(abs(r1 - r0) <= 1 and c1 - c0 == 1
+               for (r0, c0), (r1, c1) in zip(line, line[1:], strict=False))
 
 
 def _random_graph(rng, occ, n=40):
@@ -106,9 +107,11 @@ def test_every_node_is_seen_and_path_follows_edges():
                       0.0, TraversalConfig(laser_range_m=3.0))
     index = {tuple(p): i for i, p in enumerate(graph.rc)}
     edges = {tuple(e) for e in graph.edges}
-    steps = [(index[tuple(a)], index[tuple(b)]) for a, b in zip(result.path_rc, result.path_rc[1:], strict=False)]
+    steps = [(index[tuple(a)], index[tuple(b)])
+             for a, b in zip(result.path_rc, result.path_rc[1:], strict=False)]
     assert all((min(s), max(s)) in edges for s in steps)
-    length = sum(np.hypot(*(a - b)) for a, b in zip(result.path_rc, result.path_rc[1:], strict=False))
+    length = sum(np.hypot(*(a - b))
+                 for a, b in zip(result.path_rc, result.path_rc[1:], strict=False))
     assert result.distance == pytest.approx(length * world.resolution)
 
 

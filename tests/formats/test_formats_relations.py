@@ -39,7 +39,8 @@ def test_non_planar_values_warned(tmp_path, caplog):
     np.testing.assert_array_equal(rel.deltas, [[0.5, 0, 0.2]])
 
 
-@pytest.mark.parametrize("line, words", [("1 2 3 4 5 6 7", "expected 8"), ("1 2 3 4 5 6 7 x", "non-numeric"),
+@pytest.mark.parametrize("line, words", [("1 2 3 4 5 6 7", "expected 8"),
+                                         ("1 2 3 4 5 6 7 x", "non-numeric"),
                                          ("1 2 3 4 5 6 7 inf", "non-finite")])
 def test_bad_lines(tmp_path, line, words):
     path = tmp_path / "a.relations"

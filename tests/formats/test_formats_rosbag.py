@@ -11,7 +11,8 @@ from slam_predict.formats.rosbag import read_pose_topic, write_pose_bag
 
 STORE = get_typestore(Stores.ROS1_NOETIC)
 # The Noetic store of rosbags lacks tf2_msgs; register TFMessage from its definition.
-STORE.register(get_types_from_msg("geometry_msgs/TransformStamped[] transforms", "tf2_msgs/msg/TFMessage"))
+STORE.register(get_types_from_msg("geometry_msgs/TransformStamped[] transforms",
+                                  "tf2_msgs/msg/TFMessage"))
 T = STORE.types
 
 
@@ -22,16 +23,19 @@ def _header(t, frame):
 
 
 def _quat(yaw):
-    return T["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=float(np.sin(yaw / 2)), w=float(np.cos(yaw / 2)))
+    return T["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=float(np.sin(yaw / 2)),
+                                             w=float(np.cos(yaw / 2)))
 
 
 def _odometry(t, pose):
     pose_msg = T["geometry_msgs/msg/Pose"](
-        position=T["geometry_msgs/msg/Point"](x=pose[0], y=pose[1], z=0.0), orientation=_quat(pose[2]))
+        position=T["geometry_msgs/msg/Point"](x=pose[0], y=pose[1], z=0.0),
+        orientation=_quat(pose[2]))
     cov = T["geometry_msgs/msg/PoseWithCovariance"](pose=pose_msg, covariance=np.zeros(36))
     twist = T["geometry_msgs/msg/TwistWithCovariance"](
-        twist=T["geometry_msgs/msg/Twist"](linear=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0),
-                                           angular=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0)),
+        twist=T["geometry_msgs/msg/Twist"](
+            linear=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0),
+            angular=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0)),
         covariance=np.zeros(36))
     return T["nav_msgs/msg/Odometry"](header=_header(t, "odom"), child_frame_id="base_link",
                                       pose=cov, twist=twist)
@@ -41,7 +45,8 @@ def _tf(t, pose, parent, child):
     tr = T["geometry_msgs/msg/TransformStamped"](
         header=_header(t, parent), child_frame_id=child,
         transform=T["geometry_msgs/msg/Transform"](
-            translation=T["geometry_msgs/msg/Vector3"](x=pose[0], y=pose[1], z=0.0), rotation=_quat(pose[2])))
+            translation=T["geometry_msgs/msg/Vector3"](x=pose[0], y=pose[1], z=0.0),
+            rotation=_quat(pose[2])))
     return T["tf2_msgs/msg/TFMessage"](transforms=[tr])
 
 
@@ -54,10 +59,11 @@ def bag(tmp_path):
     with Writer(path) as writer:
         odom = writer.add_connection("/odom", "nav_msgs/msg/Odometry", typestore=STORE)
         tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", typestore=STORE)
-        for ti, p in zip(t[::-1], poses[::-1], strict=False):          # written out of order on purpose
+        for ti, p in zip(t[::-1], poses[::-1], strict=False):  # written out of order on purpose
             ns = int(round(ti * 1e9))
             writer.write(odom, ns, STORE.serialize_ros1(_odometry(ti, p), odom.msgtype))
-            writer.write(tf, ns, STORE.serialize_ros1(_tf(ti, p + 1.0, "odom", "base_link"), tf.msgtype))
+            writer.write(tf, ns,
+                         STORE.serialize_ros1(_tf(ti, p + 1.0, "odom", "base_link"), tf.msgtype))
             writer.write(tf, ns, STORE.serialize_ros1(_tf(ti, p, "map", "odom"), tf.msgtype))
     return path, t, poses
 

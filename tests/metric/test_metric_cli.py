@@ -29,6 +29,9 @@ def recorded(tmp_path):
     return tmp_path, t, est, ref
 
 
+EVALUATE = ("metric", "evaluate", "--slam")
+
+
 def _json(capsys, argv):
     assert main(argv) == 0
     return json.loads(capsys.readouterr().out)
@@ -37,9 +40,9 @@ def _json(capsys, argv):
 def test_tum_carmen_and_bag_agree(recorded, capsys):
     d, t, est, ref = recorded
     common = ["--pairs", "3000", "--seed", "3", "--json"]
-    tum = _json(capsys, ["metric", "evaluate", "--slam", str(d / "slam.tum"), "--gt", str(d / "gt.tum"), *common])
-    log = _json(capsys, ["metric", "evaluate", "--slam", str(d / "slam.log.gz"), "--gt", str(d / "gt.log"), *common])
-    bag = _json(capsys, ["metric", "evaluate", "--slam", str(d / "run.bag"), "--slam-topic", "/slam_pose",
+    tum = _json(capsys, [*EVALUATE, str(d / "slam.tum"), "--gt", str(d / "gt.tum"), *common])
+    log = _json(capsys, [*EVALUATE, str(d / "slam.log.gz"), "--gt", str(d / "gt.log"), *common])
+    bag = _json(capsys, [*EVALUATE, str(d / "run.bag"), "--slam-topic", "/slam_pose",
                          "--gt", str(d / "run.bag"), "--gt-topic", "/ground_truth", *common])
     expected = evaluate_against_reference(est, ref, n_pairs=3000, seed=3)
     for out in (tum, log, bag):
@@ -68,20 +71,23 @@ def test_relations_round_trip_through_file(recorded, capsys):
                               "--relations", str(d / "gt.relations"), "--json"])
     direct = evaluate_against_reference(est, ref, n_pairs=700, seed=1)
     assert via_file["stats"]["trans_abs"]["n"] == 700
-    assert via_file["stats"]["trans_abs"]["mean"] == pytest.approx(direct.stats["trans_abs"].mean, rel=1e-9)
-    assert via_file["stats"]["rot_sqr"]["mean"] == pytest.approx(direct.stats["rot_sqr"].mean, rel=1e-9)
+    assert via_file["stats"]["trans_abs"]["mean"] == pytest.approx(
+        direct.stats["trans_abs"].mean, rel=1e-9)
+    assert via_file["stats"]["rot_sqr"]["mean"] == pytest.approx(
+        direct.stats["rot_sqr"].mean, rel=1e-9)
 
 
 def test_auto_pairs_and_odometry_field(shared_data, capsys):
     log = str(shared_data / "slam_inputs" / "freiburg-101.log.gz")
-    out = _json(capsys, ["metric", "evaluate", "--slam", log, "--slam-field", "odom", "--gt", log, "--json"])
+    out = _json(capsys, [*EVALUATE, log, "--slam-field", "odom", "--gt", log, "--json"])
     assert out["info"]["associated"] == 292 and out["stats"]["trans_abs"]["mean"] > 5
     assert "sample_size" in out["info"]
 
 
 def test_adjust_drops_truncated_line(tmp_path, capsys):
     path = tmp_path / "gt.log"
-    path.write_text("FLASER 0 1 2 3 1 2 3 10.0 h 10.0\nFLASER 0 1 2 3 1 2 3 11.0 h 11.0\nFLASER 0 1 2\n")
+    path.write_text("FLASER 0 1 2 3 1 2 3 10.0 h 10.0\nFLASER 0 1 2 3 1 2 3 11.0 h 11.0\n"
+                    "FLASER 0 1 2\n")
     assert main(["metric", "adjust", str(path)]) == 0
     assert "dropped" in capsys.readouterr().out
     assert path.read_text().count("\n") == 2
@@ -99,25 +105,27 @@ def _fails(capsys, argv, *words):
 def test_bad_inputs_exit_2_with_one_line(recorded, capsys):
     d, *_ = recorded
     slam, gt = str(d / "slam.tum"), str(d / "gt.tum")
-    _fails(capsys, ["metric", "evaluate", "--slam", str(d / "none.tum"), "--gt", gt], "none.tum", "not found")
+    _fails(capsys, [*EVALUATE, str(d / "none.tum"), "--gt", gt], "none.tum", "not found")
     _fails(capsys, ["metric", "evaluate", "--slam", slam], "--gt FILE or --relations")
     _fails(capsys, ["metric", "evaluate", "--slam", slam, "--gt", gt, "--pairs", "many"], "--pairs")
     _fails(capsys, ["metric", "evaluate", "--slam", slam, "--gt", gt, "--pairs", "0"], "at least 1")
     (d / "traj.xyz").write_text("1 2 3\n")
-    _fails(capsys, ["metric", "evaluate", "--slam", str(d / "traj.xyz"), "--gt", gt], "traj.xyz", "--format")
-    _fails(capsys, ["metric", "evaluate", "--slam", str(d / "run.bag"), "--gt", gt], "run.bag", "topic")
+    _fails(capsys, [*EVALUATE, str(d / "traj.xyz"), "--gt", gt], "traj.xyz", "--format")
+    _fails(capsys, [*EVALUATE, str(d / "run.bag"), "--gt", gt], "run.bag", "topic")
     _fails(capsys, ["metric", "evaluate", "--slam", str(d / "run.bag"), "--slam-topic", "/slam",
                     "--gt", gt], "/slam not in bag", "did you mean '/slam_pose'")
     (d / "bad.tum").write_text("1 0 0 0 0 0 0 1\n2 0 0 0 0 0 zero 1\n")
-    _fails(capsys, ["metric", "evaluate", "--slam", str(d / "bad.tum"), "--gt", gt], "bad.tum:2", "non-numeric")
-    (d / "bad.log").write_text("FLASER 0 1 2 x 1 2 3 10.0 h 10.0\nFLASER 0 1 2 3 1 2 3 11.0 h 11.0\n")
-    _fails(capsys, ["metric", "evaluate", "--slam", str(d / "bad.log"), "--gt", gt], "bad.log:1", "FLASER")
-    _fails(capsys, ["metric", "evaluate", "--slam", slam, "--gt", gt, "--relations", gt], "not both")
+    _fails(capsys, [*EVALUATE, str(d / "bad.tum"), "--gt", gt], "bad.tum:2", "non-numeric")
+    (d / "bad.log").write_text("FLASER 0 1 2 x 1 2 3 10.0 h 10.0\n"
+                               "FLASER 0 1 2 3 1 2 3 11.0 h 11.0\n")
+    _fails(capsys, [*EVALUATE, str(d / "bad.log"), "--gt", gt], "bad.log:1", "FLASER")
+    _fails(capsys, [*EVALUATE, slam, "--gt", gt, "--relations", gt], "not both")
     write_tum(d / "late.tum", 5000.0 + np.arange(3), np.zeros((3, 3)))
-    _fails(capsys, ["metric", "evaluate", "--slam", str(d / "late.tum"), "--gt", gt], "late.tum", "matched")
+    _fails(capsys, [*EVALUATE, str(d / "late.tum"), "--gt", gt], "late.tum", "matched")
     (d / "x.bag").write_text("not a bag")
-    _fails(capsys, ["metric", "evaluate", "--slam", str(d / "x.bag"), "--slam-topic", "/a", "--gt", gt],
+    _fails(capsys, [*EVALUATE, str(d / "x.bag"), "--slam-topic", "/a", "--gt", gt],
            "x.bag", "cannot open ROS bag")
-    _fails(capsys, ["metric", "relations", "--gt", gt, "--pairs", "0", "--out", str(d / "r.rel")], "--pairs")
+    _fails(capsys, ["metric", "relations", "--gt", gt, "--pairs", "0", "--out", str(d / "r.rel")],
+           "--pairs")
     assert not (d / "r.rel").exists()
     _fails(capsys, ["metric"], "choose an action")

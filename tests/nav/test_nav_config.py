@@ -13,7 +13,8 @@ from slam_predict.nav.config import MoveBaseConfig, load_nav_config, merge_nav_f
 def test_project_files_hold_the_thesis_values(root):
     cfg = load_nav_config(root / "config")
     assert (cfg.controller_frequency, cfg.planner_frequency) == (10.0, 0.2)
-    assert (cfg.controller_patience, cfg.planner_patience, cfg.max_planning_retries) == (15.0, 5.0, 3)
+    assert (cfg.controller_patience, cfg.planner_patience,
+            cfg.max_planning_retries) == (15.0, 5.0, 3)
     assert [b.type for b in cfg.recovery_behaviors] == [
         "clear_costmap_recovery/ClearCostmapRecovery"]
     tp = cfg.TrajectoryPlannerROS

@@ -1,4 +1,4 @@
-"""RunMonitor (the orchestrator's logic) fed by calls: sampling, stop rule, stuck, limits, stalls."""
+"""RunMonitor (the orchestrator's logic) fed by calls: sampling, stop rule, stuck, limits, stall."""
 from __future__ import annotations
 
 import numpy as np

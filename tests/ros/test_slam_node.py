@@ -122,7 +122,8 @@ def test_node_publishes_growing_maps_and_map_to_odom():
     maps = fake.pubs["map"].sent
     assert len(maps) >= 3 and len(fake.pubs["map_metadata"].sent) == len(maps)
     assert known[-1] > known[0] > 0
-    assert maps[-1].header.frame_id == "map" and maps[-1].info.width == 384  # 400 cells floored to patches
+    # 400 cells floored to patches
+    assert maps[-1].header.frame_id == "map" and maps[-1].info.width == 384
     node.publish_transform()
     sent = transform_from_ros(tf.sent[-1])
     assert (sent.parent, sent.child) == ("map", "odom")

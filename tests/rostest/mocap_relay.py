@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Test helper: plays a motion-capture system. Republishes base_pose_ground_truth as
 geometry_msgs/PoseStamped on /mocap/pose, in a mocap frame placed at ~frame (x, y, yaw) of the
-world, for a marker body mounted at ~marker (x, y, yaw) in base_link: pose = frame ⊕ truth ⊕ marker."""
+world, for a marker body mounted at ~marker (x, y, yaw) in base_link:
+pose = frame ⊕ truth ⊕ marker."""
 import numpy as np
 import rospy
 from geometry_msgs.msg import PoseStamped

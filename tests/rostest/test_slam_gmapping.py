@@ -64,7 +64,8 @@ class SlamGMappingTest(unittest.TestCase):
         count = maps.count
         self.assertTrue(wait_for(lambda: maps.count > count, 30.0), "map not updated")
         last = grid_from_ros(maps.msg)
-        self.assertGreater(int((last.data >= 0).sum()), known0 * 1.05)  # 270° laser: most is seen at once
+        # 270° laser: most is seen at once
+        self.assertGreater(int((last.data >= 0).sum()), known0 * 1.05)
         self.assertGreater(int((last.data == 100).sum()), 200)
         with meta.lock:
             info = meta.msg

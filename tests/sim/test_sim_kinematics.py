@@ -14,9 +14,10 @@ from slam_predict.world.model import LaserSpec
 
 NO_RAMPS = RobotOverrides(max_vel_x=2.0, max_vel_theta=3.0, max_acc_x=0.0, max_acc_theta=0.0)
 QUIET_LASER = LaserSpec(rate_hz=1e-3)  # no scans: these tests are about motion
+NO_ODOM_NOISE = OdomConfig(model="none")
 
 
-def make_sim(integrator="exact", odom=OdomConfig(model="none"), start=(1.0, -2.0, 0.4),
+def make_sim(integrator="exact", odom=NO_ODOM_NOISE, start=(1.0, -2.0, 0.4),
              robot=NO_RAMPS, collisions=False, seed=0) -> Simulator:
     world = box_world(400.0, 400.0, res=0.5, start=start, laser=QUIET_LASER)
     config = SimConfig(integrator=integrator, odom=odom, robot=robot, collisions=collisions)

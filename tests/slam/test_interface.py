@@ -44,7 +44,6 @@ def test_gmapping_backend_tracks_a_synthetic_drive():
             assert np.allclose(compose(slam.map_to_odom(), odom[k]), pose)
     assert len(out) > 20
     idx = np.array([k for k, _ in out])
-    est = np.array([p for _, p in out])
     numbers, t, traj = slam.trajectory()
     assert len(traj) == len(out) and np.allclose(t, idx * 0.1)
     fitted = apply_transform(rigid_fit(traj, truth[idx]), traj)

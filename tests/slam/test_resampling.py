@@ -36,7 +36,8 @@ def test_systematic_resampling_keeps_the_expected_counts(seed):
 def test_resampling_counts_average_to_n_times_the_weights():
     w = np.array([0.5, 0.25, 0.125, 0.125])
     rng = np.random.default_rng(0)
-    counts = sum(np.bincount(systematic_resample(w, rng.random()), minlength=4) for _ in range(2000))
+    counts = sum(np.bincount(systematic_resample(w, rng.random()), minlength=4)
+                 for _ in range(2000))
     assert np.allclose(counts / 2000, 4 * w, atol=0.03)
 
 

@@ -81,7 +81,8 @@ def test_score_and_likelihood_match_a_slow_reference(bug):
     pmap = built_map()
     rng = np.random.default_rng(3)
     for _ in range(6):
-        pose = np.array(TRUE_POSES[rng.integers(len(TRUE_POSES))]) + rng.normal(0, [0.05, 0.05, 0.03])
+        pose = (np.array(TRUE_POSES[rng.integers(len(TRUE_POSES))])
+                + rng.normal(0, [0.05, 0.05, 0.03]))
         ranges = cast(TRUE_POSES[0], ANGLES)
         ranges[::17] = 0.0
         ranges[::23] = 31.0

@@ -25,7 +25,8 @@ def test_run_writes_trajectory_map_and_stats(shared_dir, tmp_path):
     assert meta["image"] == "map.pgm" and meta["resolution"] == 0.05
     assert (out / "map.pgm").stat().st_size > 1000 and (out / "map.png").exists()
     assert (out / "slam.log").read_text().count("FLASER") == len(t)
-    assert stats["evaluation"]["slam"]["trans_mean_m"] < stats["evaluation"]["odometry"]["trans_mean_m"]
+    evaluation = stats["evaluation"]
+    assert evaluation["slam"]["trans_mean_m"] < evaluation["odometry"]["trans_mean_m"]
 
 
 @pytest.mark.parametrize("make, message", [

@@ -169,9 +169,11 @@ def test_ground_truth_json_round_trip(tmp_path):
     rooms, doors = read_ground_truth(tmp_path / "w.json")
     world = generate("school", 400.0, 5)
     assert [r.id for r in rooms] == [r.id for r in world.rooms]
-    assert all(np.allclose(a.polygon, b.polygon, atol=1e-4) for a, b in zip(rooms, world.rooms, strict=False))
+    assert all(np.allclose(a.polygon, b.polygon, atol=1e-4)
+               for a, b in zip(rooms, world.rooms, strict=False))
     assert [d.rooms for d in doors] == [d.rooms for d in world.doors]
-    assert all(np.allclose(a.segment, b.segment, atol=1e-4) for a, b in zip(doors, world.doors, strict=False))
+    assert all(np.allclose(a.segment, b.segment, atol=1e-4)
+               for a, b in zip(doors, world.doors, strict=False))
 
 
 def test_bad_ground_truth_json(tmp_path):

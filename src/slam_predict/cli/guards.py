@@ -16,13 +16,12 @@ from __future__ import annotations
 import argparse
 import os
 from collections.abc import Iterable
-from typing import Union
 
 from slam_predict.errors import InputError
 from slam_predict.words import plural  # noqa: F401  (re-exported for the commands)
 
-Number = Union[int, float]
-PathArg = Union[str, os.PathLike]
+Number = int | float
+PathArg = str | os.PathLike
 FORCE_HELP = "replace an existing output (default: refuse to touch it)"
 
 

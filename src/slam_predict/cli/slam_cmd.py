@@ -53,7 +53,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                           "ones, else the back-end's defaults)")
     run.add_argument("--seed", type=_non_negative,
                      help="random seed (default: a collected run's SLAM generator, else 0)")
-    run.add_argument("--out", required=True, metavar="DIR", help="output folder (an existing non-empty one only with --force)")
+    run.add_argument("--out", required=True, metavar="DIR",
+                     help="output folder (an existing non-empty one only with --force)")
     add_force_argument(run)
     run.add_argument("--max-scans", type=_positive, metavar="K",
                      help="only the first K scans of the input")

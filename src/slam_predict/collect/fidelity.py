@@ -167,14 +167,17 @@ def markdown_report(comparisons: list[Comparison], thesis_source: str) -> str:
     for c in comparisons:
         lines += ["", f"### {c.name}", "", f"Issue #16's bars ({len(c.rows)} buildings, "
                   f"{c.runs} runs):", "", *acceptance_lines(c), "",
-                  "| building | free area (m²) | runs | ε_t ours (m) | ε_t theirs (m) | ratio | ε_r ours (rad) "
-                  "| ε_r theirs (rad) | ratio | path ours (m) | path theirs (m) |",
+                  "| building | free area (m²) | runs | ε_t ours (m) | ε_t theirs (m) | ratio "
+                  "| ε_r ours (rad) | ε_r theirs (rad) | ratio | path ours (m) | path theirs (m) |",
                   "|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sorted(c.rows, key=lambda row: row["trans_mean_theirs"]):
             lines.append(
-                f"| {r['world']} | {r['free_area_m2']:.0f} | {r['runs']} | {r['trans_mean_ours']:.3f} | "
-                f"{r['trans_mean_theirs']:.3f} | {r['trans_mean_ours'] / r['trans_mean_theirs']:.2f} "
+                f"| {r['world']} | {r['free_area_m2']:.0f} | {r['runs']} "
+                f"| {r['trans_mean_ours']:.3f} | "
+                f"{r['trans_mean_theirs']:.3f} "
+                f"| {r['trans_mean_ours'] / r['trans_mean_theirs']:.2f} "
                 f"| {r['rot_mean_ours']:.4f} | {r['rot_mean_theirs']:.4f} | "
-                f"{r['rot_mean_ours'] / r['rot_mean_theirs']:.2f} | {r['path_length_mean_ours']:.0f} "
+                f"{r['rot_mean_ours'] / r['rot_mean_theirs']:.2f} "
+                f"| {r['path_length_mean_ours']:.0f} "
                 f"| {r['path_length_mean_theirs']:.0f} |")
     return "\n".join(lines) + "\n"

@@ -10,7 +10,8 @@ import numpy as np  # noqa: E402
 from slam_predict.collect.fidelity import Comparison  # noqa: E402
 from slam_predict.report.figures import png_bytes  # noqa: E402
 
-SERIES = (("trans_mean", "ε_t", "o"), ("rot_mean", "ε_r", "s"), ("path_length_mean", "path length", "^"))
+SERIES = (("trans_mean", "ε_t", "o"), ("rot_mean", "ε_r", "s"),
+          ("path_length_mean", "path length", "^"))
 
 
 def ratio_vs_area_png(comparisons: list[Comparison]) -> bytes:

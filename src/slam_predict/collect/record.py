@@ -156,7 +156,8 @@ def write_trajectories(folder: Path, traj: Trajectories) -> None:
     carmen.write_trajectory(folder / "slam.log", traj.t, traj.slam, odom_poses=traj.odom)
 
 
-def write_map(folder: Path, grid: np.ndarray, resolution: float, origin: tuple[float, float]) -> None:
+def write_map(folder: Path, grid: np.ndarray, resolution: float,
+              origin: tuple[float, float]) -> None:
     """Final SLAM map (OccupancyGrid values, row 0 = bottom) as map_server PGM+YAML and PNG."""
     image = mapserver.occupancy_to_image(grid)
     mapserver.write_map(folder / "map.yaml", image, resolution, (origin[0], origin[1], 0.0))

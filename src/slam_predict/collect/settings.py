@@ -169,7 +169,8 @@ def read_settings_tree(path: Path, seen: set[Path] | None = None) -> dict[str, A
             tree[key] = str(path.parent / str(tree[key]))
     _slam_section(tree, path)
     if parent is None:
-        base = {key: str(path.parent / default) for key, default in zip(FILE_KEYS, FILE_DEFAULTS, strict=False)}
+        base = {key: str(path.parent / default)
+                for key, default in zip(FILE_KEYS, FILE_DEFAULTS, strict=False)}
         base["slam"] = dict(DEFAULT_SLAM, params=str(path.parent / DEFAULT_SLAM["params"]))
         return merge_trees(base, tree)
     parent_path = path.parent / str(parent)

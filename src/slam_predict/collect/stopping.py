@@ -88,7 +88,10 @@ def snapshot_mse(a: np.ndarray, b: np.ndarray) -> float:
 
 @dataclass
 class SnapshotMSE:
-    """Stateful stop rule: feed it snapshots when ``due``; it says when to stop (keeps only the last)."""
+    """Stateful stop rule: feed it snapshots when ``due``; it says when to stop.
+
+    Only the last snapshot is kept.
+    """
 
     config: StopConfig
     interval_s: float

@@ -5,10 +5,10 @@ cells, inflation radius 2.25 m, cost_scaling_factor 7.5: the package's
 pioneer3at_*costmap*.yaml; the thesis' 0.4 m footprint, which one stored version of the
 package has, gives an inscribed radius of 0.2 m). :func:`explorer_costmap` builds that costmap
 from the SLAM map: cells are coarsened to ``resolution`` (a coarse cell is lethal if any of its
-cells is occupied, else free if any is free, else unknown), lethal cells are inflated as costmap_2d's
-inflation layer does (cost 253 within the inscribed radius, 252·exp(−k·(d − r_inscribed))
-truncated to an integer out to the inflation radius; unknown cells stay 255 except within the
-inscribed radius).
+cells is occupied, else free if any is free, else unknown), lethal cells are inflated as
+costmap_2d's inflation layer does (cost 253 within the inscribed radius,
+252·exp(−k·(d − r_inscribed)) truncated to an integer out to the inflation radius; unknown
+cells stay 255 except within the inscribed radius).
 
 Per-cell rules (``ExplorationPlanner``):
 

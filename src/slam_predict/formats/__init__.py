@@ -1,1 +1,1 @@
-"""File formats: CARMEN logs, TUM trajectories, Freiburg relations, map_server maps, ROS bag poses."""
+"""File formats: CARMEN logs, TUM trajectories, Freiburg relations, map_server maps, ROS bags."""

@@ -117,5 +117,6 @@ class CarmenLog:
             return default
         try:
             return float(self.params[name])
-        except ValueError:
-            raise InputError(f"PARAM {name} is not a number: {self.params[name]!r}", self.path)
+        except ValueError as exc:
+            raise InputError(f"PARAM {name} is not a number: {self.params[name]!r}",
+                             self.path) from exc

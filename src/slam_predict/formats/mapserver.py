@@ -1,4 +1,4 @@
-"""ROS map_server maps: an 8-bit PGM image plus a YAML file, as map_saver writes and map_server reads.
+"""ROS map_server maps: an 8-bit PGM image plus a YAML file (as map_saver writes, map_server reads).
 
 Image orientation: row 0 of ``image`` is the TOP of the map (largest y), as in the PGM file; an
 ``nav_msgs/OccupancyGrid`` stores row 0 at the BOTTOM (at ``origin``), so the conversions below
@@ -93,8 +93,8 @@ def decode_pgm(data: bytes, path: str = None) -> np.ndarray:
     magic = tokens[0]
     try:
         width, height, maxval = (int(t) for t in tokens[1:])
-    except ValueError:
-        raise InputError("malformed PGM header", path)
+    except ValueError as exc:
+        raise InputError("malformed PGM header", path) from exc
     if magic not in (b"P5", b"P2") or maxval > 255 or maxval < 1:
         raise InputError(f"unsupported PGM ({magic.decode(errors='replace')}, maxval {maxval}); "
                          "need 8-bit P5 or P2", path)
@@ -147,7 +147,7 @@ def read_map(yaml_path: os.PathLike | str) -> MapServerMap:
         with open(yaml_path, encoding="utf-8") as fh:
             meta = yaml.safe_load(fh)
     except (OSError, yaml.YAMLError) as exc:
-        raise InputError(f"cannot read map YAML: {exc}".splitlines()[0], yaml_path)
+        raise InputError(f"cannot read map YAML: {exc}".splitlines()[0], yaml_path) from None
     if not isinstance(meta, dict):
         raise InputError("map YAML is not a mapping", yaml_path)
     for key in ("image", "resolution", "origin"):
@@ -167,7 +167,7 @@ def read_map(yaml_path: os.PathLike | str) -> MapServerMap:
             free_thresh=float(meta.get("free_thresh", FREE_THRESH)),
             extra={k: v for k, v in meta.items() if k not in known})
     except (TypeError, ValueError) as exc:
-        raise InputError(f"bad value in map YAML: {exc}", yaml_path)
+        raise InputError(f"bad value in map YAML: {exc}", yaml_path) from None
 
 
 def _read_image(path: str) -> np.ndarray:

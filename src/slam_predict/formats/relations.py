@@ -50,11 +50,12 @@ def read_relations(path: os.PathLike | str) -> Relations:
                 if text:
                     rows.append(_parse(text, path, number))
     except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read relations file: {exc}", path)
+        raise InputError(f"cannot read relations file: {exc}", path) from None
     data = np.array(rows, dtype=float).reshape(-1, 8)
     off_plane = np.abs(data[:, [4, 5, 6]]).max(initial=0.0)
     if off_plane > 1e-9:
-        log.warning("%s: non-zero z/roll/pitch (up to %.3g) ignored: planar metric", path, off_plane)
+        log.warning("%s: non-zero z/roll/pitch (up to %.3g) ignored: planar metric",
+                    path, off_plane)
     return Relations(data[:, 0], data[:, 1], data[:, [2, 3, 7]])
 
 
@@ -65,8 +66,8 @@ def _parse(text: str, path: str, number: int) -> list:
                          path, number)
     try:
         values = [float(v) for v in tokens]
-    except ValueError:
-        raise InputError("non-numeric value in relation", path, number)
+    except ValueError as exc:
+        raise InputError("non-numeric value in relation", path, number) from exc
     if not np.all(np.isfinite(values)):
         raise InputError("non-finite value in relation", path, number)
     return values

@@ -45,7 +45,7 @@ def _open(path: str):
     try:
         reader.open()
     except Exception as exc:  # rosbags raises several reader-specific errors
-        raise InputError(f"cannot open ROS bag: {exc}".splitlines()[0], path)
+        raise InputError(f"cannot open ROS bag: {exc}".splitlines()[0], path) from None
     return reader
 
 
@@ -117,8 +117,10 @@ def write_pose_bag(path: os.PathLike | str, topics: dict[str, tuple[np.ndarray, 
         tmp.unlink()  # the writer refuses to overwrite
         with Writer(tmp) as writer:
             for topic, (t, poses) in topics.items():
-                conn = writer.add_connection(topic, "geometry_msgs/msg/PoseStamped", typestore=store)
-                for seq, (ti, pose) in enumerate(zip(np.asarray(t, float), np.asarray(poses, float), strict=False)):
+                conn = writer.add_connection(topic, "geometry_msgs/msg/PoseStamped",
+                                             typestore=store)
+                stamped = zip(np.asarray(t, float), np.asarray(poses, float), strict=False)
+                for seq, (ti, pose) in enumerate(stamped):
                     msg = _pose_stamped(types, seq, ti, pose, frame_id)
                     stamp_ns = int(round(ti * 1e9))
                     writer.write(conn, stamp_ns, store.serialize_ros1(msg, conn.msgtype))

@@ -84,7 +84,7 @@ def _careful_load(path: str) -> np.ndarray:
         with open(path, encoding="utf-8") as fh:
             lines = fh.readlines()
     except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read TUM trajectory: {exc}", path)
+        raise InputError(f"cannot read TUM trajectory: {exc}", path) from None
     last = max((i for i, ln in enumerate(lines, start=1) if ln.strip()), default=0)
     rows = []
     for number, line in enumerate(lines, start=1):
@@ -108,8 +108,8 @@ def _parse_row(text: str, path: str, number: int) -> list:
                          path, number)
     try:
         values = [float(v) for v in tokens]
-    except ValueError:
-        raise InputError("non-numeric value in TUM line", path, number)
+    except ValueError as exc:
+        raise InputError("non-numeric value in TUM line", path, number) from exc
     if not np.all(np.isfinite(values)):
         raise InputError("non-finite value in TUM line", path, number)
     return values

@@ -96,7 +96,8 @@ def train_store(data: Dataset, config: LearningConfig, outcome: Outcome, name: s
             continue
         estimators[component], plain[component], components[component] = fit_component(
             data, config, outcome, component)
-    runs = {w: (None if np.isnan(r) else float(r)) for w, r in zip(data.worlds, data.runs, strict=False)}
+    runs = {w: (None if np.isnan(r) else float(r))
+            for w, r in zip(data.worlds, data.runs, strict=False)}
     card = {
         "name": name, "description": description,
         "created": datetime.date.today().isoformat(), "priority": int(priority),

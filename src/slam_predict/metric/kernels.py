@@ -13,7 +13,8 @@ import math
 import numba
 import numpy as np
 
-# Columns of the moments array: count, mean, M2 (sum of squared deviations), min, max, sum of squares.
+# Columns of the moments array: count, mean, M2 (sum of squared deviations), min, max,
+# sum of squares.
 N_, MEAN, M2, MIN, MAX, SUMSQ = range(6)
 SERIES = ("trans_abs", "trans_sqr", "rot_abs", "rot_sqr")
 

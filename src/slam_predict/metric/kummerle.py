@@ -1,4 +1,4 @@
-"""Kümmerle et al. (2009) relation error, in the style of evo's metrics: process → statistics → result.
+"""Kümmerle et al. (2009) relation error, in the style of evo: process → statistics → result.
 
 >>> metric = RelationMetric()
 >>> metric.process_data(est_poses, ref_poses, pairs)          # doctest: +SKIP

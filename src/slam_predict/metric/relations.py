@@ -43,11 +43,13 @@ def relation_deltas(poses: np.ndarray, pairs: np.ndarray) -> np.ndarray:
 
 def delta_errors(est_deltas: np.ndarray, ref_deltas: np.ndarray) -> RelationErrors:
     """Errors of estimated relations against reference relations, both (N, 3)."""
-    err = ominus(np.asarray(est_deltas, float).reshape(-1, 3), np.asarray(ref_deltas, float).reshape(-1, 3))
+    err = ominus(np.asarray(est_deltas, float).reshape(-1, 3),
+                 np.asarray(ref_deltas, float).reshape(-1, 3))
     return RelationErrors(np.hypot(err[:, 0], err[:, 1]), np.abs(wrap_angle(err[:, 2])))
 
 
-def relation_errors(est_poses: np.ndarray, ref_poses: np.ndarray, pairs: np.ndarray) -> RelationErrors:
+def relation_errors(est_poses: np.ndarray, ref_poses: np.ndarray,
+                    pairs: np.ndarray) -> RelationErrors:
     """Errors of the relations ``pairs`` between two index-aligned trajectories (N, 3)."""
     est_poses = np.asarray(est_poses, dtype=float).reshape(-1, 3)
     ref_poses = np.asarray(ref_poses, dtype=float).reshape(-1, 3)

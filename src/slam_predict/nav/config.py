@@ -225,7 +225,8 @@ class TrajectoryPlannerConfig:
             raise ValueError("heading_scoring and simple_attractor are not supported")
         if self.vx_samples < 1 or self.vtheta_samples < 1:
             raise ValueError("vx_samples and vtheta_samples must be >= 1")
-        if not (self.sim_time > 0 and self.sim_granularity > 0 and self.angular_sim_granularity > 0):
+        if not (self.sim_time > 0 and self.sim_granularity > 0
+                and self.angular_sim_granularity > 0):
             raise ValueError("sim_time and the granularities must be > 0")
         if self.escape_footprint_margin < 0:
             raise ValueError("escape_footprint_margin must be >= 0")

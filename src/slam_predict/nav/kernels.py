@@ -27,9 +27,10 @@ def inflate(master, min_i, min_j, max_i, max_j, radius, cost_cache, dist_cache, 
 
     Sources: LETHAL cells within the update window [min_i, max_i) x [min_j, max_j) grown by
     ``radius`` cells. Cells whose cost would be FREE are not queued: cost falls with distance,
-    so they and everything beyond them would leave ``master`` unchanged. Cells are processed in bins of exact distance to their source (FIFO
-    inside a bin, as costmap_2d's ``std::map<double, vector>``; a cell enqueued into an
-    already-passed bin is dropped, as there). Costs are only written inside the window:
+    so they and everything beyond them would leave ``master`` unchanged. Cells are processed in
+    bins of exact distance to their source (FIFO inside a bin, as costmap_2d's
+    ``std::map<double, vector>``; a cell enqueued into an already-passed bin is dropped, as
+    there). Costs are only written inside the window:
     ``max(old, cost)``, except that unknown cells take only costs >= INSCRIBED (or > FREE with
     ``inflate_unknown``).
 

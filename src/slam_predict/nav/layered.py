@@ -229,7 +229,8 @@ class LayeredCostmap:
         ey = math.floor((robot_pose[1] + half - cm.origin[1]) / cm.resolution)
         xs = np.arange(cm.size_x)
         ys = np.arange(cm.size_y)
-        inside = ((ys[:, None] > sy) & (ys[:, None] < ey)) & ((xs[None, :] > sx) & (xs[None, :] < ex))
+        inside = (((ys[:, None] > sy) & (ys[:, None] < ey))
+                  & ((xs[None, :] > sx) & (xs[None, :] < ex)))
         clear = inside if invert else ~inside
         self._obstacles[clear] = self.default_value
         self._dirty = self._full()

@@ -44,8 +44,10 @@ class LocalPlanner:
     # ---------------------------------------------------------------------------- helpers
     def _transformed(self, costmap: Costmap, pose, map_to_local) -> np.ndarray:
         """transformGlobalPlan + prunePlan; returns the plan segment in the local frame."""
-        plan = compose(map_to_local, self.global_plan) if len(self.global_plan) else np.empty((0, 3))
-        threshold = max(costmap.size_x * costmap.resolution, costmap.size_y * costmap.resolution) / 2
+        plan = (compose(map_to_local, self.global_plan) if len(self.global_plan)
+                else np.empty((0, 3)))
+        threshold = max(costmap.size_x * costmap.resolution,
+                        costmap.size_y * costmap.resolution) / 2
         d2 = (plan[:, 0] - pose[0]) ** 2 + (plan[:, 1] - pose[1]) ** 2
         inside = d2 <= threshold ** 2
         if not inside.any():

@@ -144,7 +144,8 @@ class Navigator:
         """Start a goal (x, y, yaw in map); an active goal is PREEMPTED."""
         if self.goal is not None:
             self._finish(GoalStatus.PREEMPTED, TEXT_NEW_GOAL, t)
-        record = GoalRecord(self._next_id, (float(target[0]), float(target[1]), float(target[2])), t)
+        record = GoalRecord(self._next_id,
+                            (float(target[0]), float(target[1]), float(target[2])), t)
         self._next_id += 1
         self.goal = record
         self.history.append(record)
@@ -256,7 +257,8 @@ class Navigator:
         if self.controller.is_goal_reached(pose_map, vel):
             self._finish(GoalStatus.SUCCEEDED, TEXT_REACHED, t)
             return (0.0, 0.0)
-        if cfg.oscillation_timeout > 0 and self.last_oscillation_reset + cfg.oscillation_timeout < t:
+        if (cfg.oscillation_timeout > 0
+                and self.last_oscillation_reset + cfg.oscillation_timeout < t):
             self.state = State.CLEARING
             self.recovery_trigger = Trigger.OSCILLATION
         cmd = self.controller.compute_velocity_commands(

@@ -1,1 +1,4 @@
-"""The ROS layer: node classes wrapping the library, and message conversions. Only here is rospy imported."""
+"""The ROS layer: node classes wrapping the library, and message conversions.
+
+Only here is rospy imported.
+"""

@@ -54,7 +54,8 @@ def node_seeds(seed: int) -> dict[str, int]:
     """Seeds of the simulator, explorer and SLAM nodes of a run (in-process loop's order)."""
     children = np.random.SeedSequence(int(seed)).spawn(3)
     return {name: int(child.generate_state(1)[0] >> 1)  # 31 bits: an XML-RPC int param
-            for name, child in zip(("sim_seed", "explore_seed", "slam_seed"), children, strict=False)}
+            for name, child in zip(("sim_seed", "explore_seed", "slam_seed"), children,
+                                   strict=False)}
 
 
 def check_choices(options: dict) -> None:

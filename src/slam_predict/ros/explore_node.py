@@ -160,7 +160,8 @@ def read_config(rospy_module) -> ExploreConfig:
 
     tree = dict(rospy_module.get_param("~", {}) or {})
     tree.pop("seed", None)
-    if "max_vel_x" not in tree and rospy_module.has_param("/move_base/TrajectoryPlannerROS/max_vel_x"):
+    if ("max_vel_x" not in tree
+            and rospy_module.has_param("/move_base/TrajectoryPlannerROS/max_vel_x")):
         tree["max_vel_x"] = rospy_module.get_param("/move_base/TrajectoryPlannerROS/max_vel_x")
     return from_dict(ExploreConfig, tree, f"{rospy_module.get_name()} parameters")
 

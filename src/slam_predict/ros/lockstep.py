@@ -104,7 +104,8 @@ class SimTicker:
         """Begin ticking (after init_node)."""
         rp = self.rospy
         if not rp.get_param("/use_sim_time", False):
-            self._timer = rp.Timer(rp.Duration(self.period), lambda _e: self.callback(rp.get_time()))
+            self._timer = rp.Timer(rp.Duration(self.period),
+                                   lambda _e: self.callback(rp.get_time()))
             return
         from rosgraph_msgs.msg import Clock
 

@@ -10,9 +10,10 @@ the same module (:mod:`slam_predict.collect.stopping`: :class:`SnapshotMSE`,
 :class:`StuckDetector`, :func:`stop_reason`):
 
 * a sample is queued at every multiple of ``sample_period_s`` (0.1 s; the first at t0 + 0.1 s
-  as the in-process loop's first step; ticks may be missed or irregular) and holds ground truth, the SLAM pose (tf map→base_link, i.e. map→odom ∘
-  odom→base_link) and the odometry pose (tf odom→base_link) at that time; samples whose poses
-  never arrive within ``max_sample_delay_s`` of ROS time are dropped (and counted);
+  as the in-process loop's first step; ticks may be missed or irregular) and holds ground
+  truth, the SLAM pose (tf map→base_link, i.e. map→odom ∘ odom→base_link) and the odometry
+  pose (tf odom→base_link) at that time; samples whose poses never arrive within
+  ``max_sample_delay_s`` of ROS time are dropped (and counted);
 * the SLAM map (the latest /map) is snapshotted over the full xmin..xmax extent every
   ``interval`` s (:class:`~slam_predict.collect.stopping.SnapshotMSE`); the run stops on MSE
   convergence or after ``max_snapshots``, when the robot is stuck (no 0.1 m of ground-truth
@@ -229,7 +230,8 @@ class RunMonitor:
         odom = np.asarray(sample.odom, float)
         if self.samples:
             prev = self.samples[-1]
-            stalled = _moved(prev.odom, odom) > STILL_EPS and _moved(prev.ground_truth, gt) <= STILL_EPS
+            stalled = (_moved(prev.odom, odom) > STILL_EPS
+                       and _moved(prev.ground_truth, gt) <= STILL_EPS)
             if stalled and not self._stalled:
                 self.stalls += 1
             self._stalled = stalled

@@ -63,7 +63,10 @@ class Grid:
 
 @numba.njit(cache=True)
 def _fill_polygons(mask, u, v, starts, value):
-    """Scanline fill (pixel-centre, even-odd) of polygons packed in u, v; ``starts`` has n+1 offsets."""
+    """Scanline fill (pixel-centre, even-odd) of polygons packed in u, v.
+
+    ``starts`` has n+1 offsets.
+    """
     rows, cols = mask.shape
     crossings = np.empty(u.shape[0], dtype=np.float64)
     for p in range(starts.shape[0] - 1):

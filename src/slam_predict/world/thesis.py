@@ -22,9 +22,9 @@ Scale (the thesis' Stage ``floorplan size [W H]`` stretches the bitmap to W x H 
   holds that world: ``nav2dfiles/office_c.world`` (AIRLab-POLIMI/predictivebenchmarking,
   commit a4e26239) has ``size [168.3 96.5 1.0]`` for the same ``office_c.png``, while the
   102.85 x 32.5 m file of the table is a later ``runs/datasets`` copy. It is imported at
-  0.1 m/px (:data:`SCALE_OVERRIDES`) with the table's start pose in metres. freiburg79 used a crop of
-  unknown offsets: the image's free-space bounding box is scaled isotropically to fit the W x H
-  world (1 m margin) and centred — not faithful.
+  0.1 m/px (:data:`SCALE_OVERRIDES`) with the table's start pose in metres. freiburg79 used a
+  crop of unknown offsets: the image's free-space bounding box is scaled isotropically to fit
+  the W x H world (1 m margin) and centred — not faithful.
 - ``layouts``: rasterised (:mod:`slam_predict.world.layout`) through the frame that maps the XML
   point extent exactly onto W x H (as the thesis bitmap spanned exactly that extent), with the
   drawing's y axis (down in the drawing) as world y (up): the thesis' bitmaps are vertical

@@ -72,8 +72,9 @@ def range_sensor_angles(angles) -> np.ndarray:
 
     The node builds GMapping's RangeSensor from the beam count N and |angle_increment|, whose
     constructor sets beam i to −N·inc/2 + i·inc: from −N·inc/2 to +(N/2 − 1)·inc, i.e. half a
-    beam clockwise of the scan's own angles, which are symmetric about the centred frame (−(N−1)·inc/2
-    … +(N−1)·inc/2; its published map uses those). Uniform spacing is assumed, as in a LaserScan.
+    beam clockwise of the scan's own angles, which are symmetric about the centred frame
+    (−(N−1)·inc/2 … +(N−1)·inc/2; its published map uses those). Uniform spacing is assumed,
+    as in a LaserScan.
     """
     angles = np.asarray(angles, dtype=float)
     n = len(angles)

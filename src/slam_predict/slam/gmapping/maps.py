@@ -195,7 +195,7 @@ class ParticleMap:
 
     def register(self, pose, ranges: np.ndarray, ca: np.ndarray, sa: np.ndarray,
                  max_range: float, usable: float) -> int:
-        """Grow if needed, then add the scan's endpoint hits; returns patches taken from the pool."""
+        """Grow if needed, then add the scan's endpoint hits; returns patches taken from pool."""
         x, y, th = float(pose[0]), float(pose[1]), float(pose[2])
         bounds = kernels.scan_bounds(x, y, th, ranges, ca, sa, max_range, usable)
         window = self.geometry.grow_to(bounds)

@@ -24,7 +24,8 @@ def odometry_step(p_new, p_old) -> np.ndarray:
     return ominus(np.asarray(p_new, float), np.asarray(p_old, float))
 
 
-def noise_stds(delta, srr: float, srt: float, str_: float, stt: float) -> tuple[float, float, float]:
+def noise_stds(delta, srr: float, srt: float, str_: float,
+               stt: float) -> tuple[float, float, float]:
     """Standard deviations (m, m, rad) of the noise added to the odometry step ``delta``."""
     dx, dy, dth = (abs(float(v)) for v in delta)
     sx = srr * dx + str_ * dth + 0.3 * srr * dy

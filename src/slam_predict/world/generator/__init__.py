@@ -16,7 +16,6 @@ that closing every door splits the free space into exactly one region per room.
 from __future__ import annotations
 
 import math
-from typing import Optional
 
 import numpy as np
 
@@ -87,7 +86,8 @@ def metadata(world: World) -> dict:
     info = dict(world.provenance.get("generator", {}))
     categories = info.pop("room_categories", [""] * len(world.rooms))
     passages = info.pop("passages", [False] * len(world.doors))
-    rooms = [{**r, "category": c} for r, c in zip(rooms_record(world.rooms), categories, strict=False)]
+    rooms = [{**r, "category": c}
+             for r, c in zip(rooms_record(world.rooms), categories, strict=False)]
     doors = [{**d, "kind": "passage" if p else "door"}
              for d, p in zip(doors_record(world.doors), passages, strict=False)]
     x, y, yaw = (float(v) for v in world.start_pose)

@@ -71,7 +71,8 @@ def read_tuple(entity: Entity, name: str, fmt: str, units: Units,
     if len(prop.values) < len(fmt):
         raise InputError(f"property '{name}' needs {len(fmt)} values, got {len(prop.values)}",
                          *_where(prop.token))
-    return tuple(_convert(tok, letter, prop, units) for tok, letter in zip(prop.values, fmt, strict=False))
+    return tuple(_convert(tok, letter, prop, units)
+                 for tok, letter in zip(prop.values, fmt, strict=False))
 
 
 def read_value(entity: Entity, name: str, letter: str, units: Units, default=None):
