@@ -7,7 +7,7 @@ with the code of a work tree, then compares every output: JSON fields (except wa
 and the code version) and the bytes of every other file (maps, trajectories, sensor logs).
 
     python bench/bench_no_behaviour_change.py --ref 64acece            # this tree vs 64acece
-    python bench/bench_no_behaviour_change.py --ref 64acece --new /work/wt/x --cases quick
+    python bench/bench_no_behaviour_change.py --ref 64acece --new ../other-checkout --cases quick
     python bench/bench_no_behaviour_change.py --ref 64acece --renames renames.json
 
 ``--renames`` is a JSON object {"old.key.path": "new.key.path"} applied to the reference's JSON
@@ -187,6 +187,7 @@ def compare_trees(ref: Path, new: Path, renames: dict[str, str]) -> list[str]:
 def main(argv: Sequence[str]) -> int:
     args = parse_args(argv)
     renames = json.loads(Path(args.renames).read_text()) if args.renames else {}
+    cases = selected_cases(args.cases)
     new_tree = Path(args.new).resolve()
     work = Path(args.keep).resolve() if args.keep else Path(tempfile.mkdtemp(prefix="nbc_"))
     ref_tree = work / "ref_tree"
@@ -196,7 +197,7 @@ def main(argv: Sequence[str]) -> int:
                    check=True, capture_output=True)
     failed = 0
     try:
-        for case in selected_cases(args.cases):
+        for case in cases:
             name = case[0]
             outs = {side: work / side / name for side in ("ref", "new")}
             for out in outs.values():
@@ -222,7 +223,7 @@ def main(argv: Sequence[str]) -> int:
                        capture_output=True)
         if not args.keep:
             shutil.rmtree(work, ignore_errors=True)
-    print(f"{len(selected_cases(args.cases)) - failed} identical, {failed} different")
+    print(f"{len(cases) - failed} identical, {failed} different")
     return 1 if failed else 0
 
 

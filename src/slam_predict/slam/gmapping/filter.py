@@ -18,7 +18,7 @@ import numpy as np
 
 from slam_predict.geometry import compose, inverse
 from slam_predict.slam import LaserGeometry, OccupancyGrid, SlamBackend
-from slam_predict.slam.gmapping import kernels
+from slam_predict.slam.gmapping import kernels, raytrace
 from slam_predict.slam.gmapping.maps import Geometry, ParticleMap, PatchPool
 from slam_predict.slam.gmapping.motion import draw_from_motion, travelled
 from slam_predict.slam.gmapping.params import GMappingParams, params_from_dict, with_ranges
@@ -247,6 +247,7 @@ class GMapping(SlamBackend):
     @classmethod
     def warmup(cls) -> None:
         kernels.warmup()
+        raytrace.warmup()
 
     @classmethod
     def extent_of(cls, params: GMappingParams):
