@@ -23,7 +23,7 @@ import numpy as np
 
 from slam_predict.geometry import compose
 from slam_predict.sensor import LaserConfig, SensorConfig
-from slam_predict.sim import kinematics, raycast
+from slam_predict.sim import kinematics, raycast, stage_ranger
 from slam_predict.sim.config import SimConfig
 from slam_predict.sim.odometry import make_odometry, world_error
 from slam_predict.world.model import RobotSpec, World
@@ -95,6 +95,10 @@ class Simulator:
         self.limits = kinematics.VelocityLimits(self.robot.max_vel_x, self.robot.max_vel_theta,
                                                 self.robot.max_acc_x, self.robot.max_acc_theta)
         self.grid = raycast.LaserGrid.of_world(world)
+        self.stage_grid = None
+        if config.ranger_model == "stage":
+            res = stage_ranger.stage_resolution(world, config.stage_resolution)
+            self.stage_grid = stage_ranger.cached_stage_grid(world, res)
         self.laser_angles = self.laser.angles().astype(float)
         self._cos = np.cos(self.laser_angles)
         self._sin = np.sin(self.laser_angles)
@@ -141,7 +145,12 @@ class Simulator:
     def scan_from(self, robot_pose: np.ndarray) -> np.ndarray:
         """float32 ranges (m) of a scan with the robot at ``robot_pose`` (noise included)."""
         lx, ly, lyaw = self.laser_world_pose(robot_pose)
-        out = self.grid.scan(lx, ly, lyaw, self._cos, self._sin, self.laser.range_max)
+        if self.stage_grid is not None:
+            out = self.stage_grid.scan(robot_pose, (lx, ly, lyaw), self.laser.fov,
+                                       self.laser.samples, self.laser.range_max,
+                                       self.robot.footprint_side)
+        else:
+            out = self.grid.scan(lx, ly, lyaw, self._cos, self._sin, self.laser.range_max)
         if self.laser.noise_std > 0:
             self._add_noise(out)
         return out
