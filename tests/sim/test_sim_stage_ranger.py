@@ -34,11 +34,12 @@ def random_world(rng: np.random.Generator) -> World:
     return World("random", occ, res, origin=origin)
 
 
-def reference_grid(world: World, resolution: float, body=None):
+def reference_grid(world: World, resolution: float, *bodies):
+    """The reference grid with robot bodies (x, y, yaw, side) in it (Stage's two layers)."""
     xmin, ymin, xmax, ymax = world.extent
     grid, ppm = ref.stage_grid(world.occupied.tolist(), (xmax - xmin, ymax - ymin),
                                world.origin, resolution)
-    if body is not None:
+    for body in bodies:
         grid.map_poly(ref.robot_body(*body, ppm), "robot")
     return grid, ppm
 
@@ -97,8 +98,12 @@ def test_ranges_match_reference_exactly(seed):
         side = float(rng.choice([0.0, 0.3, 0.9]))
         fov, samples = float(rng.uniform(0.5, 2 * math.pi)), int(rng.integers(2, 40))
         range_max = float(rng.uniform(0.2, 8.0))
-        got = grid.scan((x, y, yaw), laser, fov, samples, range_max, side)
-        ref_grid, ppm = reference_grid(world, res, (x, y, yaw, side) if side else None)
+        before = (x - rng.uniform(0, 0.5), y - rng.uniform(0, 0.5), yaw - 0.2)
+        previous = before if rng.random() < 0.5 else None
+        got = grid.scan((x, y, yaw), laser, fov, samples, range_max, side,
+                        previous_pose=previous)
+        bodies = [(x, y, yaw, side)] + ([(*previous, side)] if previous else [])
+        ref_grid, ppm = reference_grid(world, res, *(bodies if side else []))
         want = np.array(ref.scan(ref_grid, ppm, laser, fov, samples, range_max),
                         dtype=np.float32)
         np.testing.assert_array_equal(got, want)
@@ -208,3 +213,27 @@ def test_run_records_read_ranger_model():
     assert robot_key({"sensor": sensor}) == robot_key({"sensor": sensor,
                                                        "ranger_model": "exact"})
     assert robot_key({"sensor": sensor, "ranger_model": "stage"}).endswith("+stage")
+
+
+@pytest.mark.parametrize("timing", ["after_move", "before_move"])
+def test_simulator_body_in_both_stage_layers(timing):
+    """Stage's other layer holds the body one update earlier: the start pose of the step for a
+    scan after the move, the start pose of the previous step for a scan before it."""
+    world = box_world(12.0, 9.0, res=0.05, start=(-3.0, -2.0, 0.5))
+    config = SimConfig(ranger_model="stage", scan_timing=timing,
+                       laser=LaserOverrides(noise_std=0.0))
+    sim = Simulator(world, config, np.random.default_rng(0))
+    grid = sim.stage_grid
+    starts = [sim.true_pose.copy()]
+    changed = 0
+    for _ in range(12):
+        state = sim.step(1.0, 0.4)
+        starts.append(state.true_pose.copy())  # the next step's start pose
+        previous = starts[-2] if timing == "after_move" else starts[max(len(starts) - 3, 0)]
+        pose = state.scan_true_pose
+        laser = sim.laser_world_pose(pose)
+        args = (pose, laser, sim.laser.fov, sim.laser.samples, sim.laser.range_max,
+                sim.robot.footprint_side)
+        np.testing.assert_array_equal(state.scan, grid.scan(*args, previous_pose=previous))
+        changed += int(np.sum(state.scan != grid.scan(*args)))
+    assert changed > 0  # the earlier body does change some beams here

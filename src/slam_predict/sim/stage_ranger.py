@@ -5,7 +5,8 @@ into rectangles as Stage cuts a floor-plan image, the rectangles are stretched t
 plan's size (the World's extent) and centred on its origin, and their outlines are drawn into
 cells of ``resolution`` m (plus the four 0.01-pixel ``boundary 1`` strips our .world writer asks
 for). :meth:`StageGrid.scan` casts a scan with Stage's ray walk, the robot's square body marking
-its regions as Stage's own blocks do. See :mod:`slam_predict.sim.stage_raytrace_kernels` for
+its regions as Stage's own blocks do, at the scan pose and (Stage's other grid layer) at the pose
+one update earlier. See :mod:`slam_predict.sim.stage_raytrace_kernels` for
 the Stage behaviour reproduced.
 
 Collisions are not affected: the simulator keeps checking them on the World's bitmap.
@@ -107,11 +108,17 @@ class StageGrid:
         self.occupied = counts > 0
         self.regions = k.region_counts(counts, self.x0, self.y0)
 
-    def regions_with_body(self, x: float, y: float, yaw: float, side: float) -> np.ndarray:
-        """Region counts with a robot body (square, side m) at (x, y, yaw) added."""
+    def regions_with_body(self, poses, side: float) -> np.ndarray:
+        """Region counts with a robot body (square, side m) at each of ``poses`` (x, y, yaw)
+        added."""
         regions = self.regions.copy()
-        if side <= 0:
-            return regions
+        if side > 0:
+            for x, y, yaw in poses:
+                self._add_body(regions, float(x), float(y), float(yaw), side)
+        return regions
+
+    def _add_body(self, regions: np.ndarray, x: float, y: float, yaw: float,
+                  side: float) -> None:
         cells = body_cells(x, y, yaw, side, self.ppm)
         bx0 = (int(cells[..., 0].min()) >> k.RBITS) << k.RBITS
         by0 = (int(cells[..., 1].min()) >> k.RBITS) << k.RBITS
@@ -125,17 +132,18 @@ class StageGrid:
         for (r, c), n in np.ndenumerate(counts):
             if n and 0 <= r0 + r < regions.shape[0] and 0 <= c0 + c < regions.shape[1]:
                 regions[r0 + r, c0 + c] += n
-        return regions
 
     def scan(self, robot_pose, laser_pose, fov: float, samples: int, range_max: float,
-             body_side: float, out: np.ndarray | None = None) -> np.ndarray:
+             body_side: float, out: np.ndarray | None = None,
+             previous_pose=None) -> np.ndarray:
         """float32 ranges (m) of a Stage scan: laser at world ``laser_pose`` (x, y, yaw), beams
         from −fov/2 to +fov/2 (rad), the robot's body (square, ``body_side`` m) at
-        ``robot_pose``. A beam hitting nothing reads ``range_max``."""
+        ``robot_pose`` and, when given, at ``previous_pose`` (Stage's other layer: the pose
+        one update earlier). A beam hitting nothing reads ``range_max``."""
         if out is None:
             out = np.empty(int(samples), dtype=np.float32)
-        regions = self.regions_with_body(float(robot_pose[0]), float(robot_pose[1]),
-                                         float(robot_pose[2]), float(body_side))
+        poses = [robot_pose] if previous_pose is None else [robot_pose, previous_pose]
+        regions = self.regions_with_body(poses, float(body_side))
         start = -fov / 2.0 if samples > 1 else 0.0
         step = fov / max(int(samples) - 1, 1)
         a0 = _normalize(float(laser_pose[2]) + start)
