@@ -56,6 +56,7 @@ def run_record_keys() -> frozenset:
     """run.json's top-level keys as collect.record.build_record writes them (both paths)."""
     return frozenset({
         "world", "world_file", "run_index", "seed", "code_version", "config_hashes",
-        "settings_file", "odometry_model", "odometry_error", "stop_reason", "explorer_end",
+        "settings_file", "odometry_model", "ranger_model", "odometry_error", "stop_reason",
+        "explorer_end",
         "sim_duration_s", "wall_time_s", "distance_m", "rotation_rad", "coverage", "stalls",
         "free_area_m2", "snapshots", "metric", "timing", "sensor", "slam"})

@@ -206,7 +206,19 @@ def load_config(cls: type[T], path: os.PathLike | str, section: str | None = Non
     return from_dict(cls, data, os.fspath(path), section or "")
 
 
+def _hash_tree(obj: Any) -> Any:
+    """``to_dict`` of ``obj`` without the fields its class lists in ``HASH_OMIT_IF`` (name →
+    default) while they hold that default, so adding an option keeps older configs' hashes."""
+    if dataclasses.is_dataclass(obj):
+        omit = getattr(type(obj), "HASH_OMIT_IF", {})
+        return {f.name: _hash_tree(getattr(obj, f.name)) for f in dataclasses.fields(obj)
+                if not (f.name in omit and getattr(obj, f.name) == omit[f.name])}
+    if isinstance(obj, (tuple, list)):
+        return [_hash_tree(v) for v in obj]
+    return obj
+
+
 def config_hash(obj: Any) -> str:
     """Short stable hash (12 hex digits) of a config dataclass, for run metadata."""
-    text = json.dumps(to_dict(obj), sort_keys=True)
+    text = json.dumps(_hash_tree(obj), sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:12]

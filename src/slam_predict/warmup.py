@@ -10,6 +10,7 @@ LOG = logging.getLogger(__name__)
 # Modules exposing ``warmup()``: each compiles its kernels on a tiny input.
 MODULES = (
     "slam_predict.sim.raycast",
+    "slam_predict.sim.stage_ranger",
     "slam_predict.slam.gmapping.kernels",
     "slam_predict.slam.gmapping.raytrace",
     "slam_predict.nav.kernels",

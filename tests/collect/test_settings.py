@@ -41,6 +41,16 @@ def test_extends_resolves_paths_relative_to_each_file(tmp_path):
     assert settings.stop.interval_s == load_settings().stop.interval_s
 
 
+def test_sim_overrides_choose_the_stage_ranger(tmp_path):
+    (tmp_path / "stage.yaml").write_text(
+        f"extends: {CONFIG / 'collect.yaml'}\nsim_overrides:\n  ranger_model: stage\n")
+    base, stage = load_settings(), load_settings(tmp_path / "stage.yaml")
+    assert base.sim.ranger_model == "exact" and stage.sim.ranger_model == "stage"
+    assert stage.sim.integrator == base.sim.integrator
+    assert stage.hashes()["sim"] != base.hashes()["sim"]
+    assert stage.hashes()["gmapping"] == base.hashes()["gmapping"]
+
+
 def test_unknown_override_key_is_a_one_line_error(tmp_path, capsys):
     bad = tmp_path / "bad.yaml"
     bad.write_text(f"extends: {CONFIG / 'collect.yaml'}\n"

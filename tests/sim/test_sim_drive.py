@@ -83,6 +83,23 @@ def test_same_seed_same_files(room, tmp_path):
     assert texts[0] == texts[1]
 
 
+def test_drive_with_stage_ranger(room, tmp_path):
+    path = write_waypoints(tmp_path, WAYPOINTS[:2])
+    out = tmp_path / "stage"
+    assert main(["sim", "drive", str(room), "--path", str(path), "--out", str(out),
+                 "--ranger-model", "stage"]) == 0
+    meta = json.loads((out / "run.json").read_text())
+    assert meta["sim_config"]["ranger_model"] == "stage"
+    scan = read_log(out / "run.log").scans[5]
+    world = load_plan(room)
+    config = SimConfig(ranger_model="stage")
+    sim = Simulator(world, config, np.random.default_rng(0))
+    exact = Simulator(world, SimConfig(), np.random.default_rng(0))
+    pose = np.asarray(scan.pose)
+    np.testing.assert_allclose(scan.ranges, sim.scan_from(pose), atol=6e-4)
+    assert np.abs(np.asarray(scan.ranges) - exact.scan_from(pose)).max() > 6e-3
+
+
 def test_none_model_odometry_equals_truth(room, tmp_path):
     path = write_waypoints(tmp_path, WAYPOINTS[:3])
     out = tmp_path / "none"

@@ -31,6 +31,8 @@ def test_robot_yaml_loads_the_thesis_settings(root):
 @pytest.mark.parametrize("data,message", [
     ({"integrater": "exact"}, "did you mean 'integrator'"),
     ({"integrator": "euler"}, "integrator must be one of exact, stage"),
+    ({"ranger_model": "gazebo"}, "ranger_model must be one of exact, stage"),
+    ({"stage_resolution": 0.0}, "'stage_resolution' must be > 0, got 0.0"),
     ({"odom": {"model": "uniform"}}, "odom model must be one of"),
     ({"laser": {"range_max": "far"}}, "must be a number"),
     ({"scan_timing": "late"}, "scan_timing must be one of"),

@@ -35,6 +35,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        help="simulator config with a 'sim:' section (e.g. config/robot.yaml); "
                             "default: the world file's robot")
     drive.add_argument("--integrator", choices=("exact", "stage"), help="override the config's")
+    drive.add_argument("--ranger-model", choices=("exact", "stage"),
+                       help="laser: exact ranges or Stage 4.1.1's ray walk (override the config's)")
     drive.add_argument("--resolution", type=float, help="m/px, for image plans")
     drive.add_argument("--laser-message", choices=("ROBOTLASER1", "FLASER"),
                        default="ROBOTLASER1",
@@ -63,6 +65,8 @@ def _config(args):
                                                                       model=args.odom_model))
     if args.integrator:
         config = dataclasses.replace(config, integrator=args.integrator)
+    if args.ranger_model:
+        config = dataclasses.replace(config, ranger_model=args.ranger_model)
     return config
 
 

@@ -120,6 +120,7 @@ def build_record(info: RunInfo, settings, hashes: dict[str, str], end: RunEnd,
         "config_hashes": hashes, "slam": settings.slam.record(),
         "settings_file": portable_path(settings.source),
         "odometry_model": info.odometry_model or settings.sim.odom.model,
+        "ranger_model": settings.sim.ranger_model,
         "odometry_error": info.odometry_error, "sensor": info.sensor,
         "stop_reason": end.stop_reason, "explorer_end": end.explorer_end,
         "sim_duration_s": float(end.sim_duration_s), "wall_time_s": float(end.wall_time_s),
@@ -191,6 +192,12 @@ def load_record(folder: Path) -> tuple[dict, Trajectories]:
     _, slam = tum.read_tum(folder / "slam.tum")
     _, odom = tum.read_tum(folder / "odom.tum")
     return record, Trajectories(t, gt, slam, odom)
+
+
+def ranger_model_of(record: dict) -> str:
+    """The simulator's ranger model a run.json records (``exact`` for records written before
+    run.json recorded it)."""
+    return str(record.get("ranger_model") or "exact")
 
 
 def without_timing(record: dict) -> dict:

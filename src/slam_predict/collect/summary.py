@@ -1,7 +1,8 @@
 """Per-building summary table ``DATA/summary.csv``, regenerated from the run records.
 
 One row per (world, robot): ``robot`` is the robot configuration hash
-(:func:`slam_predict.sensor.sensor_hash` of run.json's ``sensor``; empty for run records written
+(:func:`slam_predict.sensor.sensor_hash` of run.json's ``sensor``, + ``+stage`` for runs with
+Stage's ranger model; empty for run records written
 before run.json recorded the sensor, so older campaigns keep one row per world), so runs of two
 robot configurations in one world give two rows. Columns (m, rad): world, runs, trans_mean,
 trans_std, rot_mean, rot_std (mean and std over runs of each run's mean absolute relation error),
@@ -19,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from slam_predict.atomic import write_text
+from slam_predict.collect.record import ranger_model_of
 from slam_predict.collect.store import RunStore
 from slam_predict.sensor import sensor_hash
 
@@ -30,9 +32,12 @@ COLUMNS = ("world", "runs", "trans_mean", "trans_std", "rot_mean", "rot_std",
 
 
 def robot_key(record: dict) -> str:
-    """The robot configuration hash of a run.json record ('' when it has no ``sensor``)."""
+    """The robot configuration hash of a run.json record ('' when it has no ``sensor``), with
+    ``+stage`` appended for runs simulated with Stage's ranger (so exact runs keep their key)."""
     sensor = record.get("sensor")
-    return sensor_hash(sensor) if sensor else ""
+    key = sensor_hash(sensor) if sensor else ""
+    model = ranger_model_of(record)
+    return key if model == "exact" else f"{key}+{model}"
 
 
 def by_robot(records: list[dict]) -> dict[str, list[dict]]:

@@ -14,11 +14,12 @@ from typing import ClassVar
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
 from slam_predict.sensor import FULL_TURN, ODOM_MODELS, OdomConfig, check_laser
 
-__all__ = ["INTEGRATORS", "ODOM_MODELS", "SCAN_TIMINGS", "LaserOverrides", "OdomConfig",
-           "RobotOverrides", "SimConfig"]
+__all__ = ["INTEGRATORS", "ODOM_MODELS", "RANGER_MODELS", "SCAN_TIMINGS", "LaserOverrides",
+           "OdomConfig", "RobotOverrides", "SimConfig"]
 
 INTEGRATORS = ("exact", "stage")
 SCAN_TIMINGS = ("after_move", "before_move")
+RANGER_MODELS = ("exact", "stage")
 
 
 @dataclass
@@ -78,16 +79,26 @@ class SimConfig:
             before the world moves the robot, so a scan lags ground truth by one step).
         interval_sim: s of sim time per step; None = the World's.
         collisions: refuse moves whose footprint overlaps an occupied cell (Stage's stall).
+        ranger_model: ``exact`` (exact distance to the bitmap's first occupied cell) or
+            ``stage`` (Stage 4.1.1's laser: the bitmap rasterised into Stage's cell grid and
+            Stage's ray walk, :mod:`slam_predict.sim.stage_ranger`).
+        stage_resolution: Stage's raytrace cell (m) for ``ranger_model: stage``; None = the
+            .world file's ``resolution`` when the World carries one, else 0.025 m.
     """
 
     integrator: str = "exact"
     scan_timing: str = "after_move"
     interval_sim: float | None = None
     collisions: bool = True
+    ranger_model: str = "exact"
+    stage_resolution: float | None = None
     odom: OdomConfig = field(default_factory=OdomConfig)
     robot: RobotOverrides = field(default_factory=RobotOverrides)
     laser: LaserOverrides = field(default_factory=LaserOverrides)
-    RANGES: ClassVar[dict[str, Range]] = {"interval_sim": POSITIVE}
+    RANGES: ClassVar[dict[str, Range]] = {"interval_sim": POSITIVE, "stage_resolution": POSITIVE}
+    # fields left out of config_hash while at these defaults (added after runs were recorded)
+    HASH_OMIT_IF: ClassVar[dict[str, object]] = {"ranger_model": "exact",
+                                                  "stage_resolution": None}
 
     def __post_init__(self) -> None:
         if self.integrator not in INTEGRATORS:
@@ -98,3 +109,8 @@ class SimConfig:
                              f"got '{self.scan_timing}'")
         if self.interval_sim is not None and not self.interval_sim > 0:
             raise ValueError("interval_sim must be > 0")
+        if self.ranger_model not in RANGER_MODELS:
+            raise ValueError(f"ranger_model must be one of {', '.join(RANGER_MODELS)}, "
+                             f"got '{self.ranger_model}'")
+        if self.stage_resolution is not None and not self.stage_resolution > 0:
+            raise ValueError("stage_resolution must be > 0")

@@ -23,7 +23,7 @@ import numpy as np
 
 from slam_predict.geometry import compose
 from slam_predict.sensor import LaserConfig, SensorConfig
-from slam_predict.sim import kinematics, raycast
+from slam_predict.sim import kinematics, raycast, stage_ranger
 from slam_predict.sim.config import SimConfig
 from slam_predict.sim.odometry import make_odometry, world_error
 from slam_predict.world.model import RobotSpec, World
@@ -95,6 +95,10 @@ class Simulator:
         self.limits = kinematics.VelocityLimits(self.robot.max_vel_x, self.robot.max_vel_theta,
                                                 self.robot.max_acc_x, self.robot.max_acc_theta)
         self.grid = raycast.LaserGrid.of_world(world)
+        self.stage_grid = None
+        if config.ranger_model == "stage":
+            res = stage_ranger.stage_resolution(world, config.stage_resolution)
+            self.stage_grid = stage_ranger.cached_stage_grid(world, res)
         self.laser_angles = self.laser.angles().astype(float)
         self._cos = np.cos(self.laser_angles)
         self._sin = np.sin(self.laser_angles)
@@ -119,6 +123,7 @@ class Simulator:
         """Back to the start pose at t = 0 with zero velocity (the odometry error is kept)."""
         self.step_count = 0
         self.true_pose = np.array(self.world.start_pose, dtype=float)
+        self._last_start = self.true_pose.copy()  # true pose at the start of the last step
         self.odom_pose = np.zeros(3)
         self.velocity = (0.0, 0.0)
         self.stalled = False
@@ -138,10 +143,20 @@ class Simulator:
         """World pose of the laser when the robot is at ``robot_pose``."""
         return compose(robot_pose, self.laser_pose)
 
-    def scan_from(self, robot_pose: np.ndarray) -> np.ndarray:
-        """float32 ranges (m) of a scan with the robot at ``robot_pose`` (noise included)."""
+    def scan_from(self, robot_pose: np.ndarray,
+                  previous_pose: np.ndarray | None = None) -> np.ndarray:
+        """float32 ranges (m) of a scan with the robot at ``robot_pose`` (noise included).
+
+        ``previous_pose``: with the Stage ranger, where the robot's body was one step earlier
+        (Stage keeps it in its other grid layer; it only changes where the ray walk jumps).
+        """
         lx, ly, lyaw = self.laser_world_pose(robot_pose)
-        out = self.grid.scan(lx, ly, lyaw, self._cos, self._sin, self.laser.range_max)
+        if self.stage_grid is not None:
+            out = self.stage_grid.scan(robot_pose, (lx, ly, lyaw), self.laser.fov,
+                                       self.laser.samples, self.laser.range_max,
+                                       self.robot.footprint_side, previous_pose=previous_pose)
+        else:
+            out = self.grid.scan(lx, ly, lyaw, self._cos, self._sin, self.laser.range_max)
         if self.laser.noise_std > 0:
             self._add_noise(out)
         return out
@@ -177,15 +192,17 @@ class Simulator:
         else:
             self.odom_pose = kinematics.apply_delta(self.odom_pose, odom_delta)
         scan_due = self._scan_due(self.step_count)
+        start = self.true_pose.copy()
         state = SimState(self.t, self.true_pose.copy(), self.odom_pose.copy(), self.velocity,
                          False)
         if scan_due and self.config.scan_timing == "before_move":
-            self._attach_scan(state)
+            self._attach_scan(state, self._last_start)
         self._move(delta)
         state.true_pose = self.true_pose.copy()
         state.stalled = self.stalled
         if scan_due and self.config.scan_timing == "after_move":
-            self._attach_scan(state)
+            self._attach_scan(state, start)
+        self._last_start = start
         return state
 
     def _move(self, delta: tuple[float, float, float]) -> None:
@@ -200,7 +217,7 @@ class Simulator:
         self.stalled = False
         self.true_pose = candidate
 
-    def _attach_scan(self, state: SimState) -> None:
+    def _attach_scan(self, state: SimState, previous_pose: np.ndarray) -> None:
         state.scan_true_pose = self.true_pose.copy()
         state.scan_odom_pose = self.odom_pose.copy()
-        state.scan = self.scan_from(self.true_pose)
+        state.scan = self.scan_from(self.true_pose, previous_pose)
