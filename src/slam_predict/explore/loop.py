@@ -31,6 +31,7 @@ import numpy as np
 
 from slam_predict.errors import InputError
 from slam_predict.explore import PERFECT, map_sources
+from slam_predict.explore.compute_delay import ComputeDelay, ComputeDelayConfig
 from slam_predict.explore.explorer import ExploreConfig, Explorer
 from slam_predict.explore.mapsource import PerfectMap, PerfectMapConfig
 from slam_predict.formats.stage_stream import StagePublisher, StepMessages
@@ -88,11 +89,14 @@ class ClosedLoop:
         map_source: ``perfect`` or a SLAM back-end of :func:`map_sources`.
         perfect: perfect map source settings; slam_params: the SLAM back-end's parameters
             (``None`` = its defaults).
+        compute: slam_gmapping's compute time (:mod:`slam_predict.explore.compute_delay`);
+            None or model ``none``: every scan is handled at once, as in lockstep.
     """
 
     def __init__(self, world: World, seed: int, nav: MoveBaseConfig, explore: ExploreConfig,
                  sim: SimConfig, map_source: str = "perfect",
-                 perfect: PerfectMapConfig | None = None, slam_params=None):
+                 perfect: PerfectMapConfig | None = None, slam_params=None,
+                 compute: ComputeDelayConfig | None = None):
         if map_source not in map_sources():
             raise InputError(f"unknown map source '{map_source}' (expected "
                              f"{' or '.join(map_sources())})")
@@ -119,6 +123,7 @@ class ClosedLoop:
             self.source, self.map_update_interval = _make_slam(map_source, slam_params, laser,
                                                                np.random.default_rng(slam_ss))
             self.world_T_map = np.array(world.start_pose, dtype=float)
+        self.delay = _make_delay(compute, self.source, self.map_update_interval)
         # odom starts at the start pose: map_T_odom = map_T_world ⊕ world_T_odom
         self.map_T_odom = compose(inverse(self.world_T_map), world.start_pose)
         self.navigator = Navigator(nav)
@@ -155,6 +160,8 @@ class ClosedLoop:
         self._record(state)
         if state.scan is not None:
             self._handle_scan(state, messages)
+        if self.delay is not None:
+            self._drain_delayed(state.t)
         for observer in self.observers:
             observer(messages)
         tick = time.perf_counter()
@@ -176,20 +183,40 @@ class ClosedLoop:
         tick = time.perf_counter()
         self._scan_truth = state.scan_true_pose
         if self.decoder is None:
-            pose = self.source.update(state.scan_odom_pose, state.scan, state.t)
+            scan = (state.scan_odom_pose, state.scan, state.t)
         else:
-            pose = self.source.update(*self.decoder.scan(messages))
-        if pose is not None:
-            self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
-            if self.grid is None or state.t - self._last_map_t >= self.map_update_interval - 1e-9:
-                self.grid = self.source.map()
-                self._last_map_t = state.t
-                self.navigator.set_map(self.grid)
+            scan = self.decoder.scan(messages)
+        if self.delay is None:
+            pose = self.source.update(*scan)
+            if pose is not None:
+                self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
+                due = state.t - self._last_map_t >= self.map_update_interval - 1e-9
+                if self.grid is None or due:
+                    self._publish_map(state.t)
+        else:
+            self.delay.push(scan[2], scan)
         self.timing["map_source"] += time.perf_counter() - tick
         laser = self.sim.laser
         self.navigator.add_scan(state.scan, self.sim.laser_angles, laser.range_min,
                                 laser.range_max, state.scan_odom_pose, self.sim.laser_pose,
                                 self.map_T_odom)
+
+    def _publish_map(self, t: float) -> None:
+        self.grid = self.source.map()
+        self._last_map_t = t
+        self.navigator.set_map(self.grid)
+
+    def _drain_delayed(self, t: float) -> None:
+        """Hand GMapping the queued scans it has time for by ``t`` s (compute delay)."""
+        tick = time.perf_counter()
+        while (due := self.delay.next_due(t)) is not None:
+            stamp, (odom_pose, ranges, _) = due
+            pose = self.source.update(odom_pose, ranges, stamp)
+            if pose is not None:
+                self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
+            if self.delay.handled(stamp, pose is not None, ranges):
+                self._publish_map(t)
+        self.timing["map_source"] += time.perf_counter() - tick
 
     def _record(self, state) -> None:
         log = self.log
@@ -219,6 +246,18 @@ class ClosedLoop:
 def loop_seeds(seed: int) -> list[np.random.SeedSequence]:
     """The seed sequences of the simulator, the explorer and the SLAM back-end of a run."""
     return np.random.SeedSequence(seed).spawn(3)
+
+
+def _make_delay(config: ComputeDelayConfig | None, source, map_update_interval: float):
+    """The compute-delay model of a GMapping map source, or None (lockstep)."""
+    if config is None or not config.enabled:
+        return None
+    params = getattr(source, "params", None)
+    if params is None or not hasattr(params, "maxUrange"):
+        raise InputError("slam_compute applies to the gmapping back-end only")
+    cells = (params.xmax - params.xmin) * (params.ymax - params.ymin) / params.delta ** 2
+    return ComputeDelay(config, map_update_interval, cells,
+                        (params.maxRange, params.maxUrange, params.delta))
 
 
 def _with_speed(cfg: ExploreConfig, max_vel_x: float) -> ExploreConfig:
