@@ -3,6 +3,7 @@ hand-worked event schedule, and the closed loop with zero cost equal to lockstep
 from __future__ import annotations
 
 import dataclasses
+import heapq
 
 import numpy as np
 import pytest
@@ -15,18 +16,26 @@ from slam_predict.world.load import load_plan
 
 
 def reference_schedule(stamps, processed, scan_cost, queue_size):
-    """Obviously-correct event simulation: GMapping idle/busy, a FIFO of at most queue_size
-    that drops its oldest; returns the stamps handed to GMapping, in order."""
-    handed, queue, busy_until = [], [], -1.0
-    for now in stamps:
-        queue.append(now)
-        if len(queue) > queue_size:
-            queue.pop(0)
-        while queue and busy_until <= now + 1e-9:
+    """Discrete-event simulation in continuous time: scan arrivals and "GMapping is free"
+    events in time order (free first on a tie); a free GMapping takes the oldest queued scan;
+    the queue keeps the newest queue_size. Returns the stamps handed to GMapping, in order."""
+    events = [(t, 1) for t in stamps]
+    heapq.heapify(events)
+    handed, queue, busy = [], [], False
+    while events:
+        now, kind = heapq.heappop(events)
+        if now > stamps[-1]:
+            break                                  # the model is looked at until the last scan
+        if kind == 1:
+            queue = (queue + [now])[-queue_size:]
+        else:
+            busy = False
+        while queue and not busy:
             stamp = queue.pop(0)
             handed.append(stamp)
             if processed(stamp):
-                busy_until = max(busy_until, stamp) + scan_cost
+                busy = True
+                heapq.heappush(events, (round(max(now, stamp) + scan_cost, 6), 0))  # as stamps
     return handed
 
 
@@ -34,11 +43,13 @@ def run_model(stamps, processed, config):
     delay = ComputeDelay(config, map_update_interval=1e9, map_cells=0.0,
                          beam_limits=(10.0, 5.0, 0.05))
     handed = []
+
+    def handle(stamp, _):
+        handed.append(stamp)
+        return processed(stamp), np.array([1.0])
+
     for now in stamps:
-        delay.push(now, None)
-        while (due := delay.next_due(now)) is not None:
-            handed.append(due[0])
-            delay.handled(due[0], processed(due[0]), np.array([1.0]))
+        delay.offer(now, None, handle)
     return handed, delay
 
 

@@ -12,7 +12,13 @@ large building GMapping thus sees fewer scans, farther apart, than the lockstep 
 :class:`ComputeDelay` replays that in sim time with a cost model (CPU seconds on a reference
 machine, scaled by ``cpu_factor``) instead of the wall clock, so a run stays deterministic:
 scans are queued as they are taken; whenever GMapping is idle it takes the oldest queued scan
-and is busy for that scan's cost. Cost of a processed scan: ``scan_s``; of a rebuild:
+and is busy for that scan's cost. The queue is looked at when a scan arrives (:meth:`offer`):
+first GMapping takes the queued scans it became free for before the arrival, then the new scan
+is queued and taken if GMapping is idle. This hands GMapping the same scans, with the same start
+times, as watching the queue continuously would (map → odom is updated up to one scan period
+late), and a replay of the sensor log only needs the scan stamps to do the same.
+
+Cost of a processed scan: ``scan_s``; of a rebuild:
 ``rebuild_s_per_map_cell`` × map cells + ``rebuild_s_per_line_cell`` × the beam cells of every
 node (Σ over processed scans and beams r ≤ maxRange of min(r, maxUrange)/delta). A scan that is
 not processed (below linearUpdate/angularUpdate/temporalUpdate) costs nothing.
@@ -20,14 +26,16 @@ not processed (below linearUpdate/angularUpdate/temporalUpdate) costs nothing.
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 
 from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
+from slam_predict.errors import InputError
 
-__all__ = ["COMPUTE_MODELS", "ComputeDelay", "ComputeDelayConfig"]
+__all__ = ["COMPUTE_MODELS", "ComputeDelay", "ComputeDelayConfig", "for_backend"]
 
 COMPUTE_MODELS = ("none", "cost")
 
@@ -93,6 +101,19 @@ class ComputeDelay:
         self.stats = {"scans_queued": 0, "scans_dropped": 0, "scans_handled": 0,
                       "rebuilds": 0, "busy_s": 0.0, "max_rebuild_s": 0.0}
 
+    def offer(self, stamp: float, item: Any,
+              handle: Callable[[float, Any], tuple[bool, np.ndarray]]) -> bool:
+        """A scan ``item`` taken at ``stamp`` s arrives. ``handle(stamp, item)`` gives a scan to
+        GMapping and returns (processed, float ranges). Returns whether the map was rebuilt."""
+        rebuilt = False
+        for arrived in (False, True):
+            if arrived:
+                self.push(stamp, item)
+            while (due := self.next_due(stamp)) is not None:
+                processed, ranges = handle(*due)
+                rebuilt = self.handled(due[0], processed, ranges) or rebuilt
+        return rebuilt
+
     def push(self, stamp: float, item: Any) -> None:
         """A scan taken at ``stamp`` s arrives (the oldest queued one is dropped when full)."""
         if len(self.queue) == self.queue.maxlen:
@@ -128,3 +149,17 @@ class ComputeDelay:
         self.busy_until = max(self.busy_until, stamp) + cost
         self.stats["busy_s"] += cost
         return rebuild
+
+
+def for_backend(config: ComputeDelayConfig | None, backend,
+                map_update_interval: float) -> ComputeDelay | None:
+    """The compute delay of a GMapping back-end (its parameters give the beam limits and the
+    map size), or None when ``config`` is None or off (lockstep)."""
+    if config is None or not config.enabled:
+        return None
+    params = getattr(backend, "params", None)
+    if params is None or not hasattr(params, "maxUrange"):
+        raise InputError("slam_compute applies to the gmapping back-end only")
+    cells = (params.xmax - params.xmin) * (params.ymax - params.ymin) / params.delta ** 2
+    return ComputeDelay(config, map_update_interval, cells,
+                        (params.maxRange, params.maxUrange, params.delta))

@@ -31,7 +31,7 @@ import numpy as np
 
 from slam_predict.errors import InputError
 from slam_predict.explore import PERFECT, map_sources
-from slam_predict.explore.compute_delay import ComputeDelay, ComputeDelayConfig
+from slam_predict.explore.compute_delay import ComputeDelayConfig, for_backend
 from slam_predict.explore.explorer import ExploreConfig, Explorer
 from slam_predict.explore.mapsource import PerfectMap, PerfectMapConfig
 from slam_predict.formats.stage_stream import StagePublisher, StepMessages
@@ -123,7 +123,7 @@ class ClosedLoop:
             self.source, self.map_update_interval = _make_slam(map_source, slam_params, laser,
                                                                np.random.default_rng(slam_ss))
             self.world_T_map = np.array(world.start_pose, dtype=float)
-        self.delay = _make_delay(compute, self.source, self.map_update_interval)
+        self.delay = for_backend(compute, self.source, self.map_update_interval)
         # odom starts at the start pose: map_T_odom = map_T_world ⊕ world_T_odom
         self.map_T_odom = compose(inverse(self.world_T_map), world.start_pose)
         self.navigator = Navigator(nav)
@@ -160,8 +160,6 @@ class ClosedLoop:
         self._record(state)
         if state.scan is not None:
             self._handle_scan(state, messages)
-        if self.delay is not None:
-            self._drain_delayed(state.t)
         for observer in self.observers:
             observer(messages)
         tick = time.perf_counter()
@@ -193,8 +191,8 @@ class ClosedLoop:
                 due = state.t - self._last_map_t >= self.map_update_interval - 1e-9
                 if self.grid is None or due:
                     self._publish_map(state.t)
-        else:
-            self.delay.push(scan[2], scan)
+        elif self.delay.offer(scan[2], scan, self._delayed_update):
+            self._publish_map(state.t)
         self.timing["map_source"] += time.perf_counter() - tick
         laser = self.sim.laser
         self.navigator.add_scan(state.scan, self.sim.laser_angles, laser.range_min,
@@ -206,17 +204,13 @@ class ClosedLoop:
         self._last_map_t = t
         self.navigator.set_map(self.grid)
 
-    def _drain_delayed(self, t: float) -> None:
-        """Hand GMapping the queued scans it has time for by ``t`` s (compute delay)."""
-        tick = time.perf_counter()
-        while (due := self.delay.next_due(t)) is not None:
-            stamp, (odom_pose, ranges, _) = due
-            pose = self.source.update(odom_pose, ranges, stamp)
-            if pose is not None:
-                self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
-            if self.delay.handled(stamp, pose is not None, ranges):
-                self._publish_map(t)
-        self.timing["map_source"] += time.perf_counter() - tick
+    def _delayed_update(self, stamp: float, scan) -> tuple[bool, np.ndarray]:
+        """GMapping handles a queued scan (compute delay); (processed, ranges)."""
+        odom_pose, ranges, _ = scan
+        processed = self.source.update(odom_pose, ranges, stamp) is not None
+        if processed:
+            self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
+        return processed, ranges
 
     def _record(self, state) -> None:
         log = self.log
@@ -246,18 +240,6 @@ class ClosedLoop:
 def loop_seeds(seed: int) -> list[np.random.SeedSequence]:
     """The seed sequences of the simulator, the explorer and the SLAM back-end of a run."""
     return np.random.SeedSequence(seed).spawn(3)
-
-
-def _make_delay(config: ComputeDelayConfig | None, source, map_update_interval: float):
-    """The compute-delay model of a GMapping map source, or None (lockstep)."""
-    if config is None or not config.enabled:
-        return None
-    params = getattr(source, "params", None)
-    if params is None or not hasattr(params, "maxUrange"):
-        raise InputError("slam_compute applies to the gmapping back-end only")
-    cells = (params.xmax - params.xmin) * (params.ymax - params.ymin) / params.delta ** 2
-    return ComputeDelay(config, map_update_interval, cells,
-                        (params.maxRange, params.maxUrange, params.delta))
 
 
 def _with_speed(cfg: ExploreConfig, max_vel_x: float) -> ExploreConfig:
