@@ -3,7 +3,7 @@
 // robot (base) poses, one per processed scan.  Written for slam_predict (bench/gmapping_diff);
 // built against an upstream checkout by bench/gmapping_diff/build.sh.
 //
-// usage: gmapping_diff_driver PREPARED_SCANS OUT_TRAJECTORY
+// usage: gmapping_diff_driver PREPARED_SCANS OUT_TRAJECTORY [TIMING_OUT]
 //
 // Input (text, written by slam_predict.formats.prepared_scans):
 //   "slam_predict_prepared_scans 1"
@@ -19,9 +19,17 @@
 // Output: "# scan_index time x y theta" header, then one robot pose (map frame) per processed scan
 // of the best particle (largest weightSum), oldest first; then "# neff" lines (one per processed
 // scan after the first: Neff after scan matching, before resampling) and a "# summary" line.
+// TIMING_OUT (optional): the compute (CPU) time slam_gmapping would spend, per processed scan:
+//   "scan_index time processScan_s map_update_s nodes line_cells map_cells", map_update_s > 0 on
+//   the scans where the node rebuilds its map (first processed scan, then whenever the stamp is
+//   more than map_update_interval (key, default 5 s) past the last rebuild), as its updateMap does:
+//   a fresh map, every node of the best particle's trajectory re-registered (active area + scan),
+//   every cell of the map thresholded.  line_cells = Σ over the rebuild's nodes and beams of the
+//   beam's length (min(r, maxUrange)) in cells; map_cells = the rebuilt map's size in cells.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -173,11 +181,63 @@ void configure(Processor& gsp, const Prepared& in, const GMapping::OrientedPoint
   gsp.setminimumScore(number(in, "minimumScore"));
 }
 
+
+// Process CPU time (s): the driver is single-threaded, so other load on the machine does not count.
+double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+// The map bounds the node keeps between rebuilds (they grow with the map), m.
+struct MapBounds {
+  double xmin, ymin, xmax, ymax;
+};
+
+// slam_gmapping's updateMap without ROS: returns its wall time (s); counts the traversed
+// beam cells and the map cells.
+double rebuild_map(const Processor& gsp, GMapping::RangeSensor* sensor, const Prepared& in,
+                   MapBounds& bounds, size_t& nodes, double& line_cells, double& map_cells) {
+  double start = cpu_seconds();
+  size_t n = in.angles.size();
+  std::vector<double> angles(n);
+  for (size_t i = 0; i < n; ++i) angles[i] = sensor->beams()[i].pose.theta;
+  GMapping::ScanMatcher matcher;
+  matcher.setLaserParameters(n, angles.data(), sensor->getPose());
+  matcher.setlaserMaxRange(number(in, "maxRange"));
+  matcher.setusableRange(number(in, "maxUrange"));
+  matcher.setgenerateMap(true);
+  const GMapping::GridSlamProcessor::Particle& best =
+      gsp.getParticles()[gsp.getBestParticleIndex()];
+  double delta = number(in, "delta"), urange = number(in, "maxUrange");
+  GMapping::Point centre((bounds.xmin + bounds.xmax) / 2.0, (bounds.ymin + bounds.ymax) / 2.0);
+  GMapping::ScanMatcherMap smap(centre, bounds.xmin, bounds.ymin, bounds.xmax, bounds.ymax, delta);
+  nodes = 0;
+  line_cells = 0.0;
+  for (const GMapping::GridSlamProcessor::TNode* node = best.node; node; node = node->parent) {
+    if (!node->reading) continue;
+    const double* r = &((*node->reading)[0]);
+    matcher.invalidateActiveArea();
+    matcher.computeActiveArea(smap, node->pose, r);
+    matcher.registerScan(smap, node->pose, r);
+    ++nodes;
+    for (size_t i = 0; i < n; ++i) line_cells += std::min(r[i], urange) / delta;
+  }
+  GMapping::Point wmin = smap.map2world(GMapping::IntPoint(0, 0));
+  GMapping::Point wmax = smap.map2world(GMapping::IntPoint(smap.getMapSizeX(), smap.getMapSizeY()));
+  bounds = MapBounds{wmin.x, wmin.y, wmax.x, wmax.y};
+  std::vector<signed char> grid(size_t(smap.getMapSizeX()) * smap.getMapSizeY());
+  for (int x = 0; x < smap.getMapSizeX(); ++x)
+    for (int y = 0; y < smap.getMapSizeY(); ++y) {
+      double occ = smap.cell(GMapping::IntPoint(x, y));
+      grid[size_t(y) * smap.getMapSizeX() + x] = occ < 0 ? -1 : (occ > 0.25 ? 100 : 0);
+    }
+  map_cells = double(grid.size());
+  return cpu_seconds() - start;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::cerr << "usage: " << argv[0] << " PREPARED_SCANS OUT_TRAJECTORY" << std::endl;
+  if (argc != 3 && argc != 4) {
+    std::cerr << "usage: " << argv[0] << " PREPARED_SCANS OUT_TRAJECTORY [TIMING_OUT]"
+              << std::endl;
     return 2;
   }
   Prepared in = read_prepared(argv[1]);
@@ -196,14 +256,32 @@ int main(int argc, char** argv) {
   configure(gsp, in, compose(in.odometry[0], centred));
   GMapping::sampleGaussian(1, (unsigned long)number(in, "seed"));
 
+  FILE* timing = argc == 4 ? std::fopen(argv[3], "w") : 0;
+  if (argc == 4 && !timing) fail(argv[3], "cannot write");
+  if (timing) std::fprintf(timing, "# scan_index time processScan_s map_update_s nodes line_cells map_cells\n");
+  double interval = in.values.count("map_update_interval") ? number(in, "map_update_interval") : 5.0;
+  MapBounds bounds{number(in, "xmin"), number(in, "ymin"), number(in, "xmax"), number(in, "ymax")};
+  double last_rebuild = -1e300;
   std::map<double, size_t> index_of_time;
   for (size_t k = 0; k < in.times.size(); ++k) {
     if (in.ranges[k].size() != n) fail(argv[1], "scan with a different beam count");
     index_of_time[in.times[k]] = k;
     GMapping::RangeReading reading(n, in.ranges[k].data(), sensor, in.times[k]);
     reading.setPose(compose(in.odometry[k], centred));
-    gsp.processScan(reading);
+    double start = cpu_seconds();
+    bool processed = gsp.processScan(reading);
+    double process_s = cpu_seconds() - start;
+    if (!timing || !processed) continue;
+    double update_s = 0.0, line_cells = 0.0, map_cells = 0.0;
+    size_t nodes = 0;
+    if (in.times[k] - last_rebuild > interval) {
+      update_s = rebuild_map(gsp, sensor, in, bounds, nodes, line_cells, map_cells);
+      last_rebuild = in.times[k];
+    }
+    std::fprintf(timing, "%zu %.6f %.6f %.6f %zu %.0f %.0f\n", k, in.times[k], process_s, update_s,
+                 nodes, line_cells, map_cells);
   }
+  if (timing) std::fclose(timing);
 
   const GMapping::GridSlamProcessor::Particle& best =
       gsp.getParticles()[gsp.getBestParticleIndex()];

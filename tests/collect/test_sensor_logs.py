@@ -60,6 +60,25 @@ def test_replay_equals_the_in_loop_slam_trajectory_exactly(collected, tmp_path, 
     assert stats["evaluation"]["slam"]["trans_mean_m"] < 0.2  # ground truth is the reference
 
 
+def test_replay_applies_the_runs_compute_delay(tmp_path, capsys):
+    """A run collected with slam_gmapping's compute delay (scans dropped while GMapping is
+    busy) replays exactly: `slam run` hands GMapping the same scans from run.json's model."""
+    from slam_predict.explore.compute_delay import ComputeDelayConfig
+
+    s = settings(True)
+    s.compute = ComputeDelayConfig(model="cost", scan_s=0.35, rebuild_s_per_map_cell=2e-8)
+    folder = tmp_path / "tiny" / "run_000"
+    record = run_episode(RunSpec(str(TINY), "tiny", 0, 5, str(folder)), s)
+    assert record["slam_compute"]["scans_dropped"] > 0
+    assert record["slam_compute"]["scan_s"] == 0.35 and "slam_compute" in record["config_hashes"]
+    out = tmp_path / "replay"
+    assert main(["slam", "run", str(folder / SENSOR_BAG), "--out", str(out)]) == 0
+    replayed, in_loop = tum_rows(out / "slam.tum"), tum_rows(folder / SLAM_SCANS)
+    assert len(in_loop) > 5 and replayed == in_loop
+    stats = json.loads((out / "stats.json").read_text())
+    assert stats["slam_compute"]["scans_dropped"] == record["slam_compute"]["scans_dropped"]
+
+
 def test_replay_with_another_seed_differs(collected, tmp_path):
     _, folder = collected
     out = tmp_path / "replay"

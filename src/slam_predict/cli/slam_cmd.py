@@ -88,13 +88,13 @@ def run(args: argparse.Namespace) -> int:
     check_out_dir(args.out, args.force, inputs=(args.input, args.config))
     recorded = recorded_run(args.input)
     slam_type, params = _backend_and_params(args, recorded)
-    rng, seed = None, 0 if args.seed is None else args.seed
+    rng, seed, compute = None, 0 if args.seed is None else args.seed, None
     if args.seed is None and recorded is not None and slam_type == recorded.slam_type:
-        rng, seed = recorded.rng(), recorded.seed
+        rng, seed, compute = recorded.rng(), recorded.seed, recorded.compute
     data = read_input(args.input, args.max_scans, scan_topic=args.scan_topic,
                       odom_topic=args.odom_topic, base_frame=args.base_frame,
                       odom_frame=args.odom_frame)
-    result = run_slam(data, slam_type, params, seed, rng=rng)
+    result = run_slam(data, slam_type, params, seed, rng=rng, compute=compute)
     if rng is not None:
         result.stats["rng"] = f"in-loop SLAM generator of the collected run (seed {seed})"
     config = args.config or (recorded.run_json if recorded is not None else None)

@@ -124,7 +124,8 @@ def run_episode(spec, settings: CollectSettings | None = None) -> dict:
     settings = settings or load_settings(spec.options.get("settings"))
     world = load_plan(spec.world_path)
     loop = ClosedLoop(world, spec.seed, settings.nav, settings.explore, settings.sim,
-                      map_source=settings.slam.type, slam_params=settings.slam.params)
+                      map_source=settings.slam.type, slam_params=settings.slam.params,
+                      compute=settings.compute)
     with atomic_dir(spec.out_dir) as folder:
         sensors = _sensor_recorder(folder, loop, spec) if settings.sensor_logs else None
         try:
@@ -143,7 +144,8 @@ def run_episode(spec, settings: CollectSettings | None = None) -> dict:
         end = rec.RunEnd(reason, explorer_end, loop.t, wall, loop.log.stalls,
                          coverage(world, grid, reach, loop.world_T_map))
         record = rec.build_record(info, settings, settings.hashes(), end, traj, rule,
-                                  world.free_area_m2, loop.timing)
+                                  world.free_area_m2, loop.timing,
+                                  None if loop.delay is None else loop.delay.stats)
         rec.write_trajectories(folder, traj)
         rec.write_map(folder, grid.data, grid.resolution, grid.origin)
         if settings.bag:

@@ -24,6 +24,7 @@ import cv2
 import numpy as np
 
 from slam_predict import __version__
+from slam_predict.config import to_dict
 from slam_predict.formats import carmen, mapserver, tum
 from slam_predict.metric.association import dedupe_consecutive
 from slam_predict.paths import portable_path
@@ -105,7 +106,7 @@ def measure(traj: Trajectories, settings, seed: int) -> dict:
 
 def build_record(info: RunInfo, settings, hashes: dict[str, str], end: RunEnd,
                  traj: Trajectories, rule, free_area_m2: float | None,
-                 timing: dict[str, float]) -> dict[str, Any]:
+                 timing: dict[str, float], compute_stats: dict | None = None) -> dict[str, Any]:
     """run.json content (without ``schema``) of a finished run.
 
     Args:
@@ -113,6 +114,8 @@ def build_record(info: RunInfo, settings, hashes: dict[str, str], end: RunEnd,
         hashes: config hashes recorded as ``config_hashes``.
         rule: the run's :class:`~slam_predict.collect.stopping.SnapshotMSE` (its snapshots).
         timing: wall times (s) of the run's parts.
+        compute_stats: the compute delay's counters (scans dropped, rebuilds, busy time) when
+            it was on; recorded with its settings as ``slam_compute``.
     """
     return {
         "world": info.world, "world_file": portable_path(info.world_file),
@@ -131,6 +134,8 @@ def build_record(info: RunInfo, settings, hashes: dict[str, str], end: RunEnd,
                       for t, m in zip(rule.times, [None] + rule.mses, strict=False)],
         "metric": measure(traj, settings, info.seed),
         "timing": {k: float(v) for k, v in timing.items()},
+        **({"slam_compute": {**to_dict(settings.compute), **compute_stats}}
+           if compute_stats is not None else {}),
     }
 
 

@@ -23,6 +23,7 @@ from typing import Any
 from slam_predict.collect.stopping import StopConfig, check_ranges
 from slam_predict.config import config_hash, from_dict, load_config, load_yaml, to_dict
 from slam_predict.errors import InputError
+from slam_predict.explore.compute_delay import ComputeDelayConfig
 from slam_predict.slam import SlamChoice
 
 LOG = logging.getLogger(__name__)
@@ -69,6 +70,7 @@ class CollectFiles:
     bag: bool = False
     sensor_logs: bool = False
     sim_overrides: dict[str, Any] = field(default_factory=dict)
+    slam_compute: ComputeDelayConfig = field(default_factory=ComputeDelayConfig)
 
 
 @dataclass
@@ -84,11 +86,16 @@ class CollectSettings:
     bag: bool
     source: str
     sensor_logs: bool = False
+    compute: ComputeDelayConfig = field(default_factory=ComputeDelayConfig)
 
     def components(self) -> dict[str, Any]:
-        """Every component config by name; the SLAM one under its back-end's name."""
-        return {"sim": self.sim, self.slam.type: self.slam.params, "nav": self.nav,
-                "explore": self.explore, "stop": self.stop, "metric": self.metric}
+        """Every component config by name; the SLAM one under its back-end's name, the compute
+        delay (``slam_compute``) only when it is on, so lockstep runs keep their hashes."""
+        parts = {"sim": self.sim, self.slam.type: self.slam.params, "nav": self.nav,
+                 "explore": self.explore, "stop": self.stop, "metric": self.metric}
+        if self.compute.enabled:
+            parts["slam_compute"] = self.compute
+        return parts
 
     def hashes(self) -> dict[str, str]:
         """Short hashes of each component config, for run metadata."""
@@ -114,7 +121,7 @@ def load_settings(path: os.PathLike | str | None = None) -> CollectSettings:
         nav=load_nav_config(Path(files.navigation)),
         explore=load_config(ExploreConfig, Path(files.explore)),
         stop=files.stop, metric=files.metric, bag=files.bag, source=str(path),
-        sensor_logs=files.sensor_logs)
+        sensor_logs=files.sensor_logs, compute=files.slam_compute)
 
 
 def load_slam(section: SlamSection, settings_path: Path) -> SlamChoice:

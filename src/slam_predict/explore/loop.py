@@ -31,6 +31,7 @@ import numpy as np
 
 from slam_predict.errors import InputError
 from slam_predict.explore import PERFECT, map_sources
+from slam_predict.explore.compute_delay import ComputeDelayConfig, for_backend
 from slam_predict.explore.explorer import ExploreConfig, Explorer
 from slam_predict.explore.mapsource import PerfectMap, PerfectMapConfig
 from slam_predict.formats.stage_stream import StagePublisher, StepMessages
@@ -88,11 +89,14 @@ class ClosedLoop:
         map_source: ``perfect`` or a SLAM back-end of :func:`map_sources`.
         perfect: perfect map source settings; slam_params: the SLAM back-end's parameters
             (``None`` = its defaults).
+        compute: slam_gmapping's compute time (:mod:`slam_predict.explore.compute_delay`);
+            None or model ``none``: every scan is handled at once, as in lockstep.
     """
 
     def __init__(self, world: World, seed: int, nav: MoveBaseConfig, explore: ExploreConfig,
                  sim: SimConfig, map_source: str = "perfect",
-                 perfect: PerfectMapConfig | None = None, slam_params=None):
+                 perfect: PerfectMapConfig | None = None, slam_params=None,
+                 compute: ComputeDelayConfig | None = None):
         if map_source not in map_sources():
             raise InputError(f"unknown map source '{map_source}' (expected "
                              f"{' or '.join(map_sources())})")
@@ -119,6 +123,7 @@ class ClosedLoop:
             self.source, self.map_update_interval = _make_slam(map_source, slam_params, laser,
                                                                np.random.default_rng(slam_ss))
             self.world_T_map = np.array(world.start_pose, dtype=float)
+        self.delay = for_backend(compute, self.source, self.map_update_interval)
         # odom starts at the start pose: map_T_odom = map_T_world ⊕ world_T_odom
         self.map_T_odom = compose(inverse(self.world_T_map), world.start_pose)
         self.navigator = Navigator(nav)
@@ -176,20 +181,36 @@ class ClosedLoop:
         tick = time.perf_counter()
         self._scan_truth = state.scan_true_pose
         if self.decoder is None:
-            pose = self.source.update(state.scan_odom_pose, state.scan, state.t)
+            scan = (state.scan_odom_pose, state.scan, state.t)
         else:
-            pose = self.source.update(*self.decoder.scan(messages))
-        if pose is not None:
-            self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
-            if self.grid is None or state.t - self._last_map_t >= self.map_update_interval - 1e-9:
-                self.grid = self.source.map()
-                self._last_map_t = state.t
-                self.navigator.set_map(self.grid)
+            scan = self.decoder.scan(messages)
+        if self.delay is None:
+            pose = self.source.update(*scan)
+            if pose is not None:
+                self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
+                due = state.t - self._last_map_t >= self.map_update_interval - 1e-9
+                if self.grid is None or due:
+                    self._publish_map(state.t)
+        elif self.delay.offer(scan[2], scan, self._delayed_update):
+            self._publish_map(state.t)
         self.timing["map_source"] += time.perf_counter() - tick
         laser = self.sim.laser
         self.navigator.add_scan(state.scan, self.sim.laser_angles, laser.range_min,
                                 laser.range_max, state.scan_odom_pose, self.sim.laser_pose,
                                 self.map_T_odom)
+
+    def _publish_map(self, t: float) -> None:
+        self.grid = self.source.map()
+        self._last_map_t = t
+        self.navigator.set_map(self.grid)
+
+    def _delayed_update(self, stamp: float, scan) -> tuple[bool, np.ndarray]:
+        """GMapping handles a queued scan (compute delay); (processed, ranges)."""
+        odom_pose, ranges, _ = scan
+        processed = self.source.update(odom_pose, ranges, stamp) is not None
+        if processed:
+            self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
+        return processed, ranges
 
     def _record(self, state) -> None:
         log = self.log

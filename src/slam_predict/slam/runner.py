@@ -70,6 +70,7 @@ class RecordedRun:
     params: Any
     seed: int
     run_json: str
+    compute: Any = None
 
     def rng(self) -> np.random.Generator:
         """The generator the in-loop SLAM back-end of the run had."""
@@ -93,21 +94,49 @@ def recorded_run(path: os.PathLike | str) -> RecordedRun | None:
         return None
     params = backends.params_from_dict(slam_type, sensors[slam_type],
                                        f"{run_json} sensor_logs.{slam_type}")
-    return RecordedRun(slam_type, params, int(record["seed"]), str(run_json))
+    return RecordedRun(slam_type, params, int(record["seed"]), str(run_json),
+                       _recorded_compute(record.get("slam_compute"), run_json))
+
+
+def _recorded_compute(section, run_json: Path):
+    """The compute delay a run was collected with (run.json ``slam_compute``), or None."""
+    if section is None:
+        return None
+    from dataclasses import fields
+
+    from slam_predict.config import from_dict
+    from slam_predict.explore.compute_delay import ComputeDelayConfig
+    keys = {f.name for f in fields(ComputeDelayConfig)}
+    settings = {k: v for k, v in section.items() if k in keys}   # without its counters
+    return from_dict(ComputeDelayConfig, settings, f"{run_json} slam_compute")
 
 
 def run(data: SlamInput, slam_type: str, params, seed: int,
         progress: Callable[[int, int], None] | None = None,
-        rng: np.random.Generator | None = None) -> RunResult:
+        rng: np.random.Generator | None = None, compute=None) -> RunResult:
     """Run back-end ``slam_type`` over ``data`` with a generator seeded by ``seed`` (or ``rng``
-    when given, e.g. a collected run's SLAM generator); the map is built at the end."""
+    when given, e.g. a collected run's SLAM generator); the map is built at the end.
+    ``compute``: a :class:`~slam_predict.explore.compute_delay.ComputeDelayConfig` (a collected
+    run's), so the back-end gets the scans the run's GMapping had time for."""
+    from slam_predict.explore.compute_delay import for_backend
+
     cpu0, wall0 = time.process_time(), time.perf_counter()
     slam = backends.create(slam_type, params=params, laser=data.laser,
                            rng=rng if rng is not None else np.random.default_rng(seed))
+    delay = for_backend(compute, slam, getattr(slam, "map_update_interval", 5.0))
     indices = []
-    for k in range(len(data)):
-        if slam.update(data.odometry[k], data.ranges[k], data.times[k]) is not None:
+
+    def handle(_stamp: float, k: int) -> tuple[bool, np.ndarray]:
+        processed = slam.update(data.odometry[k], data.ranges[k], data.times[k]) is not None
+        if processed:
             indices.append(k)
+        return processed, data.ranges[k]
+
+    for k in range(len(data)):
+        if delay is None:
+            handle(data.times[k], k)
+        else:
+            delay.offer(float(data.times[k]), k, handle)
         if progress is not None:
             progress(k + 1, len(data))
     cpu_filter = time.process_time() - cpu0
@@ -115,6 +144,8 @@ def run(data: SlamInput, slam_type: str, params, seed: int,
     index = np.asarray(indices, dtype=np.int64)[numbers]
     grid = slam.map()
     stats = {"scans_processed": len(indices), **slam.stats()}
+    if delay is not None:
+        stats["slam_compute"] = dict(delay.stats)
     stats.update({
         "seed": int(seed),
         "cpu_s": round(time.process_time() - cpu0, 3),
