@@ -6,7 +6,7 @@ s. ``maxRange``/``maxUrange`` may be left unset (None): the node derives them fr
 (``range_max − 0.01`` and ``maxRange``), see :func:`resolve_ranges`.
 
 Four options are ours: ``reproduce_freecell_bug`` (default True, i.e. behave exactly like upstream
-openslam_gmapping; False uses the intended "cell before the hit must be free" test) and
+openslam_gmapping; False uses the intended "cell before the hit must be free" test),
 ``range_sensor_angles`` (default True: the scan matcher's beam angles are those of the RangeSensor
 slam_gmapping builds, −N·inc/2 + i·inc, half a beam off the scan's own; False: the scan's angles),
 ``random_stream`` (default ``drand48``: the filter draws openslam_gmapping's own stream, POSIX
