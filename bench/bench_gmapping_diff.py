@@ -242,7 +242,26 @@ def table(records: list) -> str:
         for side in ("ours", "real"):
             errs = " ".join(f"{r['error']['trans_mean_m']:.3f}" for r in runs if r["side"] == side)
             lines.append(f"{log} {side}: {errs}")
+        lines.append(f"{log} max position difference ours − real per seed (m): "
+                     + " ".join(f"{seed}:{diff}" for seed, diff in pose_differences(runs)))
     return "\n".join(lines)
+
+
+def pose_differences(runs: list) -> list:
+    """(seed, largest position difference between the two sides' trajectories, as text) per
+    seed run on both sides; "scans differ" when their processed scans do."""
+    sides = {(r["seed"], r["side"]): r for r in runs}
+    out = []
+    for seed in dict.fromkeys(r["seed"] for r in runs):
+        ours, real = sides.get((seed, "ours")), sides.get((seed, "real"))
+        if ours is None or real is None:
+            continue
+        if ours["indices"] != real["indices"]:
+            out.append((seed, "scans differ"))
+            continue
+        diff = np.array(ours["poses"])[:, :2] - np.array(real["poses"])[:, :2]
+        out.append((seed, f"{np.hypot(diff[:, 0], diff[:, 1]).max():.1e}"))
+    return out
 
 
 def map_check_lines(records: list, config: str | None, overrides: dict) -> list:
