@@ -207,6 +207,16 @@ def load_config(cls: type[T], path: os.PathLike | str, section: str | None = Non
 
 
 def config_hash(obj: Any) -> str:
-    """Short stable hash (12 hex digits) of a config dataclass, for run metadata."""
-    text = json.dumps(to_dict(obj), sort_keys=True)
+    """Short stable hash (12 hex digits) of a config dataclass, for run metadata.
+
+    A field named in the class's ``HASH_LEGACY`` mapping is left out while it holds the value
+    given there: an option added later whose value reproduces the behaviour from before it
+    existed, so a config that keeps the old behaviour keeps its old hash (e.g. a campaign
+    collected before can still be resumed).
+    """
+    data = to_dict(obj)
+    for name, legacy in getattr(type(obj), "HASH_LEGACY", {}).items():
+        if name in data and data[name] == legacy:
+            del data[name]
+    text = json.dumps(data, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:12]

@@ -88,3 +88,21 @@ def test_records_without_a_stream_replay_on_numpy():
     assert params_from_record(old).random_stream == "numpy"
     assert params_from_record({**old, "random_stream": "drand48"}).random_stream == "drand48"
     assert params_from_record(params_to_dict(GMappingParams())) == GMappingParams()
+
+
+def test_the_numpy_stream_keeps_the_hash_configs_had_before_the_option():
+    """A campaign collected before ``random_stream`` existed can be resumed with
+    ``random_stream: numpy`` (same config hash); the drand48 default is another config."""
+    import hashlib
+    import json
+
+    from slam_predict.config import config_hash
+
+    numpy = GMappingParams(particles=40, random_stream="numpy")
+    old = {k: v for k, v in params_to_dict(numpy).items()
+           if k not in ("random_stream", "drand48_seed")}
+    before = hashlib.sha256(json.dumps(old, sort_keys=True).encode()).hexdigest()[:12]
+    assert config_hash(numpy) == before
+    assert config_hash(GMappingParams(particles=40)) != before
+    assert config_hash(GMappingParams(particles=40, random_stream="numpy", drand48_seed=3)) \
+        != before

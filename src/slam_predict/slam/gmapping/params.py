@@ -97,6 +97,8 @@ class GMappingParams(SlamNodeParams):
     range_sensor_angles: bool = True          # filter beams as the node's RangeSensor sets them
     random_stream: _Str = "drand48"           # "drand48" (upstream's own stream) or "numpy"
     drand48_seed: int | None = None           # None: drawn from the run's numpy Generator
+    # config_hash leaves these out at these values (the behaviour before the options existed).
+    HASH_LEGACY: ClassVar[dict[str, Any]] = {"random_stream": "numpy", "drand48_seed": None}
     RANGES: ClassVar[dict[str, Range]] = {
         "throttle_scans": AT_LEAST_ONE, "transform_publish_period": NON_NEGATIVE,
         "tf_delay": NON_NEGATIVE, "map_update_interval": NON_NEGATIVE, "maxRange": POSITIVE,
