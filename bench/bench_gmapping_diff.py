@@ -4,7 +4,9 @@ side by side.
 For every log and seed, the log is read once with our runner's reader
 (``slam_predict.slam.runner.read_input``); that very input object (odometry, ranges,
 beam angles, laser offset, maxRange derivation) is run through our port
-(``runner.run``, in-process) and exported as "prepared scans"
+(``runner.run``, in-process; by default on the real library's own random stream, drand48 seeded
+with the real side's seed, so seed k of both sides is the same run, see ``--ours-stream``) and
+exported as "prepared scans"
 (``slam_predict.formats.prepared_scans``) for the real library, driven by
 ``bench/gmapping_diff/driver.cpp`` as the slam_gmapping node drives it (same centred laser, same
 robot-pose convention). Both trajectories are evaluated by the same code on their processed
@@ -19,7 +21,7 @@ ratio within [0.85, 1.15] per log.
 
 Usage: bench/bench_gmapping_diff.py --upstream DIR [--logs intel aces|PATH.log.gz ...]
            [--runs RUN_OR_CAMPAIGN_DIR ...] [--seeds 1-10] [--jobs 1] [--set KEY=VALUE ...]
-           [--config YAML] [--out DIR]
+           [--config YAML] [--ours-stream drand48|numpy] [--map-check] [--out DIR]
 ``--upstream`` (or env SLAM_PREDICT_GMAPPING_UPSTREAM) is an export of
 github.com/ros-perception/openslam_gmapping; it is built once into ``<out>/build`` with
 ``bench/gmapping_diff/build.sh``. Named logs (intel, aces, csail, freiburg-101) use
@@ -29,12 +31,17 @@ holding them) with a sensor log: each run's ``sensors.log.gz`` is replayed with 
 parameters its run.json records, and a second table puts both sides' errors beside the run's
 own (``gmapping_diff/collected_runs.py``) with the median ratio over runs. ``--set`` overrides
 parameters on both sides; the real side's beam angles follow ``range_sensor_angles`` (true: the
-node's RangeSensor angles, false: the scan's own). Finished runs are cached in
-``<out>/<variant>/<log>/`` and reused.
+node's RangeSensor angles, false: the scan's own). ``--ours-stream numpy`` runs ours on
+``numpy.random.default_rng(seed)`` instead (independent noise: compare distributions, not
+seeds). ``--map-check`` adds issue #4's map check per run and side
+(``gmapping.runner.map_agreement_with_reference``: % of each map's occupied cells within 2 cells
+of the other's after a rigid fit onto the reference; 80 % is the bar). Finished runs are cached
+in ``<out>/<variant>/<log>/`` (``ours_<stream>_<seed>.json``, ``real_<seed>.json``) and reused.
 """
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import functools
 import json
 import os
@@ -98,7 +105,7 @@ def load(log: str, config: str | None, overrides: dict):
 @functools.lru_cache(maxsize=2)
 def _load(log: str, config: str | None, overrides_json: str):
     from slam_predict.config import load_yaml
-    from slam_predict.slam.gmapping.params import params_from_dict
+    from slam_predict.slam.gmapping.params import params_from_dict, params_from_record
     from slam_predict.slam.runner import read_input
 
     path, cfg, short = log_source(log, config)
@@ -107,7 +114,8 @@ def _load(log: str, config: str | None, overrides_json: str):
     else:
         values, origin = (dict(load_yaml(cfg) or {}) if cfg else {}), str(cfg or "--set")
     values.update(json.loads(overrides_json))
-    return read_input(path), params_from_dict(values, origin), short
+    build = params_from_record if collected.is_run(Path(log)) else params_from_dict
+    return read_input(path), build(values, origin), short
 
 
 def error_of(data, indices, poses) -> dict:
@@ -118,21 +126,18 @@ def error_of(data, indices, poses) -> dict:
             "rot_mean_deg": float(summary["rot_mean_deg"])}
 
 
-def run_ours(data, params, seed: int) -> dict:
+def run_ours(data, params, seed: int, stream: str = "drand48") -> dict:
+    """Our port through the offline runner on random stream ``stream``: ``drand48`` seeded with
+    ``seed`` as the real side is, or ``numpy`` (``default_rng(seed)``)."""
     from slam_predict.slam import runner
 
+    params = dataclasses.replace(params, random_stream=stream,
+                                 drand48_seed=seed if stream == "drand48" else None)
     cpu0 = time.process_time()
     result = runner.run(data, "gmapping", params, seed)
     return {"indices": result.indices.tolist(), "poses": result.poses.tolist(),
             "neff": result.stats["neff_history"], "resamples": result.stats["resamples"],
             "cpu_s": time.process_time() - cpu0}
-
-
-def run_ours_replay(data, params, seed: int) -> dict:
-    """Our port fed with the real library's random stream (drand48 seeded as the node does)."""
-    from drand48_rng import Drand48Generator
-
-    return run_port(data, params, Drand48Generator(seed))
 
 
 def run_port(data, params, rng) -> dict:
@@ -141,7 +146,7 @@ def run_port(data, params, rng) -> dict:
     from slam_predict.slam.gmapping.filter import GMapping
 
     cpu0 = time.process_time()
-    slam = GMapping(params, data.laser, rng)
+    slam = GMapping(dataclasses.replace(params, random_stream="numpy"), data.laser, rng)
     indices = [k for k in range(len(data))
                if slam.update(data.odometry[k], data.ranges[k], data.times[k]) is not None]
     numbers, _, poses = slam.trajectory()
@@ -171,20 +176,21 @@ def run_real(data, params, seed: int, driver: Path, folder: Path) -> dict:
 
 
 def run_job(job) -> dict:
-    """One (log, seed, side) run, cached as JSON in <out>/<log>/<side>_<seed>.json."""
+    """One (log, seed, side) run, cached as JSON in <out>/<log>/ (see the module docstring)."""
     log, seed, side, args = job
     data, params, short = load(log, args["config"], args["set"])
     folder = Path(args["out"]) / short
     folder.mkdir(parents=True, exist_ok=True)
-    cache = folder / f"{side}_{seed}.json"
+    name = f"ours_{args['stream']}" if side == "ours" else side
+    cache = folder / f"{name}_{seed}.json"
     if cache.exists():
         return json.loads(cache.read_text())
     if side == "ours":
-        record = (run_ours_replay if args["replay"] else run_ours)(data, params, seed)
+        record = run_ours(data, params, seed, args["stream"])
     else:
         record = run_real(data, params, seed, Path(args["driver"]), folder)
     record["error"] = error_of(data, np.array(record["indices"]), np.array(record["poses"]))
-    record.update({"log": short, "seed": seed, "side": side, "scans": len(data)})
+    record.update({"log": short, "seed": seed, "side": side, "scans": len(data), "source": log})
     cache.write_text(json.dumps(record) + "\n")
     return record
 
@@ -236,7 +242,45 @@ def table(records: list) -> str:
         for side in ("ours", "real"):
             errs = " ".join(f"{r['error']['trans_mean_m']:.3f}" for r in runs if r["side"] == side)
             lines.append(f"{log} {side}: {errs}")
+        lines.append(f"{log} max position difference ours − real per seed (m): "
+                     + " ".join(f"{seed}:{diff}" for seed, diff in pose_differences(runs)))
     return "\n".join(lines)
+
+
+def pose_differences(runs: list) -> list:
+    """(seed, largest position difference between the two sides' trajectories, as text) per
+    seed run on both sides; "scans differ" when their processed scans do."""
+    sides = {(r["seed"], r["side"]): r for r in runs}
+    out = []
+    for seed in dict.fromkeys(r["seed"] for r in runs):
+        ours, real = sides.get((seed, "ours")), sides.get((seed, "real"))
+        if ours is None or real is None:
+            continue
+        if ours["indices"] != real["indices"]:
+            out.append((seed, "scans differ"))
+            continue
+        diff = np.array(ours["poses"])[:, :2] - np.array(real["poses"])[:, :2]
+        out.append((seed, f"{np.hypot(diff[:, 0], diff[:, 1]).max():.1e}"))
+    return out
+
+
+def map_check_lines(records: list, config: str | None, overrides: dict) -> list:
+    """Per log and side: the map check (ours → reference / reference → ours, %) of each seed."""
+    from slam_predict.slam.gmapping.runner import map_agreement_with_reference
+
+    lines = []
+    for log in dict.fromkeys(r["log"] for r in records):
+        runs = [r for r in records if r["log"] == log]
+        source = next(r.get("source", log) for r in runs)
+        data, params, _ = load(source, config, overrides)
+        for side in ("ours", "real"):
+            cells = []
+            for r in (r for r in runs if r["side"] == side):
+                a, b = map_agreement_with_reference(data, np.array(r["indices"]),
+                                                    np.array(r["poses"]), params, 2.0)
+                cells.append(f"{r['seed']}:{100 * a:.1f}/{100 * b:.1f}")
+            lines.append(f"{log} {side} map check 2 cells (%): " + " ".join(cells))
+    return lines
 
 
 def main() -> int:
@@ -250,8 +294,11 @@ def main() -> int:
     parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
                         help="GMapping parameter overrides for both sides (YAML values)")
     parser.add_argument("--config", help="slam_gmapping YAML for logs given as paths")
-    parser.add_argument("--replay-rng", action="store_true",
-                        help="ours draws the real library's drand48 stream (same noise)")
+    parser.add_argument("--ours-stream", choices=("drand48", "numpy"), default="drand48",
+                        help="our random stream: the real library's (drand48, seeded with the "
+                             "real side's seed; default) or numpy's default_rng(seed)")
+    parser.add_argument("--map-check", action="store_true",
+                        help="also print the 2-cell map check of every run (both sides)")
     parser.add_argument("--out", default=str(ROOT / "out" / "bench_gmapping_diff"))
     args = parser.parse_args()
     if not args.upstream or not Path(args.upstream, "gridfastslam").is_dir():
@@ -261,9 +308,9 @@ def main() -> int:
     out = Path(args.out)
     driver = build_driver(Path(args.upstream), out / "build")
     overrides = {k: yaml.safe_load(v) for k, v in (item.split("=", 1) for item in args.set)}
-    variant = "_".join(sorted(args.set) + (["replay"] if args.replay_rng else [])) or "default"
+    variant = "_".join(sorted(args.set)) or "default"
     shared = {"config": args.config, "out": str(out / variant), "driver": str(driver),
-              "set": overrides, "replay": args.replay_rng}
+              "set": overrides, "stream": args.ours_stream}
     run_dirs = [str(p) for p in collected.find_runs(args.runs)] if args.runs else []
     logs = (args.logs or ([] if run_dirs else list(LOGS))) + run_dirs
     jobs = [(log, seed, side, shared) for log in logs for seed in args.seeds
@@ -274,8 +321,11 @@ def main() -> int:
     else:
         records = [run_job(job) for job in jobs]
     commit = (out / "build" / "upstream_commit").read_text().strip()
-    print(f"real openslam_gmapping {commit}; overrides: {variant}")
+    print(f"real openslam_gmapping {commit}; overrides: {variant}; "
+          f"ours on the {args.ours_stream} stream")
     print(table(records))
+    if args.map_check:
+        print("\n".join(map_check_lines(records, args.config, overrides)))
     if run_dirs:
         loops = {}
         for run in run_dirs:

@@ -1,10 +1,11 @@
 """Our GMapping port on one log with different random streams (no upstream needed).
 
-With ``drand48`` the port draws the real openslam_gmapping's own noise (POSIX drand48 and
-``pf_ran_gaussian``, seeded as slam_gmapping seeds it; ``gmapping_diff/drand48_rng.py``), so its
-runs ARE the real library's runs (docs/gmapping.md: identical to 1e-9 m); ``pcg64`` is our default
-(``numpy.random.default_rng(seed)``), ``mt19937`` numpy's Mersenne Twister. Same input, parameters
-and metric as ``bench_gmapping_diff.py`` (it is reused), so the per-seed errors are comparable.
+With ``drand48`` (the port's default stream, ``slam_predict.slam.gmapping.drand48``) the port
+draws the real openslam_gmapping's own noise (POSIX drand48 and ``pf_ran_gaussian``, seeded as
+slam_gmapping seeds it), so its runs ARE the real library's runs (docs/gmapping.md);
+``pcg64`` is ``numpy.random.default_rng(seed)`` (the ``random_stream: numpy`` option),
+``mt19937`` numpy's Mersenne Twister. Same input, parameters and metric as
+``bench_gmapping_diff.py`` (it is reused), so the per-seed errors are comparable.
 
 Usage: bench/bench_gmapping_rng.py [--log aces] --rng drand48 pcg64 [--seeds 1-10 | 5,900,12345]
            [--out DIR]
@@ -22,9 +23,9 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "bench"))
-sys.path.insert(0, str(ROOT / "bench" / "gmapping_diff"))
 import bench_gmapping_diff as diff  # noqa: E402
-from drand48_rng import Drand48Generator  # noqa: E402
+
+from slam_predict.slam.gmapping.drand48 import Drand48Generator  # noqa: E402
 
 GENERATORS = {"drand48": Drand48Generator,
               "pcg64": np.random.default_rng,
@@ -33,7 +34,7 @@ GENERATORS = {"drand48": Drand48Generator,
 
 def run_seed(data, params, rng_name: str, seed: int) -> dict:
     """One run of our port with generator ``rng_name`` seeded by ``seed``: error and resamples."""
-    record = diff.run_port(data, params, GENERATORS[rng_name](seed))
+    record = diff.run_port(data, params, GENERATORS[rng_name](seed))  # params' stream: numpy
     record["error"] = diff.error_of(data, np.array(record["indices"]), np.array(record["poses"]))
     return {"rng": rng_name, "seed": seed, **record}
 

@@ -219,6 +219,9 @@ def _hash_tree(obj: Any) -> Any:
 
 
 def config_hash(obj: Any) -> str:
-    """Short stable hash (12 hex digits) of a config dataclass, for run metadata."""
+    """Short stable hash (12 hex digits) of a config dataclass, for run metadata. Fields a class
+    names in ``HASH_OMIT_IF`` are left out while they hold the value given there (an option added
+    later whose value reproduces the behaviour from before it), so such configs keep their old
+    hash and campaigns collected before can still be resumed."""
     text = json.dumps(_hash_tree(obj), sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:12]

@@ -13,6 +13,7 @@ MODULES = (
     "slam_predict.sim.stage_ranger",
     "slam_predict.slam.gmapping.kernels",
     "slam_predict.slam.gmapping.raytrace",
+    "slam_predict.slam.gmapping.drand48",
     "slam_predict.nav.kernels",
     "slam_predict.features.kernels",
     "slam_predict.metric.kernels",

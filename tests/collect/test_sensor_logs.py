@@ -22,17 +22,17 @@ TINY = ROOT / "worlds" / "tiny.world"
 SIM_TIME = 20.0
 
 
-def settings(sensor_logs: bool):
+def settings(sensor_logs: bool, **slam_params):
     s = load_settings()
-    s.slam.params = dataclasses.replace(s.slam.params, particles=6)
+    s.slam.params = dataclasses.replace(s.slam.params, particles=6, **slam_params)
     s.stop = dataclasses.replace(s.stop, max_sim_time_s=SIM_TIME, small_interval_s=30.0)
     s.sensor_logs = sensor_logs
     return s
 
 
-def collect(folder: Path, sensor_logs: bool) -> dict:
+def collect(folder: Path, sensor_logs: bool, **slam_params) -> dict:
     spec = RunSpec(str(TINY), "tiny", 0, 5, str(folder))
-    return run_episode(spec, settings(sensor_logs))
+    return run_episode(spec, settings(sensor_logs, **slam_params))
 
 
 @pytest.fixture(scope="module")
@@ -58,6 +58,22 @@ def test_replay_equals_the_in_loop_slam_trajectory_exactly(collected, tmp_path, 
     assert stats["params"] == record["sensor_logs"]["gmapping"]
     assert stats["scans_seen"] == record["sensor_logs"]["scans"]
     assert stats["evaluation"]["slam"]["trans_mean_m"] < 0.2  # ground truth is the reference
+    assert stats["random_stream"] == record["sensor_logs"]["gmapping"]["random_stream"] \
+        == "drand48" and 1 <= stats["drand48_seed"] < 2 ** 31 - 1
+
+
+def test_a_run_recorded_before_random_stream_replays_on_numpy(tmp_path):
+    """A run.json without ``random_stream`` (written before the option existed, when the numpy
+    stream was the only one) replays on numpy, reproducing its in-loop trajectory exactly."""
+    folder = tmp_path / "tiny" / "run_000"
+    record = collect(folder, True, random_stream="numpy")
+    recorded = record["sensor_logs"]["gmapping"]
+    assert recorded.pop("random_stream") == "numpy" and recorded.pop("drand48_seed") is None
+    (folder / "run.json").write_text(json.dumps(record))
+    out = tmp_path / "replay"
+    assert main(["slam", "run", str(folder / SENSOR_BAG), "--out", str(out)]) == 0
+    assert tum_rows(out / "slam.tum") == tum_rows(folder / SLAM_SCANS)
+    assert json.loads((out / "stats.json").read_text())["random_stream"] == "numpy"
 
 
 def test_replay_applies_the_runs_compute_delay(tmp_path, capsys):

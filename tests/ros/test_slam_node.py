@@ -88,9 +88,10 @@ class FakeTf:
         self.sent.append(msg)
 
 
-def drive(upside_down, steps=60, ack=False):
+def drive(upside_down, steps=60, ack=False, **params):
     params = GMappingParams(particles=8, xmin=-10, ymin=-10, xmax=10, ymax=10,
-                            linearUpdate=0.3, angularUpdate=0.2, map_update_interval=1.0)
+                            linearUpdate=0.3, angularUpdate=0.2, map_update_interval=1.0,
+                            **params)
     fake, tf = FakeRospy(), FakeTf(upside_down)
     node = SlamNode(SlamChoice("gmapping", params), SlamNodeParams(), 3, fake, tf, tf)
     node.start = None  # the wiring needs a ROS master; publishers are made below
@@ -157,14 +158,35 @@ def test_no_map_before_the_first_scan():
 
 def test_params_come_from_the_private_namespace():
     fake = FakeRospy({"~particles": 12, "~xmin": -20, "~seed": 7, "~type": "gmapping",
-                      "~base_frame": "base_footprint", "~throttle_scans": 2})
+                      "~base_frame": "base_footprint", "~throttle_scans": 2,
+                      "~random_stream": "numpy", "~drand48_seed": 11})
     choice, node, seed = read_params(fake)
     params = choice.params
     assert choice.type == "gmapping" and isinstance(params, GMappingParams)
     assert params.particles == 12 and params.xmin == -20.0 and seed == 7
+    assert (params.random_stream, params.drand48_seed) == ("numpy", 11)
     assert node.base_frame == "base_footprint" and node.throttle_scans == 2
     from slam_predict.errors import InputError
     with pytest.raises(InputError, match="particles"):
         read_params(FakeRospy({"~particles": "x"}))
+    with pytest.raises(InputError, match="random_stream"):
+        read_params(FakeRospy({"~random_stream": "pcg"}))
     with pytest.raises(InputError, match="unknown SLAM type 'gmaping'.*did you mean 'gmapping'"):
         read_params(FakeRospy({"~type": "gmaping"}))
+
+
+def test_the_node_draws_from_the_configured_stream():
+    """drand48 by default, seeded from the node's ``~seed`` generator (3 here) unless
+    ``drand48_seed`` is set; ``numpy``: the node's generator itself."""
+    from slam_predict.slam.gmapping.drand48 import Drand48Generator
+
+    node, *_ = drive(upside_down=False, steps=3)
+    drawn = int(np.random.default_rng(3).integers(1, 2 ** 31 - 1))
+    stats = node.slam.stats()
+    assert (stats["random_stream"], stats["drand48_seed"]) == ("drand48", drawn)
+    assert isinstance(node.slam.filter.rng, Drand48Generator)
+    node, *_ = drive(upside_down=False, steps=3, drand48_seed=11)
+    assert node.slam.stats()["drand48_seed"] == node.slam.filter.rng.seed == 11
+    node, *_ = drive(upside_down=False, steps=3, random_stream="numpy")
+    assert isinstance(node.slam.filter.rng, np.random.Generator)
+    assert node.slam.stats()["drand48_seed"] is None

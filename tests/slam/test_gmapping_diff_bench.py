@@ -17,6 +17,7 @@ def _bench():
 
 def _record(side, seed, error, indices=(0, 2, 5)):
     return {"side": side, "seed": seed, "log": "x", "indices": list(indices),
+            "poses": [[float(k), 0.0, 0.0] for k in indices],
             "error": {"trans_mean_m": error}, "resamples": 3, "neff": [20.0, 10.0], "cpu_s": 1.0}
 
 
@@ -32,6 +33,17 @@ def test_ratio_and_interval():
     assert 0.8 <= lo < 1.2 < hi <= 1.6
     lo, hi = bench.bootstrap_ratio(np.array([1.0, 1.0]), np.array([2.0, 2.0]))
     assert lo == hi == 0.5
+
+
+def test_position_differences_per_seed():
+    bench = _bench()
+    records = [_record("ours", 1, 0.2), _record("real", 1, 0.2), _record("ours", 2, 0.2),
+               _record("real", 2, 0.2, indices=(0, 3, 5))]
+    for r, dx in zip(records, (0.0, 3e-4, 0.0, 0.0), strict=True):
+        r["poses"] = [[dx, 0.0, 0.0], [1.0, 2.0, 0.1], [2.0, 2.0 + 4 * dx, 0.2]]
+    assert bench.pose_differences(records) == [(1, "1.2e-03"), (2, "scans differ")]
+    assert "max position difference ours − real per seed (m): 1:1.2e-03 2:scans differ" \
+        in bench.table(records)
 
 
 def test_differing_processed_scans_are_flagged():

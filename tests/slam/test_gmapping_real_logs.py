@@ -98,11 +98,19 @@ def test_full_log_against_the_real_gmapping(shared_dir, log):
 # (bench/bench_gmapping_mapcheck.py).
 # Strict: a pass means something changed and this mark must go.
 ACES_MAP = pytest.mark.xfail(strict=True, reason="aces: GMapping's corridor drift exceeds 2 cells")
+# csail: on the default random stream (the real library's) our run IS a real openslam_gmapping
+# run, and the real library itself stays below 80 % on csail with the baseline's parameters:
+# seeds 1 / 2 / 3 give 68.9/69.9, 75.6/76.4, 65.9/66.3 % (ours to 7e-10 m the same runs;
+# bench/bench_gmapping_diff.py --logs csail --seeds 1-3 --map-check, 2026-12-03). Seed 1 here
+# (drand48 seed 1016164991, drawn from default_rng(1)) scores 67.8/68.2 %. The numpy stream
+# scored 77.9/77.3 % on seed 1, also below. Strict: a pass means something changed.
+CSAIL_MAP = pytest.mark.xfail(strict=True, reason="csail: the real GMapping scores 66-76 % too")
+MAP_MARKS = {"aces": ACES_MAP, "csail": CSAIL_MAP}
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("log", [pytest.param(log, marks=ACES_MAP) if log == "aces" else log
-                                 for log in FULL_LOGS])
+@pytest.mark.parametrize("log", [pytest.param(log, marks=MAP_MARKS[log]) if log in MAP_MARKS
+                                 else log for log in FULL_LOGS])
 def test_full_log_map_agrees_with_the_reference(shared_dir, log):
     """Issue #4's map check: ≥ 80 % of the occupied cells of each map within 2 cells of the
     other after a rigid fit of our trajectory onto the reference."""

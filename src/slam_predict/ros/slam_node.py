@@ -164,7 +164,10 @@ class SlamNode:
             return False
         self.slam = slam.create(self.choice.type, params=self.choice.params, laser=laser,
                                 rng=np.random.default_rng(self.seed))
-        LOG.info("%s initialised: %d beams, seed %d", self.slam.label, laser.beams, self.seed)
+        stream = {k: v for k, v in self.slam.stats().items()
+                  if k in ("random_stream", "drand48_seed")}
+        LOG.info("%s initialised: %d beams, seed %d%s", self.slam.label, laser.beams, self.seed,
+                 "".join(f", {k} {v}" for k, v in stream.items()))
         return True
 
     def _lookup(self, parent: str, child: str, stamp):

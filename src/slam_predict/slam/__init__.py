@@ -109,6 +109,13 @@ class SlamBackend:
         raise NotImplementedError
 
     @classmethod
+    def params_from_record(cls, data, source: str = "<run record>"):
+        """The parameters a collected run recorded (run.json ``sensor_logs``), for its replay;
+        default :meth:`params_from_dict`. A back-end whose new options change its behaviour
+        maps a record that lacks them to the behaviour the run had."""
+        return cls.params_from_dict(data, source)
+
+    @classmethod
     def default_params(cls):
         """The back-end's default parameters."""
         return cls.params_from_dict({}, f"{cls.name} defaults")

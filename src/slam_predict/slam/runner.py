@@ -92,8 +92,8 @@ def recorded_run(path: os.PathLike | str) -> RecordedRun | None:
     sensors = record.get("sensor_logs")
     if not isinstance(sensors, dict) or slam_type not in sensors:
         return None
-    params = backends.params_from_dict(slam_type, sensors[slam_type],
-                                       f"{run_json} sensor_logs.{slam_type}")
+    params = backends.backend_class(slam_type).params_from_record(
+        sensors[slam_type], f"{run_json} sensor_logs.{slam_type}")
     return RecordedRun(slam_type, params, int(record["seed"]), str(run_json),
                        _recorded_compute(record.get("slam_compute"), run_json))
 

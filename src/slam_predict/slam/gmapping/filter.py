@@ -18,10 +18,16 @@ import numpy as np
 
 from slam_predict.geometry import compose, inverse
 from slam_predict.slam import LaserGeometry, OccupancyGrid, SlamBackend
-from slam_predict.slam.gmapping import kernels, raytrace
+from slam_predict.slam.gmapping import drand48, kernels, raytrace
+from slam_predict.slam.gmapping.drand48 import noise_generator
 from slam_predict.slam.gmapping.maps import Geometry, ParticleMap, PatchPool
 from slam_predict.slam.gmapping.motion import draw_from_motion, travelled
-from slam_predict.slam.gmapping.params import GMappingParams, params_from_dict, with_ranges
+from slam_predict.slam.gmapping.params import (
+    GMappingParams,
+    params_from_dict,
+    params_from_record,
+    with_ranges,
+)
 from slam_predict.slam.gmapping.tree import TrajectoryTree
 
 LOG = logging.getLogger(__name__)
@@ -245,9 +251,14 @@ class GMapping(SlamBackend):
         return params_from_dict(data, source)
 
     @classmethod
+    def params_from_record(cls, data, source: str = "<run record>") -> GMappingParams:
+        return params_from_record(data, source)
+
+    @classmethod
     def warmup(cls) -> None:
         kernels.warmup()
         raytrace.warmup()
+        drand48.warmup()
 
     @classmethod
     def extent_of(cls, params: GMappingParams):
@@ -256,13 +267,18 @@ class GMapping(SlamBackend):
 
     def __init__(self, params: GMappingParams, laser: LaserGeometry,
                  rng: np.random.Generator | None = None):
+        """``rng``: the run's numpy generator (fresh when None); the filter draws from it
+        (``random_stream: numpy``) or from drand48 seeded by ``drand48_seed`` or, when that is
+        None, by a number drawn from ``rng`` (see :func:`.drand48.noise_generator`)."""
         from slam_predict.slam.gmapping.gridmap import IncrementalMap, MapBuilder
 
         self.laser_in_base, angles = centred_laser(laser)
         self.params = with_ranges(params, laser.range_max)
         matched = range_sensor_angles(angles) if self.params.range_sensor_angles else angles
-        self.filter = GridSlamProcessor(self.params, matched,
-                                        rng if rng is not None else np.random.default_rng())
+        noise, self.drand48_seed = noise_generator(
+            self.params.random_stream, self.params.drand48_seed,
+            rng if rng is not None else np.random.default_rng())
+        self.filter = GridSlamProcessor(self.params, matched, noise)
         self._angles = angles
         self.builder = MapBuilder(self.params, angles)
         self.published = IncrementalMap(self.builder)
@@ -330,7 +346,8 @@ class GMapping(SlamBackend):
         return pose_entropy(self.filter.weight) if self.filter.pool is not None else 0.0
 
     def stats(self) -> dict:
-        """Run statistics: scans seen/processed, resamples, Neff summary, pool use."""
+        """Run statistics: scans seen/processed, resamples, Neff summary, pool use, the random
+        stream and its drand48 seed (None on the numpy stream)."""
         f = self.filter
         neff = np.array(f.neff_history) if f.neff_history else np.array([float("nan")])
         return {
@@ -347,4 +364,6 @@ class GMapping(SlamBackend):
             "neff_history": [round(v, 3) for v in f.neff_history],
             "maxRange": self.params.maxRange,
             "maxUrange": self.params.maxUrange,
+            "random_stream": self.params.random_stream,
+            "drand48_seed": self.drand48_seed,
         }

@@ -5,10 +5,15 @@ file carries over unchanged, e.g. ``../shared/baselines/gmapping_real_<log>.yaml
 s. ``maxRange``/``maxUrange`` may be left unset (None): the node derives them from the first scan
 (``range_max − 0.01`` and ``maxRange``), see :func:`resolve_ranges`.
 
-Two options are ours: ``reproduce_freecell_bug`` (default True, i.e. behave exactly like upstream
-openslam_gmapping; False uses the intended "cell before the hit must be free" test) and
+Four options are ours: ``reproduce_freecell_bug`` (default True, i.e. behave exactly like upstream
+openslam_gmapping; False uses the intended "cell before the hit must be free" test),
 ``range_sensor_angles`` (default True: the scan matcher's beam angles are those of the RangeSensor
-slam_gmapping builds, −N·inc/2 + i·inc, half a beam off the scan's own; False: the scan's angles).
+slam_gmapping builds, −N·inc/2 + i·inc, half a beam off the scan's own; False: the scan's angles),
+``random_stream`` (default ``drand48``: the filter draws openslam_gmapping's own stream, POSIX
+drand48 and pf_ran_gaussian, see :mod:`.drand48`; ``numpy``: the run's numpy Generator, the
+only stream before this option existed) and ``drand48_seed`` (the seed slam_gmapping would pass
+to ``sampleGaussian(1, seed)``, 0 … 2³² − 1; None: drawn from the run's numpy Generator, so a run
+stays determined by its seed; not called ``seed`` so as not to clash with the node's ``~seed``).
 """
 from __future__ import annotations
 
@@ -40,6 +45,9 @@ FREE_CELL_RATIO = math.sqrt(2.0)
 ENLARGE_STEP = 10.0  # m
 NULL_LIKELIHOOD = -0.5
 PATCH_MAGNITUDE = 5  # patches of 32 x 32 cells
+# Choices of ``random_stream``; largest ``drand48_seed`` (srand48 keeps 32 bits of its seed).
+STREAMS = ("drand48", "numpy")
+SEED_MAX = 2 ** 32 - 1
 
 
 @dataclass
@@ -87,6 +95,10 @@ class GMappingParams(SlamNodeParams):
     # --- ours
     reproduce_freecell_bug: bool = True
     range_sensor_angles: bool = True          # filter beams as the node's RangeSensor sets them
+    random_stream: _Str = "drand48"           # "drand48" (upstream's own stream) or "numpy"
+    drand48_seed: int | None = None           # None: drawn from the run's numpy Generator
+    # config_hash leaves these out at these values (the behaviour before the options existed).
+    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"random_stream": "numpy", "drand48_seed": None}
     RANGES: ClassVar[dict[str, Range]] = {
         "throttle_scans": AT_LEAST_ONE, "transform_publish_period": NON_NEGATIVE,
         "tf_delay": NON_NEGATIVE, "map_update_interval": NON_NEGATIVE, "maxRange": POSITIVE,
@@ -97,7 +109,8 @@ class GMappingParams(SlamNodeParams):
         "linearUpdate": NON_NEGATIVE, "angularUpdate": NON_NEGATIVE,
         "resampleThreshold": PROBABILITY, "particles": AT_LEAST_ONE, "delta": POSITIVE,
         "occ_thresh": PROBABILITY, "llsamplerange": NON_NEGATIVE, "llsamplestep": NON_NEGATIVE,
-        "lasamplerange": NON_NEGATIVE, "lasamplestep": NON_NEGATIVE}
+        "lasamplerange": NON_NEGATIVE, "lasamplestep": NON_NEGATIVE,
+        "drand48_seed": Range(0.0, float(SEED_MAX))}
 
     def __post_init__(self):
         if self.particles < 1:
@@ -116,6 +129,11 @@ class GMappingParams(SlamNodeParams):
         for name in ("srr", "srt", "str", "stt"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0")
+        if self.random_stream not in STREAMS:
+            raise ValueError(f"random_stream must be one of {', '.join(STREAMS)}, "
+                             f"got {self.random_stream!r}")
+        if self.drand48_seed is not None and not 0 <= self.drand48_seed <= SEED_MAX:
+            raise ValueError(f"drand48_seed must be in [0, {SEED_MAX}]")
 
 
 def params_from_dict(data: Mapping[str, Any] | None, source: _Str = "<config>") -> GMappingParams:
@@ -128,6 +146,15 @@ def params_from_dict(data: Mapping[str, Any] | None, source: _Str = "<config>") 
     if kind != "gmapping":
         raise InputError(f"SLAM type '{kind}' is not gmapping", source)
     return from_dict(GMappingParams, data, source)
+
+
+def params_from_record(data: Mapping[str, Any], source: _Str = "<run record>") -> GMappingParams:
+    """Parameters recorded by a run (run.json ``sensor_logs.gmapping``): as
+    :func:`params_from_dict`, except that a record without ``random_stream`` predates that option
+    and ran on the numpy stream, so it gets ``numpy`` (its replay reproduces it exactly)."""
+    if isinstance(data, Mapping):
+        data = {"random_stream": "numpy", **data}
+    return params_from_dict(data, source)
 
 
 def load_params(path: os.PathLike | _Str) -> GMappingParams:
