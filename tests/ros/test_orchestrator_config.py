@@ -70,3 +70,26 @@ def test_bad_input_is_one_line_naming_the_file(tmp_path):
     with pytest.raises(InputError, match="needs ground_truth.frame"):
         load_orchestrator_config(DEFAULT_CONFIG, {"source": "tf"})
     assert "\n" not in err.value.one_line()
+
+
+def test_ros_runs_drop_the_in_process_compute_delay():
+    """Under ROS GMapping's compute time is real: slam_compute is switched off, with a warning."""
+    import dataclasses
+
+    from slam_predict.collect.settings import load_settings
+    from slam_predict.explore.compute_delay import ComputeDelayConfig
+    from slam_predict.ros.orchestrator_config import without_compute_delay
+
+    warnings = []
+
+    class FakeRospy:
+        @staticmethod
+        def logwarn(*args):
+            warnings.append(args)
+
+    lockstep = load_settings()
+    assert without_compute_delay(lockstep, FakeRospy) is lockstep and not warnings
+    delayed = dataclasses.replace(lockstep, compute=ComputeDelayConfig(model="cost", scan_s=0.4))
+    out = without_compute_delay(delayed, FakeRospy)
+    assert not out.compute.enabled and "slam_compute" not in out.hashes()
+    assert len(warnings) == 1

@@ -83,6 +83,18 @@ class RunSetup:
     wait_for_nodes: tuple = ()
 
 
+def without_compute_delay(settings, rospy_module):
+    """Settings with ``slam_compute`` off: under ROS GMapping's compute time is real, so the
+    in-process engine's emulation of it does not apply (and is not recorded)."""
+    from slam_predict.explore.compute_delay import ComputeDelayConfig
+
+    if not settings.compute.enabled:
+        return settings
+    rospy_module.logwarn("slam_compute (%s) applies to the in-process engine only; under ROS "
+                         "GMapping's compute time is real", settings.compute.model)
+    return dataclasses.replace(settings, compute=ComputeDelayConfig())
+
+
 def read_setup(rospy_module) -> RunSetup:
     """Params → configs, world and run identity (InputError on bad input)."""
     from slam_predict.collect.record import RunInfo
@@ -94,7 +106,7 @@ def read_setup(rospy_module) -> RunSetup:
     out = str(get("~out", ""))
     if not out:
         raise InputError("~out (the run folder) is not set")
-    settings = load_settings(get("~settings", "") or None)
+    settings = without_compute_delay(load_settings(get("~settings", "") or None), rospy_module)
     config = load_orchestrator_config(get("~config", "") or DEFAULT_CONFIG, {
         "source": get("~ground_truth_source", ""), "topic": get("~ground_truth_topic", ""),
         "frame": get("~ground_truth_frame", ""),
