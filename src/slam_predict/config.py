@@ -206,6 +206,16 @@ def load_config(cls: type[T], path: os.PathLike | str, section: str | None = Non
     return from_dict(cls, data, os.fspath(path), section or "")
 
 
+def check_ranges(section: str, config, positive=(), non_negative=()) -> None:
+    """ValueError naming ``section.key`` for a value of ``config`` outside its range."""
+    for key in positive:
+        if not getattr(config, key) > 0:
+            raise ValueError(f"{section}.{key} must be > 0, got {getattr(config, key)}")
+    for key in non_negative:
+        if not getattr(config, key) >= 0:
+            raise ValueError(f"{section}.{key} must be >= 0, got {getattr(config, key)}")
+
+
 def _hash_tree(obj: Any) -> Any:
     """``to_dict`` of ``obj`` without the fields its class lists in ``HASH_OMIT_IF`` (name →
     default) while they hold that default, so adding an option keeps older configs' hashes."""

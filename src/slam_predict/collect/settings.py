@@ -20,8 +20,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from slam_predict.collect.stopping import StopConfig, check_ranges
-from slam_predict.config import config_hash, from_dict, load_config, load_yaml, to_dict
+from slam_predict.collect.stopping import StopConfig
+from slam_predict.config import (
+    check_ranges,
+    config_hash,
+    from_dict,
+    load_config,
+    load_yaml,
+    to_dict,
+)
 from slam_predict.errors import InputError
 from slam_predict.explore.compute_delay import ComputeDelayConfig
 from slam_predict.slam import SlamChoice

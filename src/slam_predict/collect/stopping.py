@@ -20,7 +20,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
+from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range, check_ranges
 from slam_predict.formats.mapserver import UNKNOWN, occupancy_to_image
 
 STUCK_DISTANCE_M = 0.1   # m of ground-truth progress that resets the stuck clock
@@ -55,16 +55,6 @@ class StopConfig:
     def interval_for(self, free_area_m2: float) -> float:
         """Snapshot interval (s) for a building of ``free_area_m2``."""
         return self.small_interval_s if free_area_m2 < self.small_area_m2 else self.interval_s
-
-
-def check_ranges(section: str, config, positive=(), non_negative=()) -> None:
-    """ValueError naming ``section.key`` for a value of ``config`` outside its range."""
-    for key in positive:
-        if not getattr(config, key) > 0:
-            raise ValueError(f"{section}.{key} must be > 0, got {getattr(config, key)}")
-    for key in non_negative:
-        if not getattr(config, key) >= 0:
-            raise ValueError(f"{section}.{key} must be >= 0, got {getattr(config, key)}")
 
 
 def grid_to_snapshot(grid: np.ndarray) -> np.ndarray:

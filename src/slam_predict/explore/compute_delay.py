@@ -32,7 +32,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
+from slam_predict.config import NON_NEGATIVE, POSITIVE, Range, check_ranges
 from slam_predict.errors import InputError
 
 __all__ = ["COMPUTE_MODELS", "ComputeDelay", "ComputeDelayConfig", "for_backend"]
@@ -59,11 +59,8 @@ class ComputeDelayConfig:
         if self.model not in COMPUTE_MODELS:
             raise ValueError(f"model must be one of {', '.join(COMPUTE_MODELS)}, "
                              f"got '{self.model}'")
-        if self.queue_size < 1:
-            raise ValueError(f"queue_size must be >= 1, got {self.queue_size}")
-        for name in self.RANGES:
-            if getattr(self, name) < 0 or (name == "cpu_factor" and not self.cpu_factor > 0):
-                raise ValueError(f"{name} must be {'> 0' if name == 'cpu_factor' else '>= 0'}")
+        check_ranges("slam_compute", self, positive=("queue_size", "cpu_factor"),
+                     non_negative=("scan_s", "rebuild_s_per_map_cell", "rebuild_s_per_line_cell"))
 
     @property
     def enabled(self) -> bool:

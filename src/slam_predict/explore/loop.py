@@ -185,13 +185,11 @@ class ClosedLoop:
         else:
             scan = self.decoder.scan(messages)
         if self.delay is None:
-            pose = self.source.update(*scan)
-            if pose is not None:
-                self.map_T_odom = np.asarray(self.source.map_to_odom(), dtype=float)
-                due = state.t - self._last_map_t >= self.map_update_interval - 1e-9
-                if self.grid is None or due:
-                    self._publish_map(state.t)
-        elif self.delay.offer(scan[2], scan, self._delayed_update):
+            processed, _ = self._update_slam(scan[2], scan)
+            due = state.t - self._last_map_t >= self.map_update_interval - 1e-9
+            if processed and (self.grid is None or due):
+                self._publish_map(state.t)
+        elif self.delay.offer(scan[2], scan, self._update_slam):
             self._publish_map(state.t)
         self.timing["map_source"] += time.perf_counter() - tick
         laser = self.sim.laser
@@ -204,8 +202,9 @@ class ClosedLoop:
         self._last_map_t = t
         self.navigator.set_map(self.grid)
 
-    def _delayed_update(self, stamp: float, scan) -> tuple[bool, np.ndarray]:
-        """GMapping handles a queued scan (compute delay); (processed, ranges)."""
+    def _update_slam(self, stamp: float, scan) -> tuple[bool, np.ndarray]:
+        """The map source handles a scan (odometry pose, ranges, stamp) at once or from the
+        compute delay's queue; refreshes map → odom when it was processed. (processed, ranges)"""
         odom_pose, ranges, _ = scan
         processed = self.source.update(odom_pose, ranges, stamp) is not None
         if processed:

@@ -123,7 +123,7 @@ def run(data: SlamInput, slam_type: str, params, seed: int,
     cpu0, wall0 = time.process_time(), time.perf_counter()
     slam = backends.create(slam_type, params=params, laser=data.laser,
                            rng=rng if rng is not None else np.random.default_rng(seed))
-    delay = for_backend(compute, slam, getattr(slam, "map_update_interval", 5.0))
+    delay = for_backend(compute, slam, slam.map_update_interval)
     indices = []
 
     def handle(_stamp: float, k: int) -> tuple[bool, np.ndarray]:
