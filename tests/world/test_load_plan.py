@@ -99,6 +99,17 @@ def test_snap_start_moves_a_pose_out_of_the_pillar(tmp_path):
     assert np.hypot(*world.start_pose[:2]) < 0.6
 
 
+@pytest.mark.parametrize("resolution", [0.05, 0.1])
+def test_a_snapped_start_leaves_the_footprint_free_at_every_yaw(tmp_path, resolution):
+    from slam_predict.sim.raycast import LaserGrid
+    world = load_plan(plan_png(tmp_path / "p.png"), resolution=resolution, start=(0.0, 0.0),
+                      snap_start=True)
+    grid = LaserGrid.of_world(world)
+    x, y = world.start_pose[:2]
+    side = world.robot.footprint_side
+    assert not any(grid.collides(x, y, yaw, side) for yaw in np.linspace(0, np.pi, 13))
+
+
 @pytest.mark.parametrize("kwargs, fragment", [
     ({"resolution": 0}, "--resolution must be > 0"),
     ({"resolution": -0.05}, "--resolution must be > 0"),

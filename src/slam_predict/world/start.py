@@ -37,14 +37,21 @@ def default_start(world: World) -> np.ndarray:
 
 
 def robot_radius(world: World) -> float:
-    """Half the footprint side, m: the clearance a start cell needs."""
+    """Half the footprint side, m: the clearance below which a start pose is moved."""
     return world.robot.footprint_side / 2.0
 
 
+def start_clearance(world: World) -> float:
+    """Clearance (m, between cell centres) that keeps the square footprint, at any yaw, off
+    every occupied cell: its circumscribed radius plus half a cell's diagonal."""
+    return math.sqrt(2.0) * (world.robot.footprint_side + world.resolution) / 2.0
+
+
 def snap_to_free(world: World, pose: np.ndarray) -> np.ndarray:
-    """Move ``pose`` to the nearest cell centre whose clearance exceeds the robot radius."""
+    """Move ``pose`` to the nearest cell centre from which the footprint touches no obstacle
+    at any yaw (:func:`start_clearance`)."""
     clear = clearance_m(world)
-    ok = clear > robot_radius(world)
+    ok = clear > start_clearance(world)
     if not ok.any():
         ok = clear > 0
     rows, cols = np.nonzero(ok)
