@@ -32,6 +32,8 @@ def settings_with(tmp_path: Path, body: str, name: str = "s.yaml") -> Path:
 def bad_world(tmp_path: Path, kind: str) -> Path:
     text = TINY.read_text()
     content = {"empty": "", "garbage": None, "syntax": "window( size [ 10 10 \n",
+               "start_at_wall": text.replace("pose [ -3.75 -2.575 0 0 ]", "pose [ -2.3 0 0 0 ]")
+               .replace('bitmap "tiny.png"', f'bitmap "{TINY.parent / "tiny.png"}"'),
                "unknown_keyword": text.replace("\nfloorplan\n", "\nflurplan\n"),
                "missing_bitmap": text.replace('bitmap "tiny.png"', 'bitmap "none.png"')}[kind]
     path = tmp_path / f"{kind}.world"
@@ -55,6 +57,8 @@ BAD_INPUTS = [
     ("unknown keyword world", lambda t: [str(bad_world(t, "unknown_keyword"))], ["flurplan"]),
     ("world bitmap missing", lambda t: [str(bad_world(t, "missing_bitmap"))],
      ["missing_bitmap.world"]),
+    ("footprint on a wall at the start", lambda t: [str(bad_world(t, "start_at_wall"))],
+     ["start_at_wall.world", "overlaps an obstacle"]),
     ("one bad world of two", lambda t: [str(TINY), str(bad_world(t, "empty"))], ["empty.world"]),
     ("negative max_snapshots", with_settings("stop:\n  max_snapshots: -5\n"),
      ["s.yaml", "max_snapshots"]),

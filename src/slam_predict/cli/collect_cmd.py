@@ -78,11 +78,23 @@ def load_worlds(worlds: dict[str, str]) -> None:
 
     for path in worlds.values():
         try:
-            load_plan(path)
+            world = load_plan(path)
         except InputError:
             raise
         except (OSError, ValueError) as exc:
             raise InputError(f"cannot load the world: {exc}", path) from None
+        check_start_footprint(world, path)
+
+
+def check_start_footprint(world, path: str) -> None:
+    """InputError when the robot's footprint at the world's start pose overlaps an obstacle:
+    Stage would stall every move of such a run."""
+    from slam_predict.sim.raycast import LaserGrid
+
+    x, y, yaw = world.start_pose
+    if LaserGrid.of_world(world).collides(x, y, yaw, world.robot.footprint_side):
+        raise InputError(f"the robot's footprint at the start pose ({x:.2f}, {y:.2f}) overlaps "
+                         "an obstacle, so every move would stall (move robot_pose)", path)
 
 
 def run(args: argparse.Namespace) -> int:
