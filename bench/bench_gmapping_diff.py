@@ -29,9 +29,10 @@ github.com/ros-perception/openslam_gmapping; it is built once into ``<out>/build
 (default: slam_gmapping's defaults). ``--runs`` takes collected run folders (or campaign folders
 holding them) with a sensor log: each run's ``sensors.log.gz`` is replayed with the GMapping
 parameters its run.json records, and a second table puts both sides' errors beside the run's
-own (``gmapping_diff/collected_runs.py``) with the median ratio over runs. ``--set`` overrides
-parameters on both sides; the real side's beam angles follow ``range_sensor_angles`` (true: the
-node's RangeSensor angles, false: the scan's own). ``--ours-stream numpy`` runs ours on
+own (``gmapping_diff/collected_runs.py``) with the median ratio over runs; a run collected with
+the compute delay gives both sides only the scans its in-loop GMapping was handed. ``--set``
+overrides parameters on both sides; the real side's beam angles follow ``range_sensor_angles``
+(true: the node's RangeSensor angles, false: the scan's own). ``--ours-stream numpy`` runs ours on
 ``numpy.random.default_rng(seed)`` instead (independent noise: compare distributions, not
 seeds). ``--map-check`` adds issue #4's map check per run and side
 (``gmapping.runner.map_agreement_with_reference``: % of each map's occupied cells within 2 cells
@@ -61,6 +62,7 @@ LOGS = ("intel", "aces", "csail", "freiburg-101")
 sys.path.insert(0, str(ROOT / "bench" / "gmapping_diff"))
 import collected_runs as collected  # noqa: E402  (bench/gmapping_diff/collected_runs.py)
 
+HANDED_DIR = None  # set by main: <out>/handed, the cached handed-scan lists of collected runs
 BUILD_SCRIPT = ROOT / "bench" / "gmapping_diff" / "build.sh"
 DRIVER_SOURCE = ROOT / "bench" / "gmapping_diff" / "driver.cpp"
 HOW_TO_GET = ("the real openslam_gmapping is needed: put a checkout of "
@@ -109,13 +111,18 @@ def _load(log: str, config: str | None, overrides_json: str):
     from slam_predict.slam.runner import read_input
 
     path, cfg, short = log_source(log, config)
+    data = read_input(path)
     if collected.is_run(Path(log)):
         values, origin = collected.recorded_params(Path(log)), f"{log}/run.json"
+        cache = Path(HANDED_DIR, f"{short}.txt") if HANDED_DIR else None
+        handed = collected.handed_scans(Path(log), data, cache)
+        if handed is not None:
+            data = data.take(handed)
     else:
         values, origin = (dict(load_yaml(cfg) or {}) if cfg else {}), str(cfg or "--set")
     values.update(json.loads(overrides_json))
     build = params_from_record if collected.is_run(Path(log)) else params_from_dict
-    return read_input(path), build(values, origin), short
+    return data, build(values, origin), short
 
 
 def error_of(data, indices, poses) -> dict:
@@ -306,6 +313,8 @@ def main() -> int:
               + HOW_TO_GET, file=sys.stderr)
         return 2
     out = Path(args.out)
+    global HANDED_DIR
+    HANDED_DIR = str(out / "handed")
     driver = build_driver(Path(args.upstream), out / "build")
     overrides = {k: yaml.safe_load(v) for k, v in (item.split("=", 1) for item in args.set)}
     variant = "_".join(sorted(args.set)) or "default"

@@ -4,7 +4,10 @@ A collected run folder (``slam-predict collect`` with ``sensor_logs: true``) hol
 ``sensors.log.gz`` (CARMEN, ground truth as the reference poses), ``run.json`` (its ``sensor_logs``
 entry records the in-loop GMapping parameters) and ``slam_scans.tum`` (the in-loop GMapping's
 final best-particle trajectory at its processed scans). Both sides of the check replay the log
-with the run's recorded parameters; the run's own errors are reported beside theirs:
+with the run's recorded parameters. A run collected with slam_gmapping's compute delay
+(run.json ``slam_compute``) is replayed on both sides with only the scans its in-loop GMapping was
+handed (:func:`handed_scans`), so both GMappings see the in-loop scan sequence. The run's own
+errors are reported beside theirs:
 
 - ``loop_trans_m`` / ``loop_rot_deg``: run.json ``metric`` (the campaign's figure: thesis
   sampling on the pause-free online trajectory);
@@ -53,6 +56,30 @@ def run_name(folder: Path) -> str:
 def recorded_params(folder: Path) -> dict:
     """The in-loop GMapping parameters (ROS names) recorded in run.json."""
     return dict(json.loads((folder / RUN_JSON).read_text())["sensor_logs"]["gmapping"])
+
+
+def handed_scans(folder: Path, data, cache: Path | None = None) -> np.ndarray | None:
+    """Indices of the log's scans the in-loop GMapping was handed under the run's compute delay
+    (None when the run had none): our replay with the run's recorded generator and delay, which
+    reproduces the in-loop trajectory (checked against ``slam_scans.tum``). Cached in ``cache``."""
+    from slam_predict.formats.tum import read_tum
+    from slam_predict.slam import runner
+
+    setup = runner.recorded_run(folder / SENSOR_LOG)
+    if setup is None or setup.compute is None or setup.compute.model == "none":
+        return None
+    if cache is not None and cache.is_file():
+        return np.loadtxt(cache, dtype=np.int64, ndmin=1)
+    replay = runner.run(data, setup.slam_type, setup.params, setup.seed, rng=setup.rng(),
+                        compute=setup.compute)
+    times, poses = read_tum(folder / SLAM_SCANS)
+    if not (np.allclose(replay.times, times, atol=1e-6) and np.allclose(replay.poses[:, :2],
+                                                                        poses[:, :2], atol=1e-6)):
+        raise SystemExit(f"{folder}: the replay does not reproduce {SLAM_SCANS}")
+    if cache is not None:
+        cache.parent.mkdir(parents=True, exist_ok=True)
+        np.savetxt(cache, replay.handed, fmt="%d")
+    return replay.handed
 
 
 def match_times(log_times: np.ndarray, times: np.ndarray, tolerance_s: float = 1e-6):

@@ -93,6 +93,24 @@ def test_replay_applies_the_runs_compute_delay(tmp_path, capsys):
     assert len(in_loop) > 5 and replayed == in_loop
     stats = json.loads((out / "stats.json").read_text())
     assert stats["slam_compute"]["scans_dropped"] == record["slam_compute"]["scans_dropped"]
+    check_handed_scans_alone_give_the_in_loop_trajectory(folder, record)
+
+
+def check_handed_scans_alone_give_the_in_loop_trajectory(folder: Path, record: dict):
+    """The scans the delay handed GMapping, fed without a delay, give the in-loop trajectory
+    (what the differential check feeds both GMappings of a delayed run)."""
+    from slam_predict.slam import runner
+
+    setup = runner.recorded_run(folder / SENSOR_BAG)
+    data = runner.read_input(folder / SENSOR_BAG)
+    delayed = runner.run(data, setup.slam_type, setup.params, setup.seed, rng=setup.rng(),
+                         compute=setup.compute)
+    assert len(delayed.handed) == record["slam_compute"]["scans_handled"] < len(data)
+    lockstep = runner.run(data.take(delayed.handed), setup.slam_type, setup.params, setup.seed,
+                          rng=setup.rng())
+    assert lockstep.handed is None
+    assert np.array_equal(lockstep.poses, delayed.poses)
+    assert np.array_equal(lockstep.times, delayed.times)
 
 
 def test_replay_with_another_seed_differs(collected, tmp_path):

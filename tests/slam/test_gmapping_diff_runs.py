@@ -113,3 +113,29 @@ def test_runs_table_gives_each_ratio_and_their_median():
                                                   ("| b", "1.00", "1.00–1.00"),
                                                   ("| c", "0.50", "0.50–0.50")]
     assert "median ratio over 3 runs: 1.00 (min 0.50, max 2.00)" in text
+
+
+def test_a_delayed_run_gives_both_sides_only_the_scans_its_gmapping_was_handed(tmp_path):
+    from slam_predict.explore.compute_delay import ComputeDelayConfig
+
+    settings = load_settings()
+    settings.slam.params = dataclasses.replace(settings.slam.params, particles=6)
+    settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=30.0, small_interval_s=30.0)
+    settings.sensor_logs = True
+    settings.compute = ComputeDelayConfig(model="cost", scan_s=0.35, rebuild_s_per_map_cell=2e-8)
+    run = tmp_path / "tiny" / "run_000"
+    record = run_episode(RunSpec(str(ROOT / "worlds" / "tiny.world"), "tiny", 0, 5, str(run)),
+                         settings)
+    handled = record["slam_compute"]["scans_handled"]
+    assert handled < record["sensor_logs"]["scans"]
+    bench = _bench()
+    bench.HANDED_DIR = str(tmp_path / "handed")
+    data, params, short = bench.load(str(run), None, {})
+    assert len(data) == handled and (tmp_path / "handed" / f"{short}.txt").is_file()
+    # fed without a delay, the handed scans give the in-loop trajectory (slam_scans.tum)
+    recorded = runner.recorded_run(run / "sensors.log.gz")
+    result = runner.run(data, "gmapping", params, recorded.seed, rng=recorded.rng())
+    own = bench.collected.in_loop_errors(run, data)
+    error = bench.error_of(data, result.indices, result.poses)
+    assert own["scans_trans_m"] == pytest.approx(error["trans_mean_m"], rel=1e-9)
+    assert own["slam_scans"] == len(result.indices)

@@ -36,7 +36,9 @@ LOG = logging.getLogger(__name__)
 @dataclass
 class RunResult:
     """A finished run: processed-scan indices into the input, times, map-frame robot poses,
-    the raw odometry and reference poses at those scans, the final map and statistics."""
+    the raw odometry and reference poses at those scans, the final map and statistics;
+    ``handed``: with a compute delay, the indices of the scans the back-end was handed (the
+    others were dropped while it was busy), else None."""
 
     indices: np.ndarray
     times: np.ndarray
@@ -46,6 +48,7 @@ class RunResult:
     grid: OccupancyGrid
     stats: dict
     slam: SlamBackend = field(repr=False, default=None)
+    handed: np.ndarray | None = None
 
 
 def read_input(path: os.PathLike | str, max_scans: int | None = None,
@@ -124,9 +127,10 @@ def run(data: SlamInput, slam_type: str, params, seed: int,
     slam = backends.create(slam_type, params=params, laser=data.laser,
                            rng=rng if rng is not None else np.random.default_rng(seed))
     delay = for_backend(compute, slam, slam.map_update_interval)
-    indices = []
+    indices, handed = [], []
 
     def handle(_stamp: float, k: int) -> tuple[bool, np.ndarray]:
+        handed.append(k)
         processed = slam.update(data.odometry[k], data.ranges[k], data.times[k]) is not None
         if processed:
             indices.append(k)
@@ -156,7 +160,8 @@ def run(data: SlamInput, slam_type: str, params, seed: int,
     LOG.info("%s: %d/%d scans processed, CPU %.1f s", data.path, stats["scans_processed"],
              len(data), stats["cpu_s"])
     reference = data.reference[index] if data.reference is not None else None
-    return RunResult(index, times, poses, data.odometry[index], reference, grid, stats, slam)
+    return RunResult(index, times, poses, data.odometry[index], reference, grid, stats, slam,
+                     np.asarray(handed, dtype=np.int64) if delay is not None else None)
 
 
 def evaluate(result: RunResult, n_pairs: int = 5000, seed: int = 0) -> dict:

@@ -9,6 +9,7 @@ unknown, it is the largest reading of the log (CARMEN's no-return value).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from dataclasses import dataclass, field
@@ -34,6 +35,13 @@ class SlamInput:
 
     def __len__(self) -> int:
         return len(self.times)
+
+    def take(self, indices) -> SlamInput:
+        """The scans at ``indices`` (in that order), e.g. those a compute delay let through."""
+        index = np.asarray(indices, dtype=np.int64)
+        reference = self.reference[index] if self.reference is not None else None
+        return dataclasses.replace(self, times=self.times[index], odometry=self.odometry[index],
+                                   ranges=self.ranges[index], reference=reference)
 
 
 def read_carmen_input(path: os.PathLike | str, max_scans: int | None = None) -> SlamInput:
