@@ -37,12 +37,23 @@ def test_start_in_wall_or_outside_is_an_error():
 
 
 def test_snap_moves_to_nearest_clear_cell():
-    world = resolve_start(two_rooms(), [-2.95, 1.95, 10.0], snap=True)
-    row, col = world.world_to_cell(world.start_pose[:2])
-    assert not world.occupied[row, col]
-    assert np.hypot(*(world.start_pose[:2] - [-2.95, 1.95])) < 0.9
-    clear = np.hypot(*(world.start_pose[:2] - [-2.5, 1.5]))  # room corner
-    assert clear >= 0.15
+    """The snap target is the nearest cell centre farther than start_clearance from every
+    occupied cell centre (brute force), and the footprint there is free at every yaw."""
+    from slam_predict.sim.raycast import LaserGrid
+    from slam_predict.world.start import start_clearance
+
+    base = two_rooms()
+    world = resolve_start(base, [-2.95, 1.95, 10.0], snap=True)
+    occupied = base.cell_to_world(np.argwhere(base.occupied))
+    free = base.cell_to_world(np.argwhere(~base.occupied))
+    nearest_wall = np.array([np.hypot(*(occupied - c).T).min() for c in free])
+    ok = free[nearest_wall > start_clearance(base)]
+    best = ok[np.argmin(np.hypot(*(ok - [-2.95, 1.95]).T))]
+    assert np.allclose(world.start_pose[:2], best)
+    grid = LaserGrid.of_world(world)
+    x, y = world.start_pose[:2]
+    assert not any(grid.collides(x, y, yaw, world.robot.footprint_side)
+                   for yaw in np.linspace(0.0, np.pi, 13))
     assert np.isclose(world.start_pose[2], np.radians(10.0))
 
 
