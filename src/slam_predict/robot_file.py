@@ -19,7 +19,7 @@ did-you-mean hint; every error is an :class:`~slam_predict.errors.InputError` na
     odom_model: uniform_per_run  # one of sensor.ODOM_MODELS (default uniform_per_run)
     footprint_side: 0.3          # m, square footprint, > 0 (default 0.3)
     max_vel_x: 0.85              # m/s, > 0: base_local_planner's (default 0.85)
-    max_vel_theta: 0.7           # rad/s, > 0: base_local_planner's, so rad/s (default 0.7)
+    max_vel_theta: 0.7           # rad/s, > 0: base_local_planner's (default 0.7)
 
 The odometry errors are the bounds (or, with ``odom_model: fixed``, the biases, here >= 0) of
 :class:`~slam_predict.sensor.OdomConfig`: 2.0 °/rad is 2·π/180 = 0.0349 rad/rad. The

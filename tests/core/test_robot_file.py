@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from slam_predict.config import load_config
+from slam_predict.config import from_dict, load_config, to_dict
 from slam_predict.errors import InputError
 from slam_predict.robot_file import RobotDescription, RobotLaser, load_robot
 from slam_predict.sim import SimConfig
@@ -57,6 +57,12 @@ def test_each_example_loads_and_names_itself(name):
     assert sensor.laser.range_max == robot.laser.range_max
     assert robot.max_vel_x == 0.85 and robot.max_vel_theta == 0.7
     assert robot.footprint_side == 0.3
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_dict_round_trip(name):
+    robot = load_robot(ROBOTS / f"{name}.yaml")
+    assert from_dict(RobotDescription, to_dict(robot)) == robot
 
 
 @pytest.mark.parametrize("name, fov, samples, range_min, range_max, rate, odom", [
