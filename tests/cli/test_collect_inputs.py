@@ -44,6 +44,20 @@ def bad_world(tmp_path: Path, kind: str) -> Path:
     return path
 
 
+def bad_robot(tmp_path: Path, old: str, new: str) -> Path:
+    """The LDS-01 class robot file with ``old`` replaced by ``new``."""
+    text = (ROOT / "config" / "robots" / "lds_360_3p5.yaml").read_text()
+    assert old in text
+    path = tmp_path / "bad_robot.yaml"
+    path.write_text(text.replace(old, new))
+    return path
+
+
+def with_robot(old: str, new: str):
+    """Arguments (given tmp_path) collecting the tiny world with a spoilt robot file."""
+    return lambda t: [str(TINY), "--robot", str(bad_robot(t, old, new))]
+
+
 def with_settings(body: str):
     """Arguments (given tmp_path) collecting the tiny world with a settings file of ``body``."""
     return lambda t: [str(TINY), "--settings", str(settings_with(t, body))]
@@ -65,6 +79,16 @@ BAD_INPUTS = [
     ("confidence out of range", with_settings("metric:\n  confidence: 1.5\n"), ["confidence"]),
     ("unknown nested key", with_settings("stop:\n  max_snapshot: 3\n"), ["s.yaml", "max_snapshot"]),
     ("unknown top-level key", with_settings("stpo:\n  max_snapshots: 3\n"), ["stpo"]),
+    ("robot file missing", lambda t: [str(TINY), "--robot", str(t / "none.yaml")],
+     ["none.yaml", "robot file not found"]),
+    ("robot unknown key", with_robot("  fov: 360.0", "  fvo: 360.0"),
+     ["bad_robot.yaml", "'fvo'", "did you mean 'fov'"]),
+    ("robot negative range", with_robot("range_max: 3.5", "range_max: -3.5"),
+     ["bad_robot.yaml", "laser.range_max", "> 0"]),
+    ("robot fov over 360", with_robot("fov: 360.0", "fov: 400.0"),
+     ["bad_robot.yaml", "laser.fov", "(0, 360]"]),
+    ("robot slower than the planner", with_robot("max_vel_x: 0.85", "max_vel_x: 0.05"),
+     ["bad_robot.yaml", "min_vel_x"]),
     ("--jobs 0", lambda t: [str(TINY), "--jobs", "0"], ["--jobs"]),
     ("--runs 0", lambda t: [str(TINY), "--runs", "0"], ["--runs"]),
     ("--max-runs 0", lambda t: [str(TINY), "--runs", "auto", "--max-runs", "0"], ["--max-runs"]),

@@ -35,6 +35,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--settings", metavar="YAML",
                         help="collection settings (robot, gmapping, navigation, exploration, "
                              "stopping); default config/collect.yaml")
+    parser.add_argument("--robot", metavar="YAML",
+                        help="robot description file (laser, odometry error, footprint, speed "
+                             "limits; e.g. config/robots/lds_360_3p5.yaml) applied over the "
+                             "settings")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--force", action="store_true",
                         help="resume a campaign even with another --seed or other settings than "
@@ -72,8 +76,10 @@ def parse_runs(text: str):
     return int(text)
 
 
-def load_worlds(worlds: dict[str, str]) -> None:
-    """Parse every world of the batch once, before any run starts (one error line each)."""
+def load_worlds(worlds: dict[str, str], footprint_side: float | None = None) -> None:
+    """Parse every world of the batch once, before any run starts (one error line each);
+    ``footprint_side`` (m) is the simulator's footprint when the settings override the
+    World's."""
     from slam_predict.world.load import load_plan
 
     for path in worlds.values():
@@ -83,16 +89,17 @@ def load_worlds(worlds: dict[str, str]) -> None:
             raise
         except (OSError, ValueError) as exc:
             raise InputError(f"cannot load the world: {exc}", path) from None
-        check_start_footprint(world, path)
+        check_start_footprint(world, path, footprint_side)
 
 
-def check_start_footprint(world, path: str) -> None:
-    """InputError when the robot's footprint at the world's start pose overlaps an obstacle:
-    Stage would stall every move of such a run."""
+def check_start_footprint(world, path: str, footprint_side: float | None = None) -> None:
+    """InputError when the robot's footprint (``footprint_side`` m, else the World's) at the
+    world's start pose overlaps an obstacle: Stage would stall every move of such a run."""
     from slam_predict.sim.raycast import LaserGrid
 
     x, y, yaw = world.start_pose
-    if LaserGrid.of_world(world).collides(x, y, yaw, world.robot.footprint_side):
+    side = world.robot.footprint_side if footprint_side is None else footprint_side
+    if LaserGrid.of_world(world).collides(x, y, yaw, side):
         raise InputError(f"the robot's footprint at the start pose ({x:.2f}, {y:.2f}) overlaps "
                          "an obstacle, so every move would stall (move robot_pose)", path)
 
@@ -109,13 +116,15 @@ def run(args: argparse.Namespace) -> int:
     check_at_least(args.jobs, 1, "--jobs")
     check_at_least(args.max_runs, 1, "--max-runs")
     worlds = find_worlds(args.worlds)
-    settings = load_settings(args.settings)
+    settings = load_settings(args.settings, robot=args.robot)
     out = Path(args.out)
     check_out_folder(out)
     check_creatable(out)
-    load_worlds(worlds)
+    load_worlds(worlds, settings.sim.robot.footprint_side)
     open_campaign(out, identity(settings, args.seed, code_version()), force=args.force)
     options = {"settings": args.settings} if args.settings else {}
+    if args.robot:
+        options["robot"] = args.robot
     config = BatchConfig(runs=runs, max_runs=args.max_runs, jobs=args.jobs,
                          scheduler=args.scheduler, base_seed=args.seed,
                          progress=not args.no_progress, options=options)

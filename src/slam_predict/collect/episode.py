@@ -121,7 +121,7 @@ def run_episode(spec, settings: CollectSettings | None = None) -> dict:
     from slam_predict.nav.costmap import inscribed_radius
     from slam_predict.world.load import load_plan
 
-    settings = settings or load_settings(spec.options.get("settings"))
+    settings = settings or load_settings(spec.options.get("settings"), spec.options.get("robot"))
     world = load_plan(spec.world_path)
     loop = ClosedLoop(world, spec.seed, settings.nav, settings.explore, settings.sim,
                       map_source=settings.slam.type, slam_params=settings.slam.params,

@@ -13,6 +13,7 @@ deprecation warning.
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 import os
 import warnings
@@ -109,8 +110,11 @@ class CollectSettings:
         return {name: config_hash(value) for name, value in self.components().items()}
 
 
-def load_settings(path: os.PathLike | str | None = None) -> CollectSettings:
-    """Load collect.yaml (default: the package's config/collect.yaml) and the files it names."""
+def load_settings(path: os.PathLike | str | None = None,
+                  robot: os.PathLike | str | None = None) -> CollectSettings:
+    """Load collect.yaml (default: the package's config/collect.yaml) and the files it names;
+    with ``robot``, a robot description file (:mod:`slam_predict.robot_file`) applied over them
+    (:func:`with_robot`)."""
     from slam_predict.explore.explorer import ExploreConfig
     from slam_predict.nav.config import load_nav_config
     from slam_predict.sim import SimConfig
@@ -123,12 +127,47 @@ def load_settings(path: os.PathLike | str | None = None) -> CollectSettings:
         sim = from_dict(SimConfig, sim_tree, f"{robot_file} + {path} sim_overrides")
     else:
         sim = load_config(SimConfig, robot_file, "sim")
-    return CollectSettings(
+    settings = CollectSettings(
         sim=sim, slam=load_slam(files.slam, path),
         nav=load_nav_config(Path(files.navigation)),
         explore=load_config(ExploreConfig, Path(files.explore)),
         stop=files.stop, metric=files.metric, bag=files.bag, source=str(path),
         sensor_logs=files.sensor_logs, compute=files.slam_compute)
+    if robot is None:
+        return settings
+    from slam_predict.robot_file import load_robot
+
+    return with_robot(settings, load_robot(robot), os.fspath(robot))
+
+
+def with_robot(settings: CollectSettings, robot, robot_path: str) -> CollectSettings:
+    """``settings`` for the robot of a :class:`~slam_predict.robot_file.RobotDescription`: its
+    ``sim_overrides`` merged over the simulator config (last, after the settings' own), its
+    ``nav_overrides`` and ``explore_overrides`` over the navigation and exploration configs
+    and, for GMapping, its range caps. InputError naming ``robot_path`` when the result is
+    invalid (e.g. max_vel_x below the planner's min_vel_x)."""
+    from slam_predict.nav.config import MoveBaseConfig
+    from slam_predict.sim import SimConfig
+
+    sim = from_dict(SimConfig, merge_trees(to_dict(settings.sim), robot.sim_overrides()),
+                    robot_path, "sim")
+    nav = from_dict(MoveBaseConfig, merge_trees(to_dict(settings.nav), robot.nav_overrides()),
+                    robot_path)
+    explore = from_dict(type(settings.explore), merge_trees(to_dict(settings.explore),
+                                                            robot.explore_overrides()),
+                        robot_path)
+    planner = nav.TrajectoryPlannerROS
+    if planner.max_vel_x < planner.min_vel_x:
+        raise InputError(f"max_vel_x {robot.max_vel_x} m/s is below the planner's min_vel_x "
+                         f"{planner.min_vel_x} m/s", robot_path)
+    if planner.max_vel_theta < planner.min_in_place_vel_theta:
+        raise InputError(f"max_vel_theta {robot.max_vel_theta} rad/s is below the planner's "
+                         f"min_in_place_vel_theta {planner.min_in_place_vel_theta} rad/s",
+                         robot_path)
+    slam = settings.slam
+    if slam.type == "gmapping":
+        slam = dataclasses.replace(slam, params=robot.gmapping_caps(slam.params))
+    return dataclasses.replace(settings, sim=sim, nav=nav, explore=explore, slam=slam)
 
 
 def load_slam(section: SlamSection, settings_path: Path) -> SlamChoice:
