@@ -5,6 +5,11 @@ m, rotation in rad and deg), each with its 90 % interval and the model used; ``-
 one JSON object instead. PLAN is an image (with ``--resolution`` or a map_server YAML beside
 it), a map YAML, a Stage .world or a layout XML; ``--world W`` takes the scale and the start
 pose from the Stage world W (PLAN may then be omitted: W's own floorplan is used).
+
+``--simulate N|auto --out DIR`` also runs N simulated explorations of PLAN (with ``--robot``
+and ``--settings``) and prints the measured components beside the prediction
+(:mod:`slam_predict.cli.predict_simulate`). The models do not take the robot as input:
+``--robot`` without ``--simulate`` only adds a warning saying so.
 """
 from __future__ import annotations
 
@@ -12,7 +17,7 @@ import argparse
 import json
 import math
 
-from slam_predict.cli import plan_checks
+from slam_predict.cli import plan_checks, predict_simulate
 from slam_predict.errors import InputError
 
 NAME = "predict"
@@ -42,6 +47,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--models-dir", metavar="DIR", help="model folders (default models/)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     plan_checks.add_arguments(parser)
+    predict_simulate.add_arguments(parser)
 
 
 def _world_scale(world_path: str, plan: str):
@@ -125,10 +131,23 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.predict import components_of, predict_plan
 
     components = components_of(args.component)  # before the (slow) feature computation
-    world = plan_checks.load_checked(load_world, args)
-    plan_checks.show_progress()
+    predict_simulate.check_options(args)
     setting = args.setting or ("realistic" if args.model == "best" else None)
-    result = predict_plan(world, args.model, setting, args.component, args.models_dir)
+
+    def predict(world) -> dict:
+        plan_checks.show_progress()
+        return predict_plan(world, args.model, setting, args.component, args.models_dir)
+
+    if args.simulate is not None:
+        return predict_simulate.run(args, components, predict)
+    if args.robot:
+        from slam_predict.robot_file import load_robot
+
+        load_robot(args.robot)  # a bad robot file is an error even without --simulate
+    result = predict(plan_checks.load_checked(load_world, args))
+    if args.robot:
+        result["warnings"].insert(0, f"model {result['model_store']} "
+                                     f"{predict_simulate.ROBOT_NOTE} ({args.robot})")
     if args.json:
         keys = ["world", "setting", "model_store", "confidence", *components, "free_space",
                 "warnings", "features"]
