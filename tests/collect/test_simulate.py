@@ -71,3 +71,41 @@ def test_plan_identity_and_refusal_of_another_plan(root, tmp_path):
     with pytest.raises(campaign.CampaignMismatch, match="'slam-predict collect' campaign"):
         check_resume(tmp_path, record)
     assert campaign.mismatch(collect_record, collect_record) is None  # collect: unchanged
+
+
+@pytest.fixture
+def fake_runs(monkeypatch):
+    """`predict --simulate` with the batch's stand-in episode (tests/collect/fake_episode.py:
+    ε_t uniform in [0.1, 0.3] m, so the run-count rule asks for about 15 runs)."""
+    import functools
+
+    from slam_predict.collect import batch
+
+    monkeypatch.setattr(batch, "BatchConfig",
+                        functools.partial(batch.BatchConfig, episode="fake_episode:run_episode"))
+
+
+def simulate_auto(root, out, max_runs, capsys):
+    from slam_predict.cli.main import main
+
+    code = main(["predict", str(root / "worlds" / "tiny.world"), "--simulate", "auto", "--out",
+                 str(out), "--max-runs", str(max_runs), "--no-progress", "--json",
+                 "--component", "trans_mean"])
+    assert code == 0, capsys.readouterr().err
+    return json.loads(capsys.readouterr().out)["simulation"]
+
+
+def test_auto_follows_the_run_count_rule_and_says_when_capped(root, tmp_path, fake_runs,
+                                                              capsys):
+    from slam_predict.collect.store import RunStore
+    from slam_predict.metric.sampling import run_count
+
+    sim = simulate_auto(root, tmp_path / "capped", 12, capsys)
+    assert sim["runs"] == 12 and sim["runs_new"] == 12
+    assert len(sim["notes"]) == 1 and "--max-runs 12" in sim["notes"][0]
+    sim = simulate_auto(root, tmp_path / "free", 60, capsys)
+    runs = RunStore(tmp_path / "free").records("tiny")
+    assert sim["runs"] == len(runs) > 12 and sim["notes"] == []
+    values = [[r["metric"][k] for r in runs] for k in ("trans_mean", "rot_mean")]
+    assert not run_count(*values).more_needed  # stopped once the rule was met, before the cap
+    assert run_count(*[v[:10] for v in values]).more_needed  # the pilot alone was not enough
