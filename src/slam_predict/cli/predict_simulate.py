@@ -117,7 +117,7 @@ def simulate(args: argparse.Namespace, world, runs, current) -> dict:
 
 def format_text(result: dict, components) -> str:
     """Measured and predicted values per component, then notes and warnings."""
-    from slam_predict.cli.predict_cmd import LABELS, _entry_text, _value_text
+    from slam_predict.cli.predict_format import LABELS, entry_text, value_text
 
     sim = result["simulation"]
     robot = sim["robot"] or "the settings' robot"
@@ -131,21 +131,18 @@ def format_text(result: dict, components) -> str:
         lines.append(f"  {comp:<10s} {LABELS[comp]}")
         if sim["measured"] is not None:
             m = sim["measured"][comp]
-            lines.append(f"      measured   {_value_text(m, '95 %')} [{m['method']}]")
+            lines.append(f"      measured   {value_text(m, '95 %')} [{m['method']}]")
         e = result[comp]
         model = f"  [{e['model']}]" if e["model"] else ""
-        lines.append(f"      predicted  {_entry_text(e, conf)}{model}")
+        lines.append(f"      predicted  {entry_text(e, conf)}{model}")
     lines += [f"note: {n}" for n in sim["notes"]]
     lines += [f"warning: {w}" for w in result["warnings"]]
     return "\n".join(lines)
 
 
-def run(args: argparse.Namespace, components, predict) -> int:
-    """Check inputs, predict (``predict(world) -> result``), simulate, print both."""
-    from slam_predict.cli import plan_checks
-    from slam_predict.cli.predict_cmd import load_world
-
-    world = plan_checks.load_checked(load_world, args)
+def run(args: argparse.Namespace, world, components, predict) -> int:
+    """Check the simulation inputs for ``world`` (the loaded, checked plan), predict
+    (``predict(world) -> result``), simulate, print both."""
     runs, current = _prepare(args, world)
     result = predict(world)
     sim = simulate(args, world, runs, current)
