@@ -67,12 +67,12 @@ def find_worlds(items: list[str]) -> dict[str, str]:
     return worlds
 
 
-def parse_runs(text: str):
-    """'auto' or a positive run count."""
+def parse_runs(text: str, option: str = "--runs"):
+    """'auto' or a positive run count (``option`` names it in the error)."""
     if text == "auto":
         return text
     if not text.isdigit() or int(text) < 1:
-        raise InputError(f"--runs must be a positive integer or 'auto', got '{text}'")
+        raise InputError(f"{option} must be a positive integer or 'auto', got '{text}'")
     return int(text)
 
 

@@ -5,6 +5,11 @@ m, rotation in rad and deg), each with its 90 % interval and the model used; ``-
 one JSON object instead. PLAN is an image (with ``--resolution`` or a map_server YAML beside
 it), a map YAML, a Stage .world or a layout XML; ``--world W`` takes the scale and the start
 pose from the Stage world W (PLAN may then be omitted: W's own floorplan is used).
+
+``--simulate N|auto --out DIR`` also runs N simulated explorations of PLAN (with ``--robot``
+and ``--settings``) and prints the measured components beside the prediction
+(:mod:`slam_predict.cli.predict_simulate`). The models do not take the robot as input:
+``--robot`` without ``--simulate`` only adds a warning saying so.
 """
 from __future__ import annotations
 
@@ -12,14 +17,13 @@ import argparse
 import json
 import math
 
-from slam_predict.cli import plan_checks
+from slam_predict.cli import plan_checks, predict_simulate
+from slam_predict.cli.predict_format import LABELS, format_text  # noqa: F401  (LABELS re-exported)
 from slam_predict.errors import InputError
 
 NAME = "predict"
 HELP = "predict GMapping's localization error on a floor plan"
 COMPONENT_CHOICES = ("all", "trans_mean", "trans_std", "rot_mean", "rot_std")
-LABELS = {"trans_mean": "mean translational error", "trans_std": "std of translational error",
-          "rot_mean": "mean rotational error", "rot_std": "std of rotational error"}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -42,6 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--models-dir", metavar="DIR", help="model folders (default models/)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     plan_checks.add_arguments(parser)
+    predict_simulate.add_arguments(parser)
 
 
 def _world_scale(world_path: str, plan: str):
@@ -82,53 +87,28 @@ def load_world(args: argparse.Namespace):
     return load_plan_from_args(args)
 
 
-def _interval(entry: dict, digits: int) -> str:
-    return f"{entry['low']:.{digits}f}–{entry['high']:.{digits}f}"
-
-
-def _value_text(e: dict, conf: str) -> str:
-    """"0.123 m (90 % interval 0.05–0.2 m)" or the rotation form in rad and deg."""
-    if e["unit"] == "m":
-        text = f"{e['value']:.3f} m"
-        return text + (f" ({conf} interval {_interval(e, 3)} m)" if e["low"] is not None
-                       else " (no interval)")
-    deg = {k: math.degrees(e[k]) for k in ("value", "low", "high") if e[k] is not None}
-    text = f"{e['value']:.4f} rad = {deg['value']:.2f} deg"
-    if e["low"] is None:
-        return text + " (no interval)"
-    return text + f" ({conf} interval {_interval(e, 4)} rad = {_interval(deg, 2)} deg)"
-
-
-def _entry_text(e: dict, conf: str) -> str:
-    """The value part of one component's line, whatever its status."""
-    if e["status"] == "no_model":
-        return "no model (none beats the training mean)"
-    if e["status"] == "below_range":
-        return (f"below the model's range (raw output {e['raw_value']:.4g} {e['unit']})")
-    return _value_text(e, conf)
-
-
-def format_text(result: dict, components) -> str:
-    """Human-readable lines: value, interval and model per component, then warnings."""
-    conf = f"{100 * result['confidence']:g} %"
-    lines = [f"{result['world']}: predicted GMapping localization error "
-             f"(setting {result['setting']}, model {result['model_store']}, {conf} intervals)"]
-    for comp in components:
-        e = result[comp]
-        model = f"  [{e['model']}]" if e["model"] else ""
-        lines.append(f"  {comp:<10s} {LABELS[comp]:<27s} {_entry_text(e, conf)}{model}")
-    lines += [f"warning: {w}" for w in result["warnings"]]
-    return "\n".join(lines)
-
-
 def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.predict import components_of, predict_plan
 
     components = components_of(args.component)  # before the (slow) feature computation
-    world = plan_checks.load_checked(load_world, args)
-    plan_checks.show_progress()
+    predict_simulate.check_options(args)
     setting = args.setting or ("realistic" if args.model == "best" else None)
-    result = predict_plan(world, args.model, setting, args.component, args.models_dir)
+
+    def predict(world) -> dict:
+        plan_checks.show_progress()
+        return predict_plan(world, args.model, setting, args.component, args.models_dir)
+
+    if args.robot and args.simulate is None:
+        from slam_predict.robot_file import load_robot
+
+        load_robot(args.robot)  # a bad robot file is an error even without --simulate
+    world = plan_checks.load_checked(load_world, args)
+    if args.simulate is not None:
+        return predict_simulate.run(args, world, components, predict)
+    result = predict(world)
+    if args.robot:
+        result["warnings"].insert(0, f"model {result['model_store']} "
+                                     f"{predict_simulate.ROBOT_NOTE} ({args.robot})")
     if args.json:
         keys = ["world", "setting", "model_store", "confidence", *components, "free_space",
                 "warnings", "features"]

@@ -3,7 +3,8 @@
 Written when a campaign starts (atomically), it holds the base seed, the settings file (path and
 SHA-256 of its text), the resolved settings (every component config, defaults included) with
 their short hashes, and the code version. A resume is compared with it before any run starts:
-another ``--seed`` or settings that resolve differently is refused (:class:`CampaignMismatch`,
+another ``--seed``, settings that resolve differently or (for ``predict --simulate``) another
+plan (its ``plan`` entry) is refused (:class:`CampaignMismatch`,
 naming the difference), so runs of two configurations never share one summary.csv.
 
 ``--force`` accepts such a resume: the new configuration becomes the campaign's and the old one is
@@ -88,10 +89,24 @@ def mismatch(recorded: dict[str, Any], current: dict[str, Any]) -> str | None:
     if recorded.get("base_seed") != current["base_seed"]:
         return (f"the campaign was collected with --seed {recorded.get('base_seed')}, "
                 f"not --seed {current['base_seed']}")
+    if recorded.get("plan") != current.get("plan"):
+        return plan_mismatch(recorded.get("plan"), current.get("plan"))
     found = differences(recorded.get("settings"), current["settings"])
     if found:
         return f"the settings differ from the campaign's: {describe(found)}"
     return None
+
+
+def plan_mismatch(old: dict[str, Any] | None, new: dict[str, Any] | None) -> str:
+    """Why a campaign of plan ``old`` (``predict --simulate``'s ``plan`` entry, None for a
+    ``collect`` campaign) is not one of plan ``new``."""
+    if old is None or new is None:
+        kind = "'slam-predict collect'" if old is None else "'predict --simulate'"
+        return f"the folder holds a {kind} campaign"
+    if old.get("name") != new.get("name"):
+        return f"the campaign simulated plan '{old.get('name')}', not '{new.get('name')}'"
+    return (f"the campaign simulated another version of plan '{new.get('name')}' (its map or "
+            "start pose differ)")
 
 
 def open_campaign(root: Path, current: dict[str, Any], force: bool = False) -> dict[str, Any]:

@@ -1,0 +1,166 @@
+"""``slam-predict predict PLAN --simulate N|auto --out DIR``: measure beside the prediction.
+
+Runs N simulated explorations of PLAN (``auto``: the seed study's run-count rule, a pilot of 10
+runs then ⌈z²s²/d²⌉ at 95 % with d_t 0.03 m and d_r 0.002 rad, capped by ``--max-runs``) with
+the collection settings (``--settings``) and robot (``--robot``), and prints the measured four
+components, each with its 95 % interval (:mod:`slam_predict.metric.intervals`: t for the means,
+chi-square for the stds), beside the model's prediction and its 90 % interval. The model does
+not take the robot as input; the output says so.
+
+DIR is a campaign folder (:mod:`slam_predict.collect.simulate`): a second call with the same
+arguments redoes no finished run (a larger N adds runs; the statistics use runs 0..N-1); another
+plan, ``--seed``, ``--settings`` or ``--robot`` is refused. Every input is checked before
+anything is written.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import signal
+import sys
+from pathlib import Path
+
+from slam_predict.errors import InputError
+
+SIM_OPTIONS = ("out", "seed", "jobs", "max_runs", "settings", "no_progress")
+ROBOT_NOTE = "does not take the robot into account"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The --robot and --simulate options of ``predict``."""
+    group = parser.add_argument_group("simulation (--simulate)")
+    group.add_argument("--robot", metavar="YAML",
+                       help="robot description file (e.g. config/robots/lds_360_3p5.yaml) for "
+                            "the simulated runs; the models do not take it into account")
+    group.add_argument("--simulate", metavar="N|auto",
+                       help="also run N simulated explorations of PLAN (auto: pilot of 10, "
+                            "then the seed study's run-count rule) and print the measured "
+                            "components with 95 %% intervals beside the prediction")
+    group.add_argument("--out", metavar="DIR",
+                       help="folder of the simulated runs (new, empty, or one to resume)")
+    group.add_argument("--seed", type=int, help="base seed of the runs (default 0)")
+    group.add_argument("--jobs", type=int, help="local worker processes (default 1)")
+    group.add_argument("--max-runs", type=int, help="cap for --simulate auto (default 60)")
+    group.add_argument("--settings", metavar="YAML",
+                       help="collection settings (default config/collect.yaml)")
+    group.add_argument("--no-progress", action="store_true", default=None,
+                       help="no progress bar")
+
+
+def check_options(args: argparse.Namespace) -> None:
+    """InputError for simulation options given without --simulate, or --simulate without
+    --out; fills in the defaults."""
+    if args.simulate is None:
+        given = [o for o in SIM_OPTIONS if getattr(args, o) is not None]
+        if given:
+            raise InputError(f"--{given[0].replace('_', '-')} needs --simulate")
+        return
+    if args.out is None:
+        raise InputError("--simulate needs --out DIR")
+    defaults = {"seed": 0, "jobs": 1, "max_runs": 60, "no_progress": False}
+    for key, value in defaults.items():
+        if getattr(args, key) is None:
+            setattr(args, key, value)
+
+
+def _prepare(args: argparse.Namespace, world):
+    """Check every simulation input (nothing written); returns (runs, settings, identity)."""
+    from slam_predict.cli.collect_cmd import check_start_footprint, parse_runs
+    from slam_predict.cli.guards import check_at_least, check_creatable
+    from slam_predict.collect.campaign import check_out_folder, identity
+    from slam_predict.collect.record import code_version
+    from slam_predict.collect.settings import load_settings
+    from slam_predict.collect.simulate import check_resume, plan_identity
+
+    runs = parse_runs(args.simulate, "--simulate")
+    check_at_least(args.jobs, 1, "--jobs")
+    check_at_least(args.max_runs, 1, "--max-runs")
+    settings = load_settings(args.settings, robot=args.robot)
+    out = Path(args.out)
+    check_out_folder(out)
+    check_creatable(out)
+    check_start_footprint(world, world.provenance.get("source") or world.name,
+                          settings.sim.robot.footprint_side)
+    current = {**identity(settings, args.seed, code_version()), "plan": plan_identity(world)}
+    check_resume(out, current)
+    return runs, current
+
+
+def simulate(args: argparse.Namespace, world, runs, current) -> dict:
+    """Run (or resume) the simulations; returns the measured part of the result."""
+    from slam_predict.collect.batch import Batch, BatchConfig
+    from slam_predict.collect.campaign import open_campaign
+    from slam_predict.collect.simulate import cap_note, measured, write_plan_world
+    from slam_predict.collect.summary import write_summary
+
+    out = Path(args.out)
+    open_campaign(out, current)
+    world_path = write_plan_world(world, out)
+    options = {key: getattr(args, key) for key in ("settings", "robot") if getattr(args, key)}
+    config = BatchConfig(runs=runs, max_runs=args.max_runs, jobs=args.jobs,
+                         base_seed=args.seed, progress=not args.no_progress, options=options)
+    batch = Batch({world.name: str(world_path)}, out, config)
+    new = batch.run()
+    write_summary(out)
+    target = batch.target(world.name)
+    done = zip(batch.store.completed(world.name), batch.store.records(world.name), strict=True)
+    used = [(index, record) for index, record in done if index < target]
+    indices, records = [i for i, _ in used], [r for _, r in used]
+    notes = [f"run failed: {failure}" for failure in batch.failures]
+    if runs == "auto" and records:
+        note = cap_note(records, args.max_runs)
+        notes += [note] if note else []
+    return {"runs": len(records), "runs_new": new, "run_indices": indices,
+            "measured": measured(records) if records else None, "notes": notes,
+            "failed": bool(batch.failures), "stopped_by": batch.stopped_by}
+
+
+def format_text(result: dict, components) -> str:
+    """Measured and predicted values per component, then notes and warnings."""
+    from slam_predict.cli.predict_format import LABELS, entry_text, value_text
+
+    sim = result["simulation"]
+    robot = sim["robot"] or "the settings' robot"
+    lines = [f"{result['world']}: GMapping localization error measured over "
+             f"{sim['runs']} simulated runs ({sim['runs_new']} new; robot {robot}, "
+             f"seed {sim['seed']}, in {sim['out']}), 95 % intervals",
+             f"model: {result['model_store']} ({ROBOT_NOTE}), setting {result['setting']}, "
+             f"{100 * result['confidence']:g} % intervals"]
+    conf = f"{100 * result['confidence']:g} %"
+    for comp in components:
+        lines.append(f"  {comp:<10s} {LABELS[comp]}")
+        if sim["measured"] is not None:
+            m = sim["measured"][comp]
+            lines.append(f"      measured   {value_text(m, '95 %')} [{m['method']}]")
+        e = result[comp]
+        model = f"  [{e['model']}]" if e["model"] else ""
+        lines.append(f"      predicted  {entry_text(e, conf)}{model}")
+    lines += [f"note: {n}" for n in sim["notes"]]
+    lines += [f"warning: {w}" for w in result["warnings"]]
+    return "\n".join(lines)
+
+
+def run(args: argparse.Namespace, world, components, predict) -> int:
+    """Check the simulation inputs for ``world`` (the loaded, checked plan), predict
+    (``predict(world) -> result``), simulate, print both."""
+    runs, current = _prepare(args, world)
+    result = predict(world)
+    sim = simulate(args, world, runs, current)
+    result["simulation"] = {"runs": sim["runs"], "runs_new": sim["runs_new"],
+                            "run_indices": sim["run_indices"], "seed": args.seed,
+                            "robot": args.robot, "settings": args.settings, "out": args.out,
+                            "requested": args.simulate, "confidence": 0.95,
+                            "measured": sim["measured"], "notes": sim["notes"]}
+    result["model_takes_robot"] = False
+    if args.json:
+        keys = ["world", "setting", "model_store", "model_takes_robot", "confidence",
+                *components, "simulation", "free_space", "warnings", "features"]
+        print(json.dumps({k: result[k] for k in keys}, indent=2))
+    else:
+        print(format_text(result, components))
+    if sim["stopped_by"] is not None:
+        name = signal.Signals(sim["stopped_by"]).name
+        print(f"slam-predict predict: stopped by {name}; the runs in progress were discarded",
+              file=sys.stderr)
+        return 128 + sim["stopped_by"]
+    return 1 if sim["failed"] else 0

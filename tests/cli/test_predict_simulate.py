@@ -1,0 +1,157 @@
+"""`slam-predict predict PLAN --simulate N --out DIR`: a real short simulation of the tiny world
+(figures recomputed from the run.json files, resume, refusal of other arguments) and one-line
+errors for bad inputs, with nothing written."""
+import contextlib
+import io
+import json
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+from scipy import stats
+
+from slam_predict.cli.main import main
+
+ROOT = Path(__file__).resolve().parents[2]
+TINY = ROOT / "worlds" / "tiny.world"
+LDS = ROOT / "config" / "robots" / "lds_360_3p5.yaml"
+
+
+def short_settings(folder: Path) -> Path:
+    """Runs end after 25 s of sim time (the explorer is moving by then)."""
+    path = folder / "short.yaml"
+    path.write_text(f"extends: {ROOT / 'config' / 'collect.yaml'}\n"
+                    "stop:\n  max_sim_time_s: 25.0\n")
+    return path
+
+
+def call(argv):
+    """(exit code, stdout, stderr) of ``slam-predict predict ...``."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(["predict", *argv])
+    return code, out.getvalue(), err.getvalue()
+
+
+def run_jsons(out: Path) -> dict[Path, bytes]:
+    return {p: p.read_bytes() for p in sorted(out.glob("tiny/run_*/run.json"))}
+
+
+@pytest.fixture(scope="module")
+def simulated(tmp_path_factory):
+    """Two short runs of the tiny world with the LDS robot: (argv, folder, JSON result)."""
+    folder = tmp_path_factory.mktemp("simulate")
+    argv = [str(TINY), "--simulate", "2", "--out", str(folder / "out"), "--settings",
+            str(short_settings(folder)), "--robot", str(LDS), "--no-progress", "--json"]
+    code, out, err = call(argv)
+    assert code == 0, err
+    return argv, folder / "out", json.loads(out)
+
+
+def test_figures_are_the_statistics_of_the_run_records(simulated):
+    _, out, result = simulated
+    sim = result["simulation"]
+    assert sim["runs"] == 2 and sim["runs_new"] == 2 and sim["run_indices"] == [0, 1]
+    assert result["model_takes_robot"] is False and sim["robot"] == str(LDS)
+    records = [json.loads(b) for b in run_jsons(out).values()]
+    assert len(records) == 2
+    assert all(r["sensor"]["laser"]["range_max"] == 3.5 for r in records)
+    for comp, key in [("trans", "trans_mean"), ("rot", "rot_mean")]:
+        x = np.array([r["metric"][key] for r in records])
+        mean, std = sim["measured"][f"{comp}_mean"], sim["measured"][f"{comp}_std"]
+        ref = stats.t.interval(0.95, 1, loc=x.mean(), scale=stats.sem(x))
+        assert mean["value"] == pytest.approx(x.mean(), rel=1e-12)
+        assert mean["low"] == pytest.approx(max(ref[0], 0.0), abs=1e-12)
+        assert mean["high"] == pytest.approx(ref[1], rel=1e-12)
+        assert std["value"] == pytest.approx(np.std(x), rel=1e-12)
+        ss = np.sum((x - x.mean()) ** 2)
+        assert std["low"] == pytest.approx(np.sqrt(ss / stats.chi2.ppf(0.975, 1)), rel=1e-9)
+        assert std["high"] == pytest.approx(np.sqrt(ss / stats.chi2.ppf(0.025, 1)), rel=1e-9)
+        assert mean["method"] == "t" and std["method"] == "chi-square"
+    assert result["model_store"] == "thesis-realistic" and "trans_mean" in result
+    assert (out / "tiny.world").is_file() and (out / "tiny.png").is_file()
+    assert (out / "summary.csv").is_file()
+    campaign = json.loads((out / "campaign.json").read_text())
+    assert campaign["plan"]["name"] == "tiny" and campaign["base_seed"] == 0
+
+
+def test_resume_runs_nothing_and_prints_the_same_figures(simulated):
+    argv, out, result = simulated
+    before = run_jsons(out)
+    code, text, err = call([a for a in argv if a != "--json"])
+    assert code == 0, err
+    assert run_jsons(out) == before
+    assert "measured over 2 simulated runs (0 new" in text
+    assert "model: thesis-realistic (does not take the robot into account)" in text
+    value = result["simulation"]["measured"]["trans_mean"]["value"]
+    assert f"measured   {value:.3f} m" in text
+
+
+@pytest.mark.parametrize("change", [
+    ["--seed", "1"],
+    ["--robot", None],
+    ["--start", "-3.5", "-2.5"],
+], ids=["seed", "no robot", "other plan"])
+def test_other_arguments_are_refused(simulated, change):
+    argv, out, _ = simulated
+    argv = list(argv)
+    if change[1] is None:
+        i = argv.index(change[0])
+        del argv[i:i + 2]
+    else:
+        argv += change
+    files = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    code, _, err = call(argv)
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1 and "campaign.json" in lines[0], err
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == files
+
+
+def open_plan(tmp_path: Path) -> Path:
+    """An image whose free space all touches the border: no enclosed building."""
+    path = tmp_path / "open.png"
+    image = np.full((60, 60), 255, np.uint8)
+    image[20:40, 20:40] = 0
+    cv2.imwrite(str(path), image)
+    return path
+
+
+def bad_robot(tmp_path: Path) -> Path:
+    path = tmp_path / "bad_robot.yaml"
+    path.write_text(LDS.read_text().replace("  fov: 360.0", "  fvo: 360.0"))
+    return path
+
+
+BAD_INPUTS = [
+    ("--simulate 0", lambda t: [str(TINY), "--simulate", "0"], ["--simulate", "'0'"]),
+    ("--simulate abc", lambda t: [str(TINY), "--simulate", "abc"], ["--simulate", "'abc'"]),
+    ("unknown robot key", lambda t: [str(TINY), "--simulate", "2", "--robot",
+                                     str(bad_robot(t))], ["bad_robot.yaml", "'fvo'"]),
+    ("robot key without --simulate", lambda t: [str(TINY), "--robot", str(bad_robot(t))],
+     ["bad_robot.yaml", "'fvo'"]),
+    ("no enclosed building", lambda t: [str(open_plan(t)), "--resolution", "0.5",
+                                        "--simulate", "2"], ["open.png", "no enclosed"]),
+    ("--jobs 0", lambda t: [str(TINY), "--simulate", "2", "--jobs", "0"], ["--jobs"]),
+    ("--max-runs 0", lambda t: [str(TINY), "--simulate", "auto", "--max-runs", "0"],
+     ["--max-runs"]),
+]
+
+
+@pytest.mark.parametrize("case, arguments, words", BAD_INPUTS, ids=[c[0] for c in BAD_INPUTS])
+def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, case, arguments, words):
+    argv = [*arguments(tmp_path), "--out", str(tmp_path / "data"), "--no-progress"]
+    if "--simulate" not in argv:
+        argv = argv[:-3]  # no simulation options without --simulate
+    before = sorted(tmp_path.rglob("*"))
+    code, _, err = call(argv)
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1 and "Traceback" not in err, err
+    assert all(word in lines[0] for word in words), lines[0]
+    assert sorted(tmp_path.rglob("*")) == before
+
+
+def test_simulation_options_need_simulate(tmp_path):
+    code, _, err = call([str(TINY), "--out", str(tmp_path / "data")])
+    assert code == 2 and "--out needs --simulate" in err
+    assert not (tmp_path / "data").exists()
