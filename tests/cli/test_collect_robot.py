@@ -1,22 +1,11 @@
 """`slam-predict collect --robot FILE`: a short run of the tiny world records the robot's sensor,
 its GMapping range caps and config hashes of its own."""
 import json
-from pathlib import Path
+
+from robot_runs import LDS, TINY, short_settings
 
 from slam_predict.cli.main import main
 from slam_predict.collect.settings import load_settings
-
-ROOT = Path(__file__).resolve().parents[2]
-TINY = ROOT / "worlds" / "tiny.world"
-LDS = ROOT / "config" / "robots" / "lds_360_3p5.yaml"
-
-
-def short_settings(folder: Path) -> Path:
-    """Runs end after 25 s of sim time (the explorer is moving by then)."""
-    path = folder / "short.yaml"
-    path.write_text(f"extends: {ROOT / 'config' / 'collect.yaml'}\n"
-                    "stop:\n  max_sim_time_s: 25.0\n")
-    return path
 
 
 def test_collect_with_the_lds_robot_records_its_sensor(tmp_path, capsys):

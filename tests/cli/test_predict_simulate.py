@@ -9,21 +9,10 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from robot_runs import LDS, TINY, short_settings
 from scipy import stats
 
 from slam_predict.cli.main import main
-
-ROOT = Path(__file__).resolve().parents[2]
-TINY = ROOT / "worlds" / "tiny.world"
-LDS = ROOT / "config" / "robots" / "lds_360_3p5.yaml"
-
-
-def short_settings(folder: Path) -> Path:
-    """Runs end after 25 s of sim time (the explorer is moving by then)."""
-    path = folder / "short.yaml"
-    path.write_text(f"extends: {ROOT / 'config' / 'collect.yaml'}\n"
-                    "stop:\n  max_sim_time_s: 25.0\n")
-    return path
 
 
 def call(argv):
