@@ -34,6 +34,7 @@ sys.path.insert(0, str(ROOT / "src"))
 
 from slam_predict.formats.tum import read_tum  # noqa: E402
 from slam_predict.geometry import wrap_angle  # noqa: E402
+from slam_predict.metric.evaluate import StampedPoses, aligned  # noqa: E402
 from slam_predict.metric.relations import random_forward_pairs, relation_errors  # noqa: E402
 
 SHARED_DATA = Path(os.environ.get("SLAM_PREDICT_SHARED", ROOT.parent / "shared")) / "data"
@@ -42,14 +43,10 @@ ROTATION_BINS = (0.0, 1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1000.0, 3000.0)  # rad
 
 def run_relations(run_dir: Path, n_pairs: int, rng: np.random.Generator):
     """(trans errors m, rot errors rad, pair distances m, pair rotations rad, total rotation rad)
-    of one run's random relations (SLAM vs ground truth, poses paired by index)."""
-    t_gt, gt = read_tum(run_dir / "ground_truth.tum")
-    _, slam = read_tum(run_dir / "slam.tum")
-    n = min(len(gt), len(slam))
-    t_gt, gt, slam = t_gt[:n], gt[:n], slam[:n]
-    keep = np.ones(n, bool)
-    keep[1:] = np.any(gt[1:] != gt[:-1], axis=1)          # the thesis' pause removal
-    gt, slam = gt[keep], slam[keep]
+    of one run's random relations (SLAM vs ground truth)."""
+    # the metric's own pairing: pause removal on the ground truth, association by timestamp
+    _, slam, gt = aligned(StampedPoses(*read_tum(run_dir / "slam.tum")),
+                          StampedPoses(*read_tum(run_dir / "ground_truth.tum")))
     pairs = random_forward_pairs(len(gt), n_pairs, rng)
     errors = relation_errors(slam, gt, pairs)
     distance = np.hypot(*(gt[pairs[:, 1], :2] - gt[pairs[:, 0], :2]).T)
