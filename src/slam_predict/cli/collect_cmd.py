@@ -9,6 +9,7 @@ progress discarded, summary.csv written; exit 130/143.
 from __future__ import annotations
 
 import argparse
+import os
 import signal
 import sys
 from pathlib import Path
@@ -25,8 +26,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="Stage .world files, or folders of them")
     parser.add_argument("--out", required=True, metavar="DATA",
                         help="campaign folder (new, empty, or a campaign to resume)")
-    parser.add_argument("--runs", default="5", metavar="N|auto",
-                        help="runs per world, or 'auto' (pilot of 10, then |R| = z²s²/d²)")
+    parser.add_argument("--runs", default=None, metavar="N|auto",
+                        help="runs per world, or 'auto' (pilot of 10, then |R| = z²s²/d²); "
+                             "default 5, or with --design all of the design's runs")
     parser.add_argument("--max-runs", type=int, default=50, help="cap for --runs auto")
     parser.add_argument("--jobs", type=int, default=1, help="local worker processes")
     parser.add_argument("--scheduler", metavar="tcp://HOST:8786",
@@ -39,6 +41,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="robot description file (laser, odometry error, footprint, speed "
                              "limits; e.g. config/robots/lds_360_3p5.yaml) applied over the "
                              "settings")
+    parser.add_argument("--design", metavar="YAML",
+                        help="robot-configuration design (slam-predict design): each run uses "
+                             "the robot of its building's design point; excludes --robot")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--force", action="store_true",
                         help="resume a campaign even with another --seed or other settings than "
@@ -104,30 +109,74 @@ def check_start_footprint(world, path: str, footprint_side: float | None = None)
                          "an obstacle, so every move would stall (move robot_pose)", path)
 
 
+def load_run_design(args: argparse.Namespace, worlds: dict[str, str]):
+    """(design, its path) of ``--design``, or None; InputError when it is combined with
+    --robot or --runs auto, or a world is not in it."""
+    if not args.design:
+        return None
+    from slam_predict.collect.robot_design import load_design
+
+    if args.robot:
+        raise InputError("--design gives every run its robot; it excludes --robot")
+    design = load_design(args.design)
+    for name, path in worlds.items():
+        if name not in design.worlds:
+            raise InputError(f"world '{name}' is not in the design {args.design}", path)
+    return design, os.path.abspath(args.design)
+
+
+def design_runs(text: str | None, design) -> int:
+    """Runs per world of a design campaign: all of the design's, or ``--runs`` N ≤ that."""
+    design = design[0]
+    if text is None:
+        return design.runs_per_world
+    runs = parse_runs(text)
+    if runs == "auto" or runs > design.runs_per_world:
+        raise InputError(f"with --design, --runs must be 1..{design.runs_per_world} (the "
+                         f"design's runs per world), got '{text}'")
+    return runs
+
+
 def run(args: argparse.Namespace) -> int:
     from slam_predict.collect.batch import Batch, BatchConfig
-    from slam_predict.collect.campaign import check_out_folder, identity, open_campaign
+    from slam_predict.collect.campaign import (
+        check_out_folder,
+        file_sha256,
+        identity,
+        open_campaign,
+    )
     from slam_predict.collect.record import code_version
     from slam_predict.collect.settings import load_settings
     from slam_predict.collect.summary import write_summary
+    from slam_predict.paths import portable_path
     from slam_predict.words import plural
 
-    runs = parse_runs(args.runs)
     check_at_least(args.jobs, 1, "--jobs")
     check_at_least(args.max_runs, 1, "--max-runs")
     worlds = find_worlds(args.worlds)
     settings = load_settings(args.settings, robot=args.robot)
+    design = load_run_design(args, worlds)
+    runs = design_runs(args.runs, design) if design else parse_runs(args.runs or "5")
     out = Path(args.out)
     check_out_folder(out)
     check_creatable(out)
-    load_worlds(worlds, settings.sim.robot.footprint_side)
-    open_campaign(out, identity(settings, args.seed, code_version()), force=args.force)
+    footprint = design[0].base.footprint_side if design else settings.sim.robot.footprint_side
+    load_worlds(worlds, footprint)
+    current = identity(settings, args.seed, code_version())
+    if design:
+        current["design"] = {"file": portable_path(design[1]),
+                             "sha256": file_sha256(design[1])}
+    open_campaign(out, current, force=args.force)
     options = {"settings": args.settings} if args.settings else {}
     if args.robot:
         options["robot"] = args.robot
+    if design:
+        options["design"] = design[1]
     config = BatchConfig(runs=runs, max_runs=args.max_runs, jobs=args.jobs,
                          scheduler=args.scheduler, base_seed=args.seed,
                          progress=not args.no_progress, options=options)
+    if design:
+        config.episode = "slam_predict.collect.episode:run_design_episode"
     batch = Batch(worlds, out, config)
     done = batch.run()
     summary = write_summary(out)

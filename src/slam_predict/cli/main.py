@@ -22,6 +22,7 @@ SUBCOMMANDS = (
     "explore",
     "features",
     "collect",
+    "design",
     "fidelity",
     "metric",
     "learn",

@@ -91,6 +91,8 @@ def mismatch(recorded: dict[str, Any], current: dict[str, Any]) -> str | None:
                 f"not --seed {current['base_seed']}")
     if recorded.get("plan") != current.get("plan"):
         return plan_mismatch(recorded.get("plan"), current.get("plan"))
+    if recorded.get("design", {}).get("sha256") != current.get("design", {}).get("sha256"):
+        return design_mismatch(recorded.get("design"), current.get("design"))
     found = differences(recorded.get("settings"), current["settings"])
     if found:
         return f"the settings differ from the campaign's: {describe(found)}"
@@ -107,6 +109,16 @@ def plan_mismatch(old: dict[str, Any] | None, new: dict[str, Any] | None) -> str
         return f"the campaign simulated plan '{old.get('name')}', not '{new.get('name')}'"
     return (f"the campaign simulated another version of plan '{new.get('name')}' (its map or "
             "start pose differ)")
+
+
+def design_mismatch(old: dict[str, Any] | None, new: dict[str, Any] | None) -> str:
+    """Why a campaign of robot design ``old`` (``collect --design``'s ``design`` entry, None
+    without one) is not one of design ``new``."""
+    if old is None:
+        return "the campaign was collected without --design"
+    if new is None:
+        return f"the campaign was collected with --design {old.get('file')}"
+    return f"the design file differs from the campaign's ({old.get('file')}, SHA-256 changed)"
 
 
 def open_campaign(root: Path, current: dict[str, Any], force: bool = False) -> dict[str, Any]:

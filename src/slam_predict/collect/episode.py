@@ -114,8 +114,10 @@ def _finish_sensor_logs(sensors, folder: Path, loop, settings: CollectSettings) 
             settings.slam.type: to_dict(settings.slam.params)}
 
 
-def run_episode(spec, settings: CollectSettings | None = None) -> dict:
-    """Run one exploration (a :class:`~slam_predict.collect.batch.RunSpec`); returns run.json."""
+def run_episode(spec, settings: CollectSettings | None = None,
+                extra: dict | None = None) -> dict:
+    """Run one exploration (a :class:`~slam_predict.collect.batch.RunSpec`); returns run.json
+    (with the entries of ``extra`` added, e.g. a robot design's ``design``)."""
     from slam_predict.explore.coverage import coverage, reachable_free
     from slam_predict.explore.loop import ClosedLoop
     from slam_predict.nav.costmap import inscribed_radius
@@ -153,7 +155,22 @@ def run_episode(spec, settings: CollectSettings | None = None) -> dict:
         if sensors is not None:
             record["sensor_logs"] = _finish_sensor_logs(sensors, folder, loop, settings)
             record["timing"].update(sensor_logs=sensors.wall_s, sensor_logs_cpu=sensors.cpu_s)
+        record.update(extra or {})
         rec.write_run_json(folder, record)
     LOG.info("%s run %d: %s after %.0f s sim (%.0f s wall), trans %.3f m", spec.world,
              spec.index, reason, loop.t, wall, record["metric"]["trans_mean"])
     return record
+
+
+def run_design_episode(spec) -> dict:
+    """Run one exploration of a robot-design campaign: the robot of the design's point for
+    ``spec``'s world and run index (:mod:`slam_predict.collect.robot_design`) over the settings;
+    run.json gets the point as ``design``."""
+    from slam_predict.collect.robot_design import load_design
+    from slam_predict.collect.settings import with_robot
+
+    design = load_design(spec.options["design"])
+    point = design.run_point(spec.world, spec.index)
+    settings = with_robot(load_settings(spec.options.get("settings")),
+                          design.robot(point["config"]), spec.options["design"])
+    return run_episode(spec, settings, extra={"design": point})

@@ -1,0 +1,210 @@
+"""A space-filling design of robot configurations over buildings (issue #18's campaign).
+
+A design is a YAML file (``slam-predict design``, then ``collect --design FILE``):
+
+- ``configs``: robot configurations ``c00, c01, …`` from a maximin Latin hypercube over the
+  ``factors`` (laser ``range_max`` m, ``fov`` deg, and the odometry error bounds as multiples of
+  the base robot's: x/y and yaw scales);
+- ``worlds``: for every building, the configurations it is explored with (``points_per_world``
+  distinct ones, dealt cyclically from a shuffled list so every configuration is used on
+  ⌊W·P/C⌋ or ⌈W·P/C⌉ buildings);
+- ``replicates``: runs per building × configuration, with different seeds.
+
+Run ``i`` of a building is point ``i mod P`` of its list, replicate ``i div P``: the batch's
+index-major order therefore does every building's first replicate of every point before any
+second one. Every other robot property (body, speeds, laser rate, range_min, mounting) is the
+base robot's; the beams are ``fov / resolution_deg + 1`` (Stage's beam rule).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import yaml
+
+from slam_predict.atomic import write_text
+from slam_predict.config import from_dict, load_yaml, to_dict
+from slam_predict.errors import InputError, require_file
+from slam_predict.robot_file import RobotDescription, load_robot
+
+FACTORS = ("range_max", "fov", "odom_xy_scale", "odom_yaw_scale")
+UNITS = {"range_max": "m", "fov": "deg", "odom_xy_scale": "x base", "odom_yaw_scale": "x base"}
+DEFAULT_BOUNDS = {"range_max": (3.5, 30.0), "fov": (180.0, 360.0),
+                  "odom_xy_scale": (0.0, 2.0), "odom_yaw_scale": (0.0, 2.0)}
+CANDIDATES = 200   # Latin hypercubes drawn; the one with the largest smallest distance is kept
+DESIGN_KIND = "robots"
+
+
+def latin_hypercube(n: int, dims: int, rng: np.random.Generator) -> np.ndarray:
+    """An n × dims Latin hypercube in [0, 1): every column has one point in each of the n
+    strata [k/n, (k+1)/n), at a uniform position within it."""
+    strata = np.stack([rng.permutation(n) for _ in range(dims)], axis=1)
+    return (strata + rng.random((n, dims))) / n
+
+
+def min_distance(points: np.ndarray) -> float:
+    """Smallest pairwise Euclidean distance between rows (inf for fewer than two)."""
+    if len(points) < 2:
+        return math.inf
+    diff = points[:, None, :] - points[None, :, :]
+    dist = np.sqrt((diff ** 2).sum(axis=2))
+    return float(dist[np.triu_indices(len(points), 1)].min())
+
+
+def maximin_hypercube(n: int, dims: int, rng: np.random.Generator,
+                      candidates: int = CANDIDATES) -> np.ndarray:
+    """The Latin hypercube with the largest smallest pairwise distance among ``candidates``."""
+    best, best_d = None, -1.0
+    for _ in range(candidates):
+        points = latin_hypercube(n, dims, rng)
+        d = min_distance(points)
+        if d > best_d:
+            best, best_d = points, d
+    return best
+
+
+def deal(worlds: Sequence[str], configs: Sequence[str], per_world: int,
+         rng: np.random.Generator) -> dict[str, list[str]]:
+    """Give each world ``per_world`` distinct configurations: a shuffled configuration list is
+    dealt cyclically over the worlds in shuffled order (config use counts differ by ≤ 1)."""
+    if not 1 <= per_world <= len(configs):
+        raise ValueError(f"points per world must be in 1..{len(configs)}, got {per_world}")
+    order = [configs[i] for i in rng.permutation(len(configs))]
+    shuffled = [worlds[i] for i in rng.permutation(len(worlds))]
+    dealt = {}
+    for slot, world in enumerate(shuffled):
+        start = slot * per_world
+        dealt[world] = [order[(start + k) % len(order)] for k in range(per_world)]
+    return {world: dealt[world] for world in worlds}
+
+
+@dataclass(frozen=True)
+class RobotDesign:
+    """A design (see the module docstring); ``configs`` maps id → factor values."""
+
+    base: RobotDescription
+    bounds: dict[str, tuple[float, float]]
+    resolution_deg: float
+    configs: dict[str, dict[str, float]]
+    worlds: dict[str, list[str]]
+    replicates: int
+    seed: int
+
+    @property
+    def points_per_world(self) -> int:
+        return len(next(iter(self.worlds.values())))
+
+    @property
+    def runs_per_world(self) -> int:
+        return self.points_per_world * self.replicates
+
+    def run_point(self, world: str, index: int) -> dict[str, Any]:
+        """Design entry of run ``index`` of ``world``: config id, point, replicate, factors."""
+        if world not in self.worlds:
+            raise KeyError(f"world '{world}' is not in the design")
+        per = self.points_per_world
+        if not 0 <= index < self.runs_per_world:
+            raise KeyError(f"run {index} of '{world}' is beyond the design's {self.runs_per_world}")
+        config = self.worlds[world][index % per]
+        return {"config": config, "point": f"{world}/{config}", "replicate": index // per,
+                **self.configs[config]}
+
+    def robot(self, config: str) -> RobotDescription:
+        """The robot description of configuration ``config``."""
+        return configured_robot(self.base, self.configs[config], self.resolution_deg, config)
+
+
+def configured_robot(base: RobotDescription, factors: Mapping[str, float],
+                     resolution_deg: float, name: str) -> RobotDescription:
+    """``base`` with the laser range and fov of ``factors``, fov/resolution + 1 beams, and its
+    odometry error bounds scaled (x and y by odom_xy_scale, yaw by odom_yaw_scale)."""
+    fov = float(factors["fov"])
+    samples = int(round(fov / resolution_deg)) + 1
+    laser = dataclasses.replace(base.laser, range_max=float(factors["range_max"]), fov=fov,
+                                samples=samples)
+    x, y, yaw = base.odom_error
+    xy, rot = float(factors["odom_xy_scale"]), float(factors["odom_yaw_scale"])
+    return dataclasses.replace(base, name=f"{base.name}-{name}", laser=laser,
+                               odom_error=(x * xy, y * xy, yaw * rot),
+                               description=f"design configuration {name} of {base.name}")
+
+
+def make_design(worlds: Sequence[str], base: RobotDescription, n_configs: int,
+                points_per_world: int, replicates: int, seed: int,
+                bounds: Mapping[str, tuple[float, float]] = DEFAULT_BOUNDS,
+                resolution_deg: float = 0.5) -> RobotDesign:
+    """A new design: maximin LHS of ``n_configs`` configurations dealt over ``worlds``."""
+    if n_configs < 1 or replicates < 1 or not worlds:
+        raise ValueError("a design needs >= 1 configuration, >= 1 replicate and >= 1 world")
+    rng = np.random.default_rng(seed)
+    unit = maximin_hypercube(n_configs, len(FACTORS), rng)
+    configs = {}
+    for k, row in enumerate(unit):
+        configs[f"c{k:02d}"] = {name: float(round(lo + u * (hi - lo), 4))
+                                for name, u, (lo, hi) in
+                                zip(FACTORS, row, (bounds[f] for f in FACTORS), strict=True)}
+    dealt = deal(list(worlds), list(configs), points_per_world, rng)
+    return RobotDesign(base, {f: tuple(bounds[f]) for f in FACTORS}, float(resolution_deg),
+                       configs, dealt, int(replicates), int(seed))
+
+
+def design_dict(design: RobotDesign) -> dict[str, Any]:
+    """The YAML content of ``design``."""
+    base = to_dict(design.base)
+    return {"kind": DESIGN_KIND, "seed": design.seed, "replicates": design.replicates,
+            "resolution_deg": design.resolution_deg,
+            "bounds": {f: list(b) for f, b in design.bounds.items()},
+            "base_robot": base, "configs": design.configs, "worlds": design.worlds}
+
+
+def write_design(design: RobotDesign, path: os.PathLike | str) -> None:
+    """Write ``design`` as YAML (atomically)."""
+    header = ("# Robot-configuration design (slam-predict design); run i of a building "
+              "is point i mod P of its list, replicate i div P.\n")
+    write_text(path, header + yaml.safe_dump(design_dict(design), sort_keys=False))
+
+
+def load_design(path: os.PathLike | str) -> RobotDesign:
+    """Read and check a design file; InputError (one line, naming the file) on any problem."""
+    path = require_file(path, "design file")
+    data = load_yaml(path)
+    if data.get("kind") != DESIGN_KIND:
+        raise InputError(f"not a robot design (kind: {data.get('kind')!r}, expected "
+                         f"'{DESIGN_KIND}')", path)
+    try:
+        return _design_from(data, path)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"bad design: {exc}", path) from None
+
+
+def _design_from(data: Mapping[str, Any], path: str) -> RobotDesign:
+    base = _base_robot(data["base_robot"], path)
+    configs = {str(k): {f: float(v[f]) for f in FACTORS} for k, v in data["configs"].items()}
+    worlds = {str(w): [str(c) for c in cs] for w, cs in data["worlds"].items()}
+    sizes = {len(cs) for cs in worlds.values()}
+    if len(sizes) != 1 or 0 in sizes:
+        raise ValueError("every world must list the same, non-zero number of configurations")
+    for world, cs in worlds.items():
+        unknown = sorted(set(cs) - set(configs))
+        if unknown or len(set(cs)) != len(cs):
+            raise ValueError(f"world '{world}' lists unknown or repeated configurations")
+    design = RobotDesign(base, {f: tuple(data["bounds"][f]) for f in FACTORS},
+                         float(data["resolution_deg"]), configs, worlds,
+                         int(data["replicates"]), int(data["seed"]))
+    for config in configs:
+        design.robot(config)  # every configuration must make a valid robot
+    return design
+
+
+def _base_robot(tree: Mapping[str, Any], path: str) -> RobotDescription:
+    return from_dict(RobotDescription, tree, path, "base_robot")
+
+
+def load_base_robot(path: os.PathLike | str) -> RobotDescription:
+    """The base robot of a new design (a robot description file)."""
+    return load_robot(path)
