@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import heapq
+import math
 
 import numpy as np
 import pytest
@@ -139,3 +140,27 @@ def test_a_slow_machine_processes_fewer_scans(root):
     assert slow.delay.stats["scans_dropped"] > 0
     assert slow.source.filter.reading_count < lockstep.source.filter.reading_count
     assert slow.source.filter.count <= 20.0 / 1.0 + 1     # at most one per second of sim time
+
+
+def test_scan_cost_scales_with_beams_only_when_asked():
+    from slam_predict.config import config_hash
+    from slam_predict.explore.compute_delay import scan_cost
+
+    fixed = ComputeDelayConfig(model="cost", scan_s=0.448)
+    per_beam = ComputeDelayConfig(model="cost", scan_s=0.448, scan_beams=541)
+    assert scan_cost(fixed, 721) == 0.448
+    assert scan_cost(per_beam, 541) == 0.448
+    assert math.isclose(scan_cost(per_beam, 721), 0.448 * 721 / 541)
+    assert config_hash(fixed) == config_hash(ComputeDelayConfig(model="cost", scan_s=0.448,
+                                                                scan_beams=0))
+    assert config_hash(per_beam) != config_hash(fixed)
+
+
+def test_a_wider_laser_keeps_gmapping_busy_longer():
+    config = ComputeDelayConfig(model="cost", scan_s=0.2, scan_beams=100)
+    delays = []
+    for beams in (100, 300):
+        delay = ComputeDelay(config, 5.0, 0.0, (30.0, 30.0, 0.05))
+        delay.offer(0.0, "scan", lambda stamp, item, n=beams: (True, np.full(n, 1.0)))
+        delays.append(delay.busy_until)
+    assert math.isclose(delays[0], 0.2) and math.isclose(delays[1], 0.6)

@@ -18,7 +18,9 @@ is queued and taken if GMapping is idle. This hands GMapping the same scans, wit
 times, as watching the queue continuously would (map → odom is updated up to one scan period
 late), and a replay of the sensor log only needs the scan stamps to do the same.
 
-Cost of a processed scan: ``scan_s``; of a rebuild:
+Cost of a processed scan: ``scan_s``, or with ``scan_beams`` > 0 ``scan_s`` × beams /
+``scan_beams`` (scan matching is linear in the beams: a 721-beam 360° laser costs 721/541 of the
+541-beam laser ``scan_s`` was measured with); of a rebuild:
 ``rebuild_s_per_map_cell`` × map cells + ``rebuild_s_per_line_cell`` × the beam cells of every
 node (Σ over processed scans and beams r ≤ maxRange of min(r, maxUrange)/delta). A scan that is
 not processed (below linearUpdate/angularUpdate/temporalUpdate) costs nothing.
@@ -51,6 +53,8 @@ class ComputeDelayConfig:
     scan_s: float = 0.0
     rebuild_s_per_map_cell: float = 0.0
     rebuild_s_per_line_cell: float = 0.0
+    scan_beams: int = 0             # beams scan_s was measured with; 0: scan_s for every laser
+    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"scan_beams": 0}
     RANGES: ClassVar[dict[str, Range]] = {
         "cpu_factor": POSITIVE, "scan_s": NON_NEGATIVE,
         "rebuild_s_per_map_cell": NON_NEGATIVE, "rebuild_s_per_line_cell": NON_NEGATIVE}
@@ -60,7 +64,8 @@ class ComputeDelayConfig:
             raise ValueError(f"model must be one of {', '.join(COMPUTE_MODELS)}, "
                              f"got '{self.model}'")
         check_ranges("slam_compute", self, positive=("queue_size", "cpu_factor"),
-                     non_negative=("scan_s", "rebuild_s_per_map_cell", "rebuild_s_per_line_cell"))
+                     non_negative=("scan_s", "rebuild_s_per_map_cell", "rebuild_s_per_line_cell",
+                                   "scan_beams"))
 
     @property
     def enabled(self) -> bool:
@@ -132,7 +137,7 @@ class ComputeDelay:
             return False
         cfg = self.config
         self.total_line_cells += line_cells(ranges, *self.beam_limits)
-        cost = cfg.scan_s
+        cost = scan_cost(cfg, len(ranges))
         rebuild = stamp - self.last_rebuild > self.map_update_interval
         if rebuild:
             rebuild_s = (cfg.rebuild_s_per_map_cell * self.map_cells
@@ -146,6 +151,13 @@ class ComputeDelay:
         self.busy_until = max(self.busy_until, stamp) + cost
         self.stats["busy_s"] += cost
         return rebuild
+
+
+def scan_cost(config: ComputeDelayConfig, beams: int) -> float:
+    """CPU s (reference machine) of one processed scan of ``beams`` beams."""
+    if config.scan_beams <= 0:
+        return config.scan_s
+    return config.scan_s * beams / config.scan_beams
 
 
 def for_backend(config: ComputeDelayConfig | None, backend,
