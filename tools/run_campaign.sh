@@ -4,7 +4,7 @@
 #   tools/run_campaign.sh NAME [--jobs K] [--runs N]
 #
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
-#       fidelity_sizes
+#       fidelity_sizes | fidelity_sizes_r2 | robots
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
@@ -12,13 +12,19 @@
 #   fidelity_sizes (issue #16): the 8 + 10 seed-study buildings of 1,100-6,200 m2 of free floor,
 #              config/fidelity/sizes.yaml; runs are added breadth-first (run 1 of every building,
 #              then run 2, ...) so that a campaign cut by the end of a working period is usable.
+#   fidelity_sizes_r2 (issue #16): the same buildings under config/fidelity/sizes_rebuild2.yaml
+#              (the map rebuild twice as dear per traced cell; docs/fidelity.md "Session 12").
+#   robots (issue #18): 21 seed-study buildings of <= 2,000 m2, each explored with 4 robot
+#              configurations of config/robot_campaign/design.yaml (28 configurations, a
+#              Latin hypercube over laser range, fov and odometry error), 2 runs each (168 runs),
+#              settings config/robot_campaign/settings.yaml.
 # Records go to data/campaigns/NAME/ (run.json and summary.csv are committed, the rest is not);
 # finished runs are never redone, so the command can be repeated in every working period.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 NAME="${1:?usage: tools/run_campaign.sh NAME [--jobs K] [--runs N]}"; shift
 JOBS=2; RUNS=5
-[ "$NAME" = fidelity_sizes ] && RUNS=3   # issue #16: >= 3 runs per building
+case "$NAME" in fidelity_sizes*) RUNS=3 ;; esac   # issue #16: >= 3 runs per building
 while [ $# -gt 0 ]; do
   case "$1" in
     --jobs) JOBS="$2"; shift 2 ;;
@@ -32,6 +38,13 @@ LARGE_BUILDINGS="Ursy1_updated 324-Elm-Furn-Plan_updated office_h battle_creekhs
   floor-1024x523_updated south_mountain_school_2_updated lab_intel Neulengbach1_updated NLB
   FALAELEM1_updated"
 SHIPPED="office_150 school_300 office_500 office_800"
+ROBOT_BUILDINGS="324-Elm-Furn-Plan_updated Borchen4_updated Franch1_updated Lamuniere1_updated
+  Liselotte1_updated RomainRolland1_updated SKF_FloorPlan_updated Sabadell1_updated
+  Sabadell3_updated Sicurezza_1_updated Ursy1_updated Valleceppi_P0_updated Valleceppi_P1_updated
+  VarzeaPaulistaFDE1_updated Vipiteno2_updated battle_creekhs_2_updated floorplanMAIN_updated
+  office_h scuola_sconosciuta_3_updated scuola_sconosciuta_updated
+  scuola_secondaria_i_grado_mera__updated"
+DESIGN_ARGS=()
 WITH_LARGE=0
 case "$NAME" in
   realistic) SETTINGS="$ROOT/config/collect.yaml"; WITH_SHIPPED=1 ;;
@@ -39,7 +52,10 @@ case "$NAME" in
   fidelity_uniform_per_run_60) SETTINGS="$ROOT/config/fidelity/uniform_per_run_60.yaml"; WITH_SHIPPED=0 ;;
   fidelity_fixed_60) SETTINGS="$ROOT/config/fidelity/fixed_60.yaml"; WITH_SHIPPED=0 ;;
   fidelity_sizes) SETTINGS="$ROOT/config/fidelity/sizes.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes)" >&2; exit 2 ;;
+  fidelity_sizes_r2) SETTINGS="$ROOT/config/fidelity/sizes_rebuild2.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  robots) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
+          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml") ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, robots)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
@@ -50,6 +66,7 @@ set +u; source "$ROOT/setup.bash"; set -u
 WORLDS_DIR="$ROOT/out/thesis_worlds"
 BUILDINGS="$THESIS_BUILDINGS"
 [ "$WITH_LARGE" = 1 ] && BUILDINGS="$THESIS_BUILDINGS $LARGE_BUILDINGS"
+[ "$NAME" = robots ] && BUILDINGS="$ROBOT_BUILDINGS"
 # shellcheck disable=SC2086
 slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$WORLDS_DIR" \
   --force --only $BUILDINGS > /dev/null
@@ -63,6 +80,10 @@ if [ "$WITH_LARGE" = 1 ]; then   # breadth-first: every building's run k before 
     slam-predict collect "${WORLDS[@]}" --runs "$k" --jobs "$JOBS" \
       --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
   done
+fi
+if [ "$NAME" = robots ]; then   # the design sets the runs (4 points x 2 replicates)
+  exec slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --jobs "$JOBS" \
+    --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
 fi
 exec slam-predict collect "${WORLDS[@]}" --runs "$RUNS" --jobs "$JOBS" \
   --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"

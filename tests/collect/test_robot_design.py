@@ -63,8 +63,10 @@ def test_design_is_seeded_and_spans_the_bounds():
     other = rd.make_design(WORLDS, base, 28, 4, 2, seed=8)
     assert rd.design_dict(one) == rd.design_dict(two) != rd.design_dict(other)
     for factor, (low, high) in rd.DEFAULT_BOUNDS.items():
-        values = sorted(c[factor] for c in one.configs.values())
-        strata = np.floor((np.array(values) - low) / (high - low) * 28 - 1e-6).astype(int)
+        values = np.array(sorted(c[factor] for c in one.configs.values()))
+        if factor in rd.LOG_FACTORS:
+            values, low, high = np.log(values), math.log(low), math.log(high)
+        strata = np.floor((values - low) / (high - low) * 28 - 1e-6).astype(int)
         assert values[0] >= low and values[-1] <= high
         assert len(set(strata)) >= 27      # one per stratum (rounding may blur one edge)
 
