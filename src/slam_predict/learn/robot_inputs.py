@@ -1,0 +1,116 @@
+"""The robot as model input (issue #18): four numbers describing laser and odometry.
+
+``ROBOT_INPUTS`` and their units:
+
+- ``laser_range_max_m`` — the laser's maximum range, m;
+- ``laser_fov_deg`` — the laser's field of view, DEGREES (run.json records it in rad);
+- ``odom_xy_error`` — the mean of the x and y odometry error bounds, m/m;
+- ``odom_yaw_error`` — the yaw odometry error bound, rad/rad (2 °/rad = 0.0349 rad/rad).
+
+The odometry numbers are the bounds of the ``uniform_per_run`` model (each run draws its
+biases uniformly within ± the bound, :class:`slam_predict.sensor.OdomConfig`); the ``none``
+model is the same robot with bounds 0. The ``fixed`` and ``gaussian_per_step`` models describe
+odometry differently (signed biases, noise densities) and are refused: their numbers are not
+comparable with the design's bounds.
+
+Two sources give the same numbers: a run record's ``sensor`` dict (:func:`inputs_from_sensor`)
+and a robot description file (:func:`inputs_from_robot`, through its ``to_sensor_config()``).
+The laser's angular resolution is not a model input: the design keeps it at
+:data:`DESIGN_RESOLUTION_DEG` (:func:`angular_resolution_deg`).
+"""
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping
+from typing import Any
+
+from slam_predict.errors import InputError
+
+ROBOT_INPUTS = ("laser_range_max_m", "laser_fov_deg", "odom_xy_error", "odom_yaw_error")
+ROBOT_UNITS = {"laser_range_max_m": "m", "laser_fov_deg": "deg", "odom_xy_error": "m/m",
+               "odom_yaw_error": "rad/rad"}
+DESIGN_RESOLUTION_DEG = 0.5   # the design's laser angular resolution (samples = fov/0.5 + 1)
+BOUND_MODELS = ("uniform_per_run", "none")   # odometry models whose inputs are error bounds
+
+
+def _value(tree: Mapping[str, Any], path: str, source: os.PathLike | str | None) -> Any:
+    """``tree[a][b]`` for ``path`` 'a.b'; InputError naming the missing key otherwise."""
+    value: Any = tree
+    for key in path.split("."):
+        if not isinstance(value, Mapping) or key not in value:
+            raise InputError(f"sensor has no '{path}'", source)
+        value = value[key]
+    return value
+
+
+def _number(tree: Mapping[str, Any], path: str, source) -> float:
+    value = _value(tree, path, source)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not math.isfinite(value):
+        raise InputError(f"sensor '{path}' must be a finite number, got {value!r}", source)
+    return float(value)
+
+
+def _odom_bounds(sensor: Mapping[str, Any], source) -> tuple[float, float, float]:
+    """(x m/m, y m/m, yaw rad/rad) error bounds of the sensor's odometry model."""
+    model = _value(sensor, "odom.model", source)
+    if model not in BOUND_MODELS:
+        raise InputError(f"odometry model '{model}' is not a robot input (only "
+                         f"{' and '.join(BOUND_MODELS)} give error bounds)", source)
+    error = _value(sensor, "odom.error", source)
+    if not isinstance(error, (list, tuple)) or len(error) != 3:
+        raise InputError(f"sensor 'odom.error' must be [x, y, yaw], got {error!r}", source)
+    bounds = []
+    for i, item in enumerate(error):
+        if isinstance(item, bool) or not isinstance(item, (int, float)) \
+                or not math.isfinite(item) or item < 0:
+            raise InputError(f"sensor 'odom.error[{i}]' must be a number >= 0, got {item!r}",
+                             source)
+        bounds.append(float(item))
+    if model == "none":
+        return (0.0, 0.0, 0.0)
+    return (bounds[0], bounds[1], bounds[2])
+
+
+def inputs_from_sensor(sensor: Mapping[str, Any],
+                       source: os.PathLike | str | None = None) -> dict[str, float]:
+    """The robot inputs of a run record's ``sensor`` dict (SI units, fov in rad).
+
+    Args:
+        sensor: ``{"laser": {"range_max" m, "fov" rad, ...}, "odom": {"model", "error":
+            [x m/m, y m/m, yaw rad/rad]}}`` as run.json records it.
+        source: file named in the InputError raised for a missing or malformed value.
+    """
+    if not isinstance(sensor, Mapping):
+        raise InputError(f"'sensor' must be a mapping, got {type(sensor).__name__}", source)
+    range_max = _number(sensor, "laser.range_max", source)
+    fov = _number(sensor, "laser.fov", source)
+    if range_max <= 0 or fov <= 0:
+        raise InputError("sensor laser range_max and fov must be > 0", source)
+    x, y, yaw = _odom_bounds(sensor, source)
+    return {"laser_range_max_m": range_max, "laser_fov_deg": math.degrees(fov),
+            "odom_xy_error": 0.5 * (x + y), "odom_yaw_error": yaw}
+
+
+def sensor_dict(robot) -> dict[str, Any]:
+    """The run.json ``sensor`` form of a :class:`~slam_predict.robot_file.RobotDescription`."""
+    from slam_predict.config import to_dict
+
+    return to_dict(robot.to_sensor_config())
+
+
+def inputs_from_robot(robot) -> dict[str, float]:
+    """The robot inputs of a :class:`~slam_predict.robot_file.RobotDescription` (its
+    ``to_sensor_config()``, so the numbers equal those of the runs collected with it)."""
+    return inputs_from_sensor(sensor_dict(robot), f"robot '{robot.name}'")
+
+
+def angular_resolution_deg(sensor: Mapping[str, Any],
+                           source: os.PathLike | str | None = None) -> float:
+    """Degrees between beams, fov / (samples − 1) (Stage's beam rule); the fov for one beam."""
+    fov = math.degrees(_number(sensor, "laser.fov", source))
+    samples = _number(sensor, "laser.samples", source)
+    if samples < 1:
+        raise InputError(f"sensor 'laser.samples' must be >= 1, got {samples:g}", source)
+    return fov if samples == 1 else fov / (samples - 1)
