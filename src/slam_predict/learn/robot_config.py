@@ -1,0 +1,115 @@
+"""Typed configuration of the robot-aware models (``config/robot_learning.yaml``, section
+``robot_learning``; schema: :class:`RobotLearningConfig`)."""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+from slam_predict.config import (
+    AT_LEAST_ONE,
+    FRACTION,
+    NON_NEGATIVE,
+    POSITIVE,
+    TWO_OR_MORE,
+    Range,
+)
+from slam_predict.learn.config import BoostingConfig, ElasticNetConfig
+
+ROBOT_MODEL_KINDS = ("elasticnet", "gradient_boosting", "gaussian_process")
+PROTOCOLS = ("buildings", "configs", "both")
+# Plan features by default: the building's size (area, perimeter: the best single features of
+# the shipped plan-only models) and the thesis' traversal length and rotation (what the
+# odometry error accumulates over). Few, because a campaign has a few dozen buildings.
+DEFAULT_PLAN_FEATURES = ("building_area", "building_perimeter", "voronoi_traversal_distance",
+                         "voronoi_traversal_rotation")
+
+
+@dataclass
+class GaussianProcessConfig:
+    """GaussianProcessRegressor: Matern smoothness ``nu`` (0.5, 1.5, 2.5; ``inf`` = RBF),
+    anisotropic length scales on standardised inputs + a WhiteKernel; optimiser restarts."""
+
+    nu: float = 2.5
+    n_restarts: int = 0
+    length_scale_bounds: tuple[float, float] = (0.05, 100.0)
+    noise_bounds: tuple[float, float] = (1e-6, 10.0)
+    RANGES: ClassVar[dict[str, Range]] = {"nu": POSITIVE, "n_restarts": NON_NEGATIVE,
+                                          "length_scale_bounds": POSITIVE,
+                                          "noise_bounds": POSITIVE}
+
+
+@dataclass
+class RobotBoostingConfig(BoostingConfig):
+    """GradientBoostingRegressor (squared loss on the log target); more, shallower-stepped
+    stages than the plan-only models' default: the robot inputs add interactions."""
+
+    n_estimators: int = 200
+    learning_rate: float = 0.05
+    max_depth: int = 3
+
+
+@dataclass
+class RobotLearningConfig:
+    """Everything ``slam-predict learn robots`` needs (units in the field comments).
+
+    Attributes:
+        plan_features: plan features used as inputs (empty = every feature of the table).
+        log_plan_features: model-side log of the plan features that are > 0 on every
+            training building (sizes and lengths act multiplicatively on the error).
+        log_robot_inputs: robot inputs the models see as their log (default the laser range).
+        models: model kinds evaluated (and the best per component shipped).
+        seed: random_state of folds, trees and the GP optimiser.
+        min_coverage: runs whose explored share of the free area is below are skipped.
+        folds: GroupKFold folds of each evaluation protocol (``both``: folds² cells).
+        conformal_folds: building-grouped folds of the CV+ intervals.
+        confidence: interval coverage (evaluation and the card's default).
+        select_protocol: the protocol whose median percentage error picks the best model.
+        joint_factor: domain warning when the (odom_xy, odom_yaw) pair lies farther from every
+            design configuration than ``joint_factor`` × the design's widest gap.
+    """
+
+    plan_features: tuple[str, ...] = DEFAULT_PLAN_FEATURES
+    log_plan_features: bool = True
+    log_robot_inputs: tuple[str, ...] = ("laser_range_max_m",)
+    models: tuple[str, ...] = ROBOT_MODEL_KINDS
+    seed: int = 0
+    min_coverage: float = 0.9
+    folds: int = 5
+    conformal_folds: int = 5
+    confidence: float = 0.9
+    select_protocol: str = "both"
+    joint_factor: float = 2.0
+    elasticnet: ElasticNetConfig = field(default_factory=ElasticNetConfig)
+    gradient_boosting: RobotBoostingConfig = field(default_factory=RobotBoostingConfig)
+    gaussian_process: GaussianProcessConfig = field(default_factory=GaussianProcessConfig)
+    RANGES: ClassVar[dict[str, Range]] = {
+        "seed": NON_NEGATIVE, "min_coverage": Range(0.0, 1.0), "folds": TWO_OR_MORE,
+        "conformal_folds": TWO_OR_MORE, "confidence": FRACTION, "joint_factor": AT_LEAST_ONE}
+
+    def __post_init__(self) -> None:
+        from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+
+        if not self.models:
+            raise ValueError("models must name at least one model kind")
+        for kind in self.models:
+            if kind not in ROBOT_MODEL_KINDS:
+                raise ValueError(f"unknown model kind '{kind}' (choose from "
+                                 f"{', '.join(ROBOT_MODEL_KINDS)})")
+        for name in self.log_robot_inputs:
+            if name not in ROBOT_INPUTS:
+                raise ValueError(f"log_robot_inputs: unknown robot input '{name}' (choose from "
+                                 f"{', '.join(ROBOT_INPUTS)})")
+        if self.select_protocol not in PROTOCOLS:
+            raise ValueError(f"select_protocol must be one of {', '.join(PROTOCOLS)}")
+        if len(set(self.plan_features)) != len(self.plan_features):
+            raise ValueError("plan_features lists a feature twice")
+
+
+def load_robot_learning_config(path: os.PathLike | str | None) -> RobotLearningConfig:
+    """The configuration of ``path`` (section ``robot_learning``, strict), or the defaults."""
+    from slam_predict.learn.config import load_section
+
+    if path is None:
+        return RobotLearningConfig()
+    return load_section(RobotLearningConfig, path, "robot_learning")

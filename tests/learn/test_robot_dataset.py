@@ -1,0 +1,156 @@
+"""RUN and POINT tables of a campaign: against a hand computation, skips and bad inputs."""
+from __future__ import annotations
+
+import json
+import logging
+import math
+from collections import defaultdict
+
+import numpy as np
+import pytest
+
+from slam_predict.errors import InputError
+from slam_predict.learn.robot_dataset import (
+    build_dataset,
+    plan_features,
+    points_csv,
+    read_runs,
+    runs_csv,
+)
+from slam_predict.sensor import sensor_hash
+
+from . import robot_synthetic as syn
+
+
+@pytest.fixture(scope="module")
+def campaign(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("campaign")
+    worlds, robots, records = syn.campaign(folder / "data")
+    return folder, worlds, robots, records
+
+
+def test_tables_match_a_hand_computation(campaign):
+    folder, worlds, robots, records = campaign
+    data = syn.load(folder / "data", worlds)
+    assert len(data.runs) == 144 and len(data.points) == 72 and data.skipped == {}
+    assert data.worlds == sorted(worlds) and list(data.configs) == [f"c{i:02d}" for i in range(6)]
+    by_point = defaultdict(list)
+    for rec in records:
+        by_point[rec["design"]["point"]].append(rec["metric"])
+    for p in data.points:
+        metrics = by_point[p.point]
+        assert p.runs == 2 and p.point == f"{p.world}/{p.config}"
+        for name in ("trans_mean", "rot_mean"):
+            a, b = (m[name] for m in metrics)
+            assert p.targets[name] == pytest.approx((a + b) / 2, rel=1e-12)
+            std = name.replace("mean", "std")
+            assert p.targets[std] == pytest.approx(abs(a - b) / math.sqrt(2), rel=1e-12)
+    robot = robots[3]
+    row = next(r for r in data.runs if r.config == "c03")
+    assert row.robot["laser_range_max_m"] == robot["range_max"]
+    assert row.robot["laser_fov_deg"] == pytest.approx(robot["fov"], rel=1e-12)
+    assert row.robot["odom_xy_error"] == robot["xy"] and row.robot["odom_yaw_error"] == robot["yaw"]
+    assert data.resolutions_deg == [0.5]
+    assert {r.replicate for r in data.runs} == {0, 1}
+
+
+def test_numeric_tables_and_subsets(campaign):
+    folder, worlds, _, _ = campaign
+    data = syn.load(folder / "data", worlds)
+    tables = data.tables(["building_area"])
+    assert tables.names[0] == "building_area" and tables.run_X.shape == (144, 5)
+    assert np.all(tables.point_X[tables.run_point] == tables.run_X)
+    rows = np.flatnonzero(tables.point_world == "w03")
+    sub = tables.subset(rows)
+    assert len(sub.point_X) == 6 and len(sub.run_X) == 12 and set(sub.run_world) == {"w03"}
+    assert np.all(sub.point_X[sub.run_point] == sub.run_X)
+    assert runs_csv(data).splitlines()[0].startswith("world,run_index,seed,config,point")
+    assert points_csv(data, ["junk"]).splitlines()[0].endswith("rot_mean,rot_std,junk")
+
+
+def test_runs_without_design_skips_and_missing_features(tmp_path, caplog):
+    rng = np.random.default_rng(5)
+    worlds = syn.buildings(3, rng)
+    robots = syn.robot_configs(2, rng)
+    records = syn.write_campaign(tmp_path, worlds, robots, 2, rng, design=False)
+    low = json.loads(open(records[0]["path"]).read())
+    low["coverage"] = 0.85
+    open(records[0]["path"], "w").write(json.dumps(low))
+    bare = json.loads(open(records[1]["path"]).read())
+    del bare["metric"]
+    open(records[1]["path"], "w").write(json.dumps(bare))
+    with caplog.at_level(logging.WARNING):
+        runs, skipped = read_runs([tmp_path])
+    assert skipped == {"low coverage": 1, "no metric": 1} and len(runs) == 10
+    assert "skipped 1 run: low coverage (< 0.9)" in caplog.text
+    config = sensor_hash(syn.sensor(robots[1]))
+    mine = [r for r in runs if r.world == "w00" and r.config == config]
+    assert [r.point for r in mine] == [f"w00/{config}"] * 2
+    assert sorted(r.replicate for r in mine) == [0, 1]
+    features = {w: v for w, v in worlds.items() if w != "w02"}
+    with caplog.at_level(logging.WARNING):
+        data = build_dataset(runs, skipped, features, "v1")
+    assert data.worlds == ["w00", "w01"] and data.skipped["no plan features"] == 4
+    assert "1 building without plan features left out: w02" in caplog.text
+    with pytest.raises(InputError, match="'building_aera' is not in the feature table "
+                                         r"\(did you mean 'building_area'\?\)"):
+        data.tables(["building_aera"])
+
+
+def edit(path, change):
+    record = json.loads(open(path).read())
+    change(record)
+    open(path, "w").write(json.dumps(record))
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda r: r.pop("sensor"), "run record has no 'sensor'"),
+    (lambda r: r.update(design={"config": "c00", "point": "w00/c00"}),
+     "'design' has no 'replicate'"),
+    (lambda r: r.update(coverage="most"), "'coverage' must be a finite number"),
+    (lambda r: r.update(run_index=1.5), "'run_index' must be an integer"),
+    (lambda r: r["sensor"]["laser"].update(range_max=12.0),
+     "configuration 'c00' has other robot inputs than in"),
+    (lambda r: r["design"].update(point="w01/c00"), "point 'w01/c00' is w0. × c00 here but"),
+])
+def test_bad_records_are_one_line_errors_naming_the_file(tmp_path, change, message):
+    rng = np.random.default_rng(1)
+    records = syn.write_campaign(tmp_path, syn.buildings(2, rng), syn.robot_configs(2, rng), 2,
+                                 rng)
+    target = records[1]["path"]
+    edit(target, change)
+    with pytest.raises(InputError, match=message) as err:
+        read_runs([tmp_path])
+    assert target in err.value.one_line() and "\n" not in err.value.one_line()
+
+
+def test_unreadable_missing_and_empty_campaigns(tmp_path):
+    with pytest.raises(InputError, match="campaign folder not found"):
+        read_runs([tmp_path / "nope"])
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(InputError, match="no run.json found"):
+        read_runs([tmp_path / "empty"])
+    bad = tmp_path / "bad" / "w00" / "run_000" / "run.json"
+    bad.parent.mkdir(parents=True)
+    bad.write_text("{not json")
+    with pytest.raises(InputError, match="unreadable run record") as err:
+        read_runs([tmp_path / "bad"])
+    assert str(bad) in err.value.one_line()
+
+
+def test_a_campaign_listed_twice_is_refused(campaign):
+    folder = campaign[0] / "data"
+    with pytest.raises(InputError, match="run listed twice"):
+        read_runs([folder, folder])
+
+
+def test_feature_table_needs_a_version(tmp_path, campaign):
+    worlds = campaign[1]
+    table = syn.write_features(tmp_path / "f.csv", worlds)
+    features, version, config = plan_features(sorted(worlds), table)
+    assert version == "synthetic-v1" and config == {} and "feature_version" not in features["w00"]
+    text = table.read_text().replace("synthetic-v1", "")
+    (tmp_path / "g.csv").write_text(text)
+    with pytest.raises(InputError, match="needs one feature_version"):
+        plan_features(sorted(worlds), tmp_path / "g.csv")
+    assert plan_features(sorted(worlds), tmp_path / "g.csv", feature_version="v9")[1] == "v9"
