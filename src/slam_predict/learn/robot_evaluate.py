@@ -1,0 +1,213 @@
+"""Evaluation of the robot-aware models on POINT truths under three protocols.
+
+- ``buildings`` — leave buildings out: GroupKFold by building (whole buildings per fold);
+- ``configs`` — leave robot configurations out: GroupKFold by configuration;
+- ``both`` — held-out buildings × held-out configurations: every pair (building fold a,
+  configuration fold b) tests the points of a × b with models trained on the rows that share
+  neither a building of a nor a configuration of b; each point is tested exactly once.
+
+Folds deal the shuffled groups (seeded) in turn, as :func:`robot_models.group_folds`. Every
+model is fitted as it would be shipped (:func:`robot_models.fit_component`, including its
+building-grouped CV+ calibration) on the training part only. Scores per protocol, component
+and model, on the test POINT values: median percentage error |ŷ − y| / y, R² of the point
+values, coverage of the intervals (default 90 %; a std's interval is for the point's own run
+count) and the number of test points, each beside the issue's acceptance bars (median error
+≤ 20 %, R² ≥ 0.8, coverage ≥ 80 %) with pass/FAIL. Std truths come from 2 runs per point,
+themselves uncertain by tens of percent, which bounds the reachable scores of the stds.
+"""
+from __future__ import annotations
+
+import logging
+import math
+from collections import defaultdict
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from slam_predict.errors import InputError
+from slam_predict.learn.dataset import COMPONENTS, UNITS
+from slam_predict.learn.evaluate import percentage_errors, scores
+from slam_predict.learn.robot_config import PROTOCOLS, RobotLearningConfig
+from slam_predict.learn.robot_dataset import RobotTables
+from slam_predict.learn.robot_models import fit_component, group_folds, is_std
+from slam_predict.learn.tables import SYMBOLS, err, fmt, markdown
+
+LOG = logging.getLogger(__name__)
+BARS = {"median_pct_error": (0.20, "≤"), "r2": (0.8, "≥"), "coverage": (0.8, "≥")}
+PROTOCOL_TITLES = {"buildings": "Leave buildings out (GroupKFold by building)",
+                   "configs": "Leave robot configurations out (GroupKFold by configuration)",
+                   "both": "Held-out buildings × held-out configurations"}
+
+
+@dataclass
+class Split:
+    """One train/test division of the POINT rows (indices)."""
+
+    protocol: str
+    fold: str
+    train: np.ndarray
+    test: np.ndarray
+
+
+def protocol_splits(tables: RobotTables, protocol: str, n_folds: int,
+                    seed: int) -> list[Split]:
+    """The splits of one protocol ([] when it has fewer than 2 groups to hold out)."""
+    index = PROTOCOLS.index(protocol)
+    worlds = group_folds(tables.point_world, n_folds, np.random.default_rng([seed, index, 0]))
+    configs = group_folds(tables.point_config, n_folds,
+                          np.random.default_rng([seed, index, 1]))
+    n_worlds, n_configs = len(np.unique(worlds)), len(np.unique(configs))
+    if (n_worlds if protocol == "buildings" else n_configs) < 2 or (
+            protocol == "both" and n_worlds < 2):
+        LOG.warning("protocol %s skipped: fewer than 2 groups to hold out", protocol)
+        return []
+    if protocol == "buildings":
+        cells = [(f"b{a}", worlds == a, worlds != a) for a in range(n_worlds)]
+    elif protocol == "configs":
+        cells = [(f"c{b}", configs == b, configs != b) for b in range(n_configs)]
+    else:
+        cells = [(f"b{a}c{b}", (worlds == a) & (configs == b), (worlds != a) & (configs != b))
+                 for a in range(n_worlds) for b in range(n_configs)]
+    return [Split(protocol, name, np.flatnonzero(train), np.flatnonzero(test))
+            for name, test, train in cells if test.any() and train.any()]
+
+
+def _prediction_rows(tables: RobotTables, split: Split, component: str, kind: str,
+                     model, confidence: float) -> list[dict]:
+    test = split.test
+    y = tables.point_y[component][test]
+    runs = tables.point_runs[test]
+    keep = np.isfinite(y) & (runs >= 2 if is_std(component) else True)
+    test, y, runs = test[keep], y[keep], runs[keep]
+    if not len(test):
+        return []
+    X = tables.point_X[test]
+    pred = model.predict(X)
+    bounds = (model.interval(X, confidence, runs) if is_std(component)
+              else model.interval(X, confidence))
+    pct = percentage_errors(y, pred)
+    return [{"protocol": split.protocol, "fold": split.fold, "component": component,
+             "model": kind, "world": str(tables.point_world[i]),
+             "config": str(tables.point_config[i]), "runs": int(runs[j]), "y": float(y[j]),
+             "prediction": float(pred[j]), "low": float(bounds[j, 0]),
+             "high": float(bounds[j, 1]), "covered": bool(bounds[j, 0] <= y[j] <= bounds[j, 1]),
+             "pct_error": float(pct[j])} for j, i in enumerate(test)]
+
+
+def evaluate_split(tables: RobotTables, split: Split, config: RobotLearningConfig,
+                   components: Sequence[str] = COMPONENTS) -> list[dict]:
+    """Prediction rows of every model kind and component on one split's test points."""
+    train = tables.subset(split.train)
+    rows: list[dict] = []
+    for component in components:
+        for kind in config.models:
+            try:
+                model = fit_component(train, component, kind, config)
+            except InputError as exc:  # too few rows for the component: the same for every kind
+                LOG.warning("%s %s, %s: not fitted (%s)", split.protocol, split.fold,
+                            component, exc.one_line())
+                break
+            rows += _prediction_rows(tables, split, component, kind, model, config.confidence)
+    return rows
+
+
+def evaluate(tables: RobotTables, config: RobotLearningConfig,
+             protocols: Sequence[str] = PROTOCOLS, components: Sequence[str] = COMPONENTS,
+             n_jobs: int = 1) -> list[dict]:
+    """Prediction rows of every protocol, split, component and model kind."""
+    from joblib import Parallel, delayed
+
+    splits = [s for p in protocols for s in protocol_splits(tables, p, config.folds,
+                                                            config.seed)]
+    LOG.info("robot models: %d splits × %d components × %d model kinds", len(splits),
+             len(components), len(config.models))
+    chunks = Parallel(n_jobs=n_jobs)(delayed(evaluate_split)(tables, s, config, components)
+                                     for s in splits)
+    return [row for chunk in chunks for row in chunk]
+
+
+def passes(metric: str, value: float) -> bool:
+    """True when ``value`` meets the acceptance bar of ``metric`` (NaN fails)."""
+    bar, sense = BARS[metric]
+    if value is None or math.isnan(value):
+        return False
+    return value <= bar if sense == "≤" else value >= bar
+
+
+def summarize(rows: Sequence[dict]) -> list[dict]:
+    """Per (protocol, component, model): n test points, median % error, R², coverage, median
+    interval width, and pass/fail of each bar."""
+    groups: dict[tuple, list[dict]] = defaultdict(list)
+    for row in rows:
+        groups[(row["protocol"], row["component"], row["model"])].append(row)
+    out = []
+    for (protocol, component, model), members in groups.items():
+        y = np.array([r["y"] for r in members])
+        pred = np.array([r["prediction"] for r in members])
+        entry = {"protocol": protocol, "component": component, "model": model,
+                 "n_points": len(members),
+                 "median_pct_error": float(np.nanmedian([r["pct_error"] for r in members])),
+                 "r2": scores(y, pred)["r2"] if len(y) > 1 else math.nan,
+                 "coverage": float(np.mean([r["covered"] for r in members])),
+                 "width_median": float(np.median([r["high"] - r["low"] for r in members]))}
+        entry.update({f"pass_{m}": passes(m, entry[m]) for m in BARS})
+        out.append(entry)
+    out.sort(key=lambda r: (PROTOCOLS.index(r["protocol"]), COMPONENTS.index(r["component"]),
+                            r["model"]))
+    return out
+
+
+def best_models(summary: Sequence[dict], config: RobotLearningConfig) -> dict[str, str]:
+    """Per component the model kind with the lowest median % error under the configured
+    protocol (else the first protocol evaluated); ties → higher R²."""
+    have = [p for p in PROTOCOLS if any(r["protocol"] == p for r in summary)]
+    if not have:
+        return {}
+    protocol = config.select_protocol if config.select_protocol in have else have[0]
+    best: dict[str, tuple] = {}
+    for row in summary:
+        if row["protocol"] != protocol:
+            continue
+        r2 = -math.inf if math.isnan(row["r2"]) else row["r2"]
+        key = (row["median_pct_error"], -r2, row["model"])
+        if row["component"] not in best or key < best[row["component"]]:
+            best[row["component"]] = key
+    return {c: best[c][2] for c in COMPONENTS if c in best}
+
+
+def _bar_cell(row: dict, metric: str) -> str:
+    return "pass" if row[f"pass_{metric}"] else "**FAIL**"
+
+
+def summary_table(summary: Sequence[dict], protocol: str, best: dict[str, str],
+                  confidence: float) -> str:
+    """One protocol's Markdown table: figures and the bars' pass/FAIL beside them."""
+    rows = []
+    for r in (s for s in summary if s["protocol"] == protocol):
+        c = r["component"]
+        mark = " **(best)**" if best.get(c) == r["model"] else ""
+        rows.append([SYMBOLS[c], r["model"] + mark, str(r["n_points"]),
+                     f"{100 * r['median_pct_error']:.1f} %", _bar_cell(r, "median_pct_error"),
+                     fmt(r["r2"]), _bar_cell(r, "r2"), f"{100 * r['coverage']:.1f} %",
+                     _bar_cell(r, "coverage"), err(r["width_median"], c)])
+    pct = f"{100 * confidence:g} %"
+    return markdown(["component", "model", "test points", "median % error", "≤ 20 %", "R²",
+                     "≥ 0.8", f"{pct} coverage", "≥ 80 %", "median width"], rows)
+
+
+def report_markdown(summary: Sequence[dict], best: dict[str, str], header: Sequence[str],
+                    confidence: float) -> str:
+    """The whole evaluation page (``robots_eval.md``)."""
+    parts = ["# Robot-aware models (`own-robots`): evaluation", "", *header, ""]
+    for protocol in PROTOCOLS:
+        if any(r["protocol"] == protocol for r in summary):
+            parts += [f"## {PROTOCOL_TITLES[protocol]}", "",
+                      summary_table(summary, protocol, best, confidence)]
+        else:
+            parts += [f"## {PROTOCOL_TITLES[protocol]}", "",
+                      "Not evaluated (fewer than 2 groups to hold out).", ""]
+    parts += ["Acceptance bars of issue #18 (stated for mean ε_t, shown for every component): "
+              "median percentage error ≤ 20 %, R² ≥ 0.8, interval coverage ≥ 80 %. Units: "
+              + ", ".join(f"{SYMBOLS[c]} {UNITS[c]}" for c in COMPONENTS) + "."]
+    return "\n".join(parts) + "\n"
