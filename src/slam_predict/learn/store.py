@@ -261,6 +261,10 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
             raise InputError(f"no model named '{name}' in {models_dir}" + did_you_mean(name, names)
                              + (f" (available: {', '.join(names)})" if names else ""))
         store = ModelStore(path, feature_version)
+        if store.card.get("kind", "plan") != "plan":
+            raise InputError(f"model '{store.name}' is a robot-aware model (kind "
+                             f"{store.card['kind']}): it needs robot inputs; load it with "
+                             "slam_predict.learn.robot_predict.RobotModel", path / CARD)
         if setting is not None and store.card["setting"] != setting:
             raise InputError(f"model was trained for the {store.card['setting']} setting, not "
                              f"{setting}", path / CARD)
@@ -272,7 +276,8 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
         except InputError as exc:
             LOG.warning("skipping %s", exc.one_line())
             continue
-        if setting is None or card["setting"] == setting:
+        if card.get("kind", "plan") == "plan" and (setting is None
+                                                   or card["setting"] == setting):
             candidates.append((-int(card.get("priority", 0)),
                                -len(card["training_buildings"]), path.name, path))
     if not candidates:

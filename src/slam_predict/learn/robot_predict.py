@@ -1,0 +1,196 @@
+"""Prediction with a robot-aware model folder: plan features + robot inputs → four components.
+
+:class:`RobotModel` loads ``models/<name>`` written by :mod:`robot_train` (card, checksums,
+scikit-learn major version checked, as :class:`~slam_predict.learn.store.ModelStore`), then
+predicts without refitting anything: per component the best model's value and its CV+
+interval. The plan features are computed by the caller with :attr:`RobotModel.feature_config`
+(:func:`slam_predict.learn.featurize.compute`), as ``predict`` does for the plan-only models.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from slam_predict.errors import InputError, did_you_mean
+from slam_predict.learn.dataset import COMPONENTS, UNITS
+from slam_predict.learn.robot_inputs import DESIGN_RESOLUTION_DEG, ROBOT_INPUTS, ROBOT_UNITS
+from slam_predict.learn.robot_models import ComponentModel, is_std
+from slam_predict.learn.robot_train import KIND, POINTS_FILE
+from slam_predict.learn.store import CARD, ModelStore
+
+
+class RobotModel:
+    """A loaded robot-aware model folder (see the module doc); use :meth:`load`."""
+
+    def __init__(self, store: ModelStore, models: dict[str, ComponentModel],
+                 points: np.ndarray):
+        self.store = store
+        self.card = store.card
+        self.models = models
+        self.points = points                       # training POINT inputs (n, d)
+        self.names = list(self.card["features"]) + list(ROBOT_INPUTS)
+
+    @classmethod
+    def load(cls, path: os.PathLike | str) -> RobotModel:
+        """The model folder at ``path``; InputError (one line) on a missing or corrupt folder,
+        a checksum mismatch, a folder of another kind or another scikit-learn major version."""
+        store = ModelStore(path)   # card, versions and every file's checksum
+        card_path = Path(path) / CARD
+        if store.card.get("kind") != KIND:
+            raise InputError(f"not a robot-aware model (kind {store.card.get('kind')!r}, "
+                             f"expected '{KIND}')", card_path)
+        models = {}
+        for component, entry in store.card["components"].items():
+            model = store.estimator(component, entry.get("best"))
+            if not isinstance(model, ComponentModel):
+                raise InputError(f"corrupt model file (no robot model of {component})",
+                                 Path(path) / f"{component}.joblib")
+            models[component] = model
+        return cls(store, models, _read_points(Path(path) / POINTS_FILE,
+                                               list(store.card["features"]) + list(ROBOT_INPUTS)))
+
+    @property
+    def name(self) -> str:
+        return str(self.card["name"])
+
+    @property
+    def feature_config(self) -> dict[str, Any]:
+        """The feature configuration to compute the plan features with (as predict.py)."""
+        return dict(self.card.get("feature_config") or {})
+
+    @property
+    def feature_version(self) -> str:
+        return str(self.card["feature_version"])
+
+    def check_feature_version(self) -> None:
+        """InputError unless this installation computes the card's feature version."""
+        from slam_predict.learn.featurize import version_of
+
+        current = version_of(self.feature_config)
+        if current != self.feature_version:
+            raise InputError(f"model uses feature version {self.feature_version}, this "
+                             f"slam_predict computes {current}; retrain with 'slam-predict "
+                             "learn robots'", self.store.path / CARD)
+
+    def row(self, plan_features: Mapping[str, float], robot: Mapping[str, float]) -> np.ndarray:
+        """The (1, d) raw input row; InputError naming a missing or non-finite input."""
+        values = []
+        for name in self.names:
+            source = robot if name in ROBOT_INPUTS else plan_features
+            if name not in source:
+                what = "robot input" if name in ROBOT_INPUTS else "plan feature"
+                raise InputError(f"{what} '{name}' needed by model {self.name} is missing"
+                                 + did_you_mean(name, list(source)))
+            value = float(source[name])
+            if not math.isfinite(value):
+                raise InputError(f"input '{name}' must be finite, got {value!r}")
+            values.append(value)
+        return np.array([values])
+
+    def predict(self, plan_features: Mapping[str, float], robot: Mapping[str, float],
+                confidence: float = 0.9) -> dict[str, dict]:
+        """{component: {"value", "low", "high", "unit", "model"}} for the four components.
+
+        Means: the point's expected run error and the interval of its mean over the design's
+        run count; stds: the run-to-run std σ and the interval of the sample std over that
+        many runs (``card["interval_runs"]``, 2 by design). A component the folder has no
+        model for gets None values. The value always lies inside its interval.
+        """
+        x = self.row(plan_features, robot)
+        out: dict[str, dict] = {}
+        runs = int(self.card.get("interval_runs", 2))
+        for component in COMPONENTS:
+            model = self.models.get(component)
+            if model is None:
+                out[component] = {"value": None, "low": None, "high": None,
+                                  "unit": UNITS[component], "model": None}
+                continue
+            value = float(model.predict(x)[0])
+            bounds = (model.interval(x, confidence, max(runs, 2)) if is_std(component)
+                      else model.interval(x, confidence))
+            out[component] = {"value": value, "low": min(float(bounds[0, 0]), value),
+                              "high": max(float(bounds[0, 1]), value),
+                              "unit": UNITS[component], "model": f"{self.name}/{model.kind}"}
+        return out
+
+    def domain_warnings(self, plan_features: Mapping[str, float], robot: Mapping[str, float],
+                        angular_resolution_deg: float | None = None) -> list[str]:
+        """One line per input outside its training range (name, value, range, unit); one for a
+        laser angular resolution other than the design's; one when (odom_xy, odom_yaw) lies
+        far from every design configuration (see :meth:`odom_gap_warning`)."""
+        x = self.row(plan_features, robot)[0]
+        out = []
+        for name, value in zip(self.names, x, strict=True):
+            low, high = self.card["input_ranges"][name]
+            if not low <= value <= high:
+                unit = f" {ROBOT_UNITS[name]}" if name in ROBOT_UNITS else ""
+                out.append(f"{name} = {value:.4g}{unit} is outside the training range "
+                           f"[{low:.4g}, {high:.4g}]{unit}")
+        if angular_resolution_deg is not None:
+            trained = self.card["design"].get("angular_resolution_deg") or [
+                DESIGN_RESOLUTION_DEG]
+            if not any(math.isclose(angular_resolution_deg, r, rel_tol=0.01) for r in trained):
+                out.append(f"laser angular resolution {angular_resolution_deg:.4g} deg differs "
+                           f"from the design's {', '.join(f'{r:g}' for r in trained)} deg "
+                           "(not a model input: the models never saw it)")
+        note = self.odom_gap_warning(robot)
+        return out + ([note] if note else [])
+
+    def odom_gap_warning(self, robot: Mapping[str, float]) -> str | None:
+        """A warning when (odom_xy_error, odom_yaw_error), scaled by the design's spans, lies
+        farther from every design configuration than ``joint_factor`` × the design's widest
+        nearest-neighbour gap; None otherwise (or with fewer than 2 configurations)."""
+        keys = ("odom_xy_error", "odom_yaw_error")
+        design = np.array([[c[k] for k in keys]
+                           for c in self.card["design"]["configs"].values()])
+        if len(design) < 2:
+            return None
+        span = design.max(axis=0) - design.min(axis=0)
+        span = np.where(span > 0, span, 1.0)
+        scaled = design / span
+        query = np.array([float(robot[k]) for k in keys]) / span
+        pair = np.linalg.norm(scaled[:, None] - scaled[None], axis=2)
+        np.fill_diagonal(pair, np.inf)
+        gap = float(pair.min(axis=1).max())
+        factor = float(self.card.get("robot_learning_config", {}).get("joint_factor", 2.0))
+        distance = float(np.linalg.norm(scaled - query, axis=1).min())
+        if gap > 0 and distance > factor * gap:
+            return (f"odometry errors (xy {robot['odom_xy_error']:.4g} m/m, yaw "
+                    f"{robot['odom_yaw_error']:.4g} rad/rad) lie far from every design "
+                    f"configuration ({distance / gap:.1f} × the design's widest gap)")
+        return None
+
+    def partial_dependence(self, component: str, robot_input: str,
+                           grid_points: int = 20) -> tuple[np.ndarray, np.ndarray]:
+        """(grid, values): the mean prediction over the training POINT rows with
+        ``robot_input`` set to each of ``grid_points`` values spanning its training range."""
+        if component not in self.models:
+            raise InputError(f"model has no component '{component}'"
+                             + did_you_mean(component, list(self.models)))
+        if robot_input not in ROBOT_INPUTS:
+            raise InputError(f"unknown robot input '{robot_input}'"
+                             + did_you_mean(robot_input, ROBOT_INPUTS))
+        if grid_points < 2:
+            raise InputError(f"grid_points must be ≥ 2, got {grid_points}")
+        j = self.names.index(robot_input)
+        grid = np.linspace(*self.card["input_ranges"][robot_input], grid_points)
+        X = np.repeat(self.points[None], grid_points, axis=0)     # (G, n, d)
+        X[:, :, j] = grid[:, None]
+        values = self.models[component].predict(X.reshape(-1, X.shape[2]))
+        return grid, values.reshape(grid_points, -1).mean(axis=1)
+
+
+def _read_points(path: Path, names: list[str]) -> np.ndarray:
+    """The (n, d) input columns ``names`` of ``training_points.csv``."""
+    try:
+        rows = list(csv.DictReader(io.StringIO(path.read_text(encoding="utf-8"))))
+        return np.array([[float(r[n]) for n in names] for r in rows], dtype=float)
+    except (OSError, KeyError, ValueError, TypeError) as exc:
+        raise InputError(f"corrupt training points ({exc.__class__.__name__})", path) from None

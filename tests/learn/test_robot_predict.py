@@ -1,0 +1,162 @@
+"""The robot-aware model folder: card, round trip, refusals, domain warnings, partial
+dependence and prediction speed."""
+from __future__ import annotations
+
+import json
+import shutil
+import time
+
+import numpy as np
+import pytest
+
+from slam_predict.errors import InputError
+from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.learn.robot_train import build_card, fit_all, save_robot_store
+from slam_predict.learn.store import CARD, resolve_store
+
+from . import robot_synthetic as syn
+
+PLAN = {"building_area": 800.0, "building_perimeter": 130.0,
+        "voronoi_traversal_distance": 320.0, "voronoi_traversal_rotation": 40.0}
+ROBOT = {"laser_range_max_m": 12.0, "laser_fov_deg": 270.0, "odom_xy_error": 0.01,
+         "odom_yaw_error": 0.035}
+BEST = {"trans_mean": "gradient_boosting", "trans_std": "elasticnet", "rot_mean": "elasticnet",
+        "rot_std": "elasticnet"}
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory):
+    """(folder, in-memory fitted models, dataset) of a model trained on the synthetic campaign."""
+    folder = tmp_path_factory.mktemp("robot_models")
+    worlds, robots, _ = syn.campaign(folder / "data")
+    data = syn.load(folder / "data", worlds)
+    config = syn.fast_config(models=["elasticnet", "gradient_boosting"])
+    tables = data.tables(config.plan_features)
+    fitted = fit_all(tables, config)
+    card = build_card(data, tables, config, [], BEST, fitted,
+                      {"name": "own-robots", "feature_config": {"some": "config"}})
+    from slam_predict.learn.robot_dataset import points_csv
+
+    save_robot_store(folder / "models" / "own-robots", card, fitted,
+                     points_csv(data, config.plan_features))
+    return folder / "models" / "own-robots", fitted, data
+
+
+def test_card_says_what_the_models_were_trained_on(trained):
+    folder, _, data = trained
+    card = json.loads((folder / CARD).read_text())
+    assert card["kind"] == "robots" and card["name"] == "own-robots"
+    assert card["features"] == list(PLAN) and card["robot_inputs"] == list(ROBOT)
+    assert set(card["input_ranges"]) == set(PLAN) | set(ROBOT)
+    low, high = card["input_ranges"]["laser_range_max_m"]
+    assert 3.5 <= low < high <= 30.0
+    assert card["design"]["buildings"] == data.worlds and len(card["design"]["configs"]) == 6
+    assert card["design"]["angular_resolution_deg"] == [0.5] and card["interval_runs"] == 2
+    assert {c: e["best"] for c, e in card["components"].items()} == BEST
+    assert card["feature_version"] == "synthetic-v1" and card["slam_config_hash"] == "g1"
+    assert set(card["files"]) == {"trans_mean.joblib", "trans_std.joblib", "rot_mean.joblib",
+                                  "rot_std.joblib", "training_points.csv"}
+
+
+def test_round_trip_gives_identical_predictions(trained):
+    folder, fitted, data = trained
+    model = RobotModel.load(folder)
+    assert model.feature_config == {"some": "config"}
+    for point in data.points[:10]:
+        plan = {k: data.features[point.world][k] for k in PLAN}
+        result = model.predict(plan, point.robot)
+        x = model.row(plan, point.robot)
+        for component, entry in result.items():
+            direct = fitted[component][BEST[component]]
+            assert entry["value"] == direct.predict(x)[0]
+            low, high = (direct.interval(x, 0.9, 2) if "std" in component
+                         else direct.interval(x, 0.9))[0]
+            assert entry["low"] == min(low, entry["value"])
+            assert entry["high"] == max(high, entry["value"])
+            assert entry["model"] == f"own-robots/{BEST[component]}"
+            assert entry["unit"] == ("m" if component.startswith("trans") else "rad")
+
+
+def test_predict_is_fast_and_intervals_narrow_with_lower_confidence(trained):
+    model = RobotModel.load(trained[0])
+    start = time.perf_counter()
+    wide = model.predict(PLAN, ROBOT)
+    narrow = model.predict(PLAN, ROBOT, confidence=0.5)
+    assert time.perf_counter() - start < 0.5
+    for component, entry in wide.items():
+        assert 0 < entry["low"] <= entry["value"] <= entry["high"]
+        assert narrow[component]["high"] - narrow[component]["low"] < entry["high"] - entry["low"]
+    truth = syn.expected(PLAN, {"range_max": 12.0, "fov": 270.0, "xy": 0.01, "yaw": 0.035})[0]
+    assert wide["trans_mean"]["low"] <= truth <= wide["trans_mean"]["high"]
+    with pytest.raises(InputError, match="confidence must lie in"):
+        model.predict(PLAN, ROBOT, confidence=1.5)
+
+
+def test_missing_inputs_are_one_line_errors(trained):
+    model = RobotModel.load(trained[0])
+    robot = {k: v for k, v in ROBOT.items() if k != "odom_yaw_error"}
+    robot["odom_yaw_eror"] = 0.03
+    with pytest.raises(InputError, match="robot input 'odom_yaw_error' needed by model "
+                                         "own-robots is missing .did you mean"):
+        model.predict(PLAN, robot)
+    with pytest.raises(InputError, match="plan feature 'building_area'"):
+        model.predict({}, ROBOT)
+
+
+def test_domain_warnings(trained):
+    model = RobotModel.load(trained[0])
+    assert model.domain_warnings(PLAN, ROBOT, angular_resolution_deg=0.5) == []
+    far = dict(ROBOT, laser_range_max_m=80.0)
+    lines = model.domain_warnings(dict(PLAN, building_area=1e5), far, 0.25)
+    low, high = model.card["input_ranges"]["laser_range_max_m"]
+    assert f"laser_range_max_m = 80 m is outside the training range [{low:.4g}, {high:.4g}] m" \
+        in lines
+    assert any(line.startswith("building_area = 1e+05 is outside") for line in lines)
+    assert any("angular resolution 0.25 deg differs from the design's 0.5 deg" in line
+               for line in lines)
+    assert len(lines) == 3
+    # design configurations on the diagonal of (xy, yaw): the opposite corner lies far away
+    model.card["design"]["configs"] = {f"c{i}": {"odom_xy_error": 0.004 * i,
+                                                 "odom_yaw_error": 0.014 * i} for i in range(6)}
+    corner = dict(ROBOT, odom_xy_error=0.02, odom_yaw_error=0.0)
+    note = model.odom_gap_warning(corner)
+    assert note is not None and "lie far from every design configuration" in note
+    assert model.odom_gap_warning(dict(ROBOT, odom_xy_error=0.008, odom_yaw_error=0.028)) is None
+
+
+def test_partial_dependence_is_monotone_in_range(trained):
+    """The truth falls with the laser range (range^-0.3): so does the PDP of the
+    gradient-boosting mean model, and it rises with the odometry errors."""
+    model = RobotModel.load(trained[0])
+    grid, values = model.partial_dependence("trans_mean", "laser_range_max_m", 12)
+    assert len(grid) == 12 and np.all(np.diff(grid) > 0)
+    assert np.all(np.diff(values) <= 0.01 * np.ptp(values))
+    assert values[0] > 1.1 * values[-1]
+    _, rising = model.partial_dependence("trans_mean", "odom_xy_error", 6)
+    assert rising[-1] > rising[0]
+    with pytest.raises(InputError, match="unknown robot input 'range'"):
+        model.partial_dependence("trans_mean", "range")
+
+
+def test_bad_folders_are_refused(trained, tmp_path):
+    folder = tmp_path / "m"
+    shutil.copytree(trained[0], folder)
+    data = (folder / "rot_std.joblib").read_bytes()
+    (folder / "rot_std.joblib").write_bytes(data[:-10])
+    with pytest.raises(InputError, match="checksum differs") as err:
+        RobotModel.load(folder)
+    assert "rot_std.joblib" in err.value.one_line()
+    with pytest.raises(InputError, match="model folder not found"):
+        RobotModel.load(tmp_path / "nope")
+    plan_only = tmp_path / "plan"
+    shutil.copytree(trained[0], plan_only)
+    card = json.loads((plan_only / CARD).read_text())
+    del card["kind"]
+    (plan_only / CARD).write_text(json.dumps(card))
+    with pytest.raises(InputError, match="not a robot-aware model"):
+        RobotModel.load(plan_only)
+    # the plan-only predict refuses a robot-aware folder by name and never picks it as best
+    with pytest.raises(InputError, match="is a robot-aware model"):
+        resolve_store(trained[0].parent, "own-robots", None, None)
+    with pytest.raises(InputError, match="no trained model"):
+        resolve_store(trained[0].parent, "best", None, None)
