@@ -6,6 +6,8 @@
   out) and writes tables, CSVs and figures.
 * ``learn train DATASET --name NAME`` evaluates, fits the best models on every building and
   writes ``models/NAME`` with its card.
+* ``learn robots DATA_DIR... (--worlds DIR | --features CSV)`` builds robot-aware models from
+  campaign run records (:mod:`slam_predict.cli.learn_robots_cmd`).
 """
 from __future__ import annotations
 
@@ -73,6 +75,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                     help="rank among models of the same setting for '--model best'")
     tr.add_argument("--evaluation-out", metavar="DIR", help="also write the evaluation here")
     _common(tr)
+    from slam_predict.cli import learn_robots_cmd
+
+    rb = sub.add_parser("robots", help=learn_robots_cmd.HELP, description=learn_robots_cmd.HELP)
+    learn_robots_cmd.add_arguments(rb)
 
 
 def default_config_path() -> str:
@@ -203,8 +209,15 @@ def run_train(args: argparse.Namespace) -> int:
     return 0
 
 
+def run_robots(args: argparse.Namespace) -> int:
+    from slam_predict.cli.learn_robots_cmd import run as run_learn_robots
+
+    return run_learn_robots(args)
+
+
 def run(args: argparse.Namespace) -> int:
-    actions = {"dataset": run_dataset, "evaluate": run_evaluate, "train": run_train}
+    actions = {"dataset": run_dataset, "evaluate": run_evaluate, "train": run_train,
+               "robots": run_robots}
     if args.learn_command not in actions:
-        raise InputError("choose an action: dataset, evaluate or train")
+        raise InputError("choose an action: dataset, evaluate, train or robots")
     return actions[args.learn_command](args)

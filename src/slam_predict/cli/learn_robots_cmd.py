@@ -1,0 +1,170 @@
+"""``slam-predict learn robots``: robot-aware models from campaign run records (issue #18).
+
+``learn robots DATA_DIR [DATA_DIR...] (--worlds DIR | --features CSV) [--out EVAL_DIR]
+[--name NAME [--models-dir DIR]]`` reads every ``<world>/run_NNN/run.json``, builds the RUN and
+POINT tables, joins the plan features, evaluates the models (leave buildings out, leave
+configurations out, both) and writes ``EVAL_DIR/robots_eval.md`` + CSVs; with ``--name`` it
+fits the models on every run and writes the model folder. Dispatched from :mod:`learn_cmd`.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+
+from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_dir
+from slam_predict.errors import InputError
+
+HELP = "robot-aware models: plan features + robot inputs from campaign runs (issue #18)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("data", nargs="+", metavar="DATA_DIR",
+                        help="campaign folder(s) holding WORLD/run_NNN/run.json")
+    src = parser.add_mutually_exclusive_group(required=True)
+    src.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
+    src.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
+    parser.add_argument("--feature-version", help="feature version of a --features table")
+    parser.add_argument("--feature-config", metavar="YAML",
+                        help="with --worlds: feature configuration (section 'features')")
+    parser.add_argument("--out", metavar="EVAL_DIR",
+                        help="evaluation folder (robots_eval.md, robots_eval.csv, tables)")
+    parser.add_argument("--name", help="also train on every run and write models/NAME")
+    parser.add_argument("--models-dir", metavar="DIR", help="where model folders go "
+                                                            "(default models/)")
+    parser.add_argument("--description", default="", help="one sentence for the card")
+    parser.add_argument("--config", metavar="YAML",
+                        help="robot learning configuration (default: "
+                             "config/robot_learning.yaml)")
+    parser.add_argument("--models", nargs="+", metavar="KIND",
+                        help="model kinds (elasticnet gradient_boosting gaussian_process)")
+    parser.add_argument("--folds", type=int, metavar="N", help="folds of each protocol")
+    parser.add_argument("--seed", type=int, help="seed of folds, trees and the GP optimiser")
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    add_force_argument(parser)
+
+
+def default_config_path() -> Path:
+    from slam_predict.learn.store import default_models_dir
+
+    return default_models_dir().parent / "config" / "robot_learning.yaml"
+
+
+def load_config(args: argparse.Namespace):
+    """The configuration file (or the defaults) with the command line's changes."""
+    from slam_predict.config import from_dict, to_dict
+    from slam_predict.learn.robot_config import load_robot_learning_config
+
+    path = args.config or (str(default_config_path()) if default_config_path().is_file()
+                           else None)
+    changes = to_dict(load_robot_learning_config(path))
+    check_at_least(args.folds, 2, "--folds")
+    check_at_least(args.seed, 0, "--seed")
+    for key in ("models", "folds", "seed"):
+        if getattr(args, key) is not None:
+            changes[key] = getattr(args, key)
+    from slam_predict.learn.robot_config import RobotLearningConfig
+
+    return from_dict(RobotLearningConfig, changes, "command line")
+
+
+def _check_outputs(args: argparse.Namespace) -> Path | None:
+    """The model folder to write (None without --name), every output checked first."""
+    from slam_predict.learn.store import default_models_dir
+
+    check_at_least(args.jobs, 1, "--jobs")
+    if not args.out and not args.name:
+        raise InputError("nothing to write: give --out EVAL_DIR and/or --name NAME")
+    inputs = [*args.data, args.features, args.worlds, args.config]
+    if args.out:
+        check_out_dir(args.out, args.force, inputs=inputs)
+    if not args.name:
+        return None
+    if not args.name.strip() or os.sep in args.name:
+        raise InputError(f"--name must be a folder name, got {args.name!r}")
+    target = Path(args.models_dir or default_models_dir()) / args.name
+    check_out_dir(target, args.force, "--name", inputs=inputs)
+    return target
+
+
+def _feature_config(path: str | None) -> dict:
+    from slam_predict.learn.config import yaml_section
+
+    return {} if path is None else yaml_section(path, "features")
+
+
+def _header(data, config, plan: list[str]) -> list[str]:
+    from slam_predict.words import plural
+
+    skipped = ", ".join(f"{n} {reason}" for reason, n in sorted(data.skipped.items()))
+    return [f"- runs: {len(data.runs)} used" + (f" (skipped: {skipped})" if skipped else ""),
+            f"- points: {len(data.points)} ({plural(len(data.worlds), 'building')} × "
+            f"{plural(len(data.configs), 'configuration')} present)",
+            f"- plan features ({data.feature_version}): {', '.join(plan)}; robot inputs: "
+            "laser_range_max_m, laser_fov_deg, odom_xy_error, odom_yaw_error",
+            f"- models: {', '.join(config.models)}; {config.folds} folds per protocol; "
+            f"seed {config.seed}; intervals: CV+ grouped by building, "
+            f"{config.conformal_folds} folds, {100 * config.confidence:g} %",
+            f"- best per component: lowest median % error under '{config.select_protocol}'"]
+
+
+def write_evaluation(out: str, data, tables, config, rows, summary, best,
+                     feature_meta: dict) -> None:
+    """The evaluation folder, atomically; its features.csv (+ .json sidecar with the feature
+    configuration) is reusable as ``--features``."""
+    from slam_predict.atomic import atomic_dir
+    from slam_predict.learn import dataset as ds
+    from slam_predict.learn.robot_dataset import points_csv, runs_csv
+    from slam_predict.learn.robot_evaluate import report_markdown
+    from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+    from slam_predict.learn.tables import csv_text
+
+    plan = [n for n in tables.names if n not in ROBOT_INPUTS]
+    with atomic_dir(out) as tmp:
+        (tmp / "robots_eval.md").write_text(
+            report_markdown(summary, best, _header(data, config, plan), config.confidence))
+        (tmp / "robots_eval.csv").write_text(csv_text(summary))
+        (tmp / "robots_predictions.csv").write_text(csv_text(rows))
+        (tmp / "runs.csv").write_text(runs_csv(data))
+        (tmp / "points.csv").write_text(points_csv(data, plan))
+        ds.write_feature_table(data.features, data.feature_version, tmp / "features.csv",
+                               feature_meta)
+        (tmp / "best.json").write_text(json.dumps({"best": best}, indent=2) + "\n")
+
+
+def run(args: argparse.Namespace) -> int:
+    from slam_predict.learn.robot_dataset import build_dataset, plan_features, read_runs
+    from slam_predict.learn.robot_evaluate import best_models, evaluate, summarize
+
+    target = _check_outputs(args)
+    config = load_config(args)
+    feature_config = _feature_config(args.feature_config)
+    runs, skipped = read_runs(args.data, config.min_coverage)
+    features, version, full_config = plan_features(
+        sorted({r.world for r in runs}), args.features, args.worlds, feature_config,
+        args.feature_version, args.jobs)
+    data = build_dataset(runs, skipped, features, version)
+    tables = data.tables(config.plan_features)
+    rows = evaluate(tables, config, n_jobs=args.jobs)
+    summary = summarize(rows)
+    best = best_models(summary, config)
+    if args.out:
+        write_evaluation(args.out, data, tables, config, rows, summary, best,
+                         {"feature_config": full_config,
+                          "features_from": os.path.abspath(args.worlds or args.features)})
+    print(f"{len(data.runs)} runs, {len(data.points)} points, {len(data.worlds)} buildings, "
+          f"{len(data.configs)} configurations; best: "
+          + ", ".join(f"{c} {m}" for c, m in best.items()))
+    if args.out:
+        print(f"evaluation written to {args.out}")
+    if target is not None:
+        from slam_predict.learn.robot_train import train_robot_store
+
+        sources = {"data": [os.path.abspath(d) for d in args.data],
+                   "features_from": os.path.abspath(args.worlds or args.features)}
+        train_robot_store(data, config, summary, best, target,
+                          {"name": args.name, "description": args.description,
+                           "feature_config": full_config, "sources": sources}, args.jobs)
+        print(f"model written to {target}")
+    return 0

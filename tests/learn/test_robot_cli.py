@@ -1,0 +1,131 @@
+"""``slam-predict learn robots``: the happy path on a small synthetic campaign and its
+bad-input rows (exit 2, one line, nothing written)."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from slam_predict.cli.main import main
+from slam_predict.learn.robot_predict import RobotModel
+
+from . import robot_synthetic as syn
+
+FAST = """robot_learning:
+  plan_features: [building_area, voronoi_traversal_distance]
+  models: [elasticnet]
+  folds: 2
+  conformal_folds: 2
+  elasticnet: {alphas: [0.001, 0.01, 0.1], l1_ratios: [1.0], cv: 3}
+"""
+
+
+@pytest.fixture(scope="module")
+def inputs(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("robots_cli")
+    worlds, _, records = syn.campaign(folder / "data", n_worlds=8, n_configs=4)
+    syn.write_features(folder / "features.csv", worlds)
+    (folder / "fast.yaml").write_text(FAST)
+    return folder, records
+
+
+def args(folder, *extra):
+    return ["learn", "robots", str(folder / "data"), "--features", str(folder / "features.csv"),
+            "--config", str(folder / "fast.yaml"), *extra]
+
+
+def test_evaluate_and_train(inputs, tmp_path, capsys):
+    folder, _ = inputs
+    out, models = tmp_path / "ev", tmp_path / "models"
+    assert main(args(folder, "--out", str(out), "--name", "own-robots", "--models-dir",
+                     str(models), "--seed", "3")) == 0
+    printed = capsys.readouterr().out
+    assert "64 runs, 32 points, 8 buildings, 4 configurations; best: trans_mean elasticnet" \
+        in printed
+    assert f"model written to {models / 'own-robots'}" in printed
+    for name in ("robots_eval.md", "robots_eval.csv", "robots_predictions.csv", "runs.csv",
+                 "points.csv", "features.csv", "best.json"):
+        assert (out / name).is_file(), name
+    page = (out / "robots_eval.md").read_text()
+    assert "## Held-out buildings × held-out configurations" in page
+    assert "| mean ε_t | elasticnet **(best)** | 32 |" in page
+    assert page.count("| ≤ 20 % |") == 3 and "| pass |" in page  # one header per protocol
+    header = (out / "robots_eval.csv").read_text().splitlines()[0]
+    assert header.startswith("protocol,component,model,n_points,median_pct_error,r2,coverage")
+    card = json.loads((models / "own-robots" / "card.json").read_text())
+    assert card["robot_learning_config"]["seed"] == 3
+    metrics = card["components"]["trans_mean"]["models"]["elasticnet"]["metrics"]
+    assert set(metrics) == {"buildings", "configs", "both"} and metrics["both"]["n_points"] == 32
+    model = RobotModel.load(models / "own-robots")
+    assert model.card["features"] == ["building_area", "voronoi_traversal_distance"]
+
+
+def test_features_of_the_evaluation_folder_are_reusable(inputs, tmp_path):
+    folder, _ = inputs
+    assert main(args(folder, "--out", str(tmp_path / "a"))) == 0
+    again = ["learn", "robots", str(folder / "data"), "--features",
+             str(tmp_path / "a" / "features.csv"), "--config", str(folder / "fast.yaml"),
+             "--out", str(tmp_path / "b")]
+    assert main(again) == 0
+    assert json.loads((tmp_path / "a" / "features.json").read_text())["feature_config"] == {}
+    assert (tmp_path / "a" / "robots_eval.csv").read_text() == \
+        (tmp_path / "b" / "robots_eval.csv").read_text()
+
+
+def run_error(argv, capsys) -> str:
+    code = main(argv)
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    return err
+
+
+@pytest.mark.parametrize("extra, message", [
+    ((), "nothing to write: give --out EVAL_DIR and/or --name NAME"),
+    (("--out", "{tmp}/ev", "--folds", "1"), "--folds must be ≥ 2, got 1"),
+    (("--out", "{tmp}/ev", "--models", "svm"), "unknown model kind 'svm'"),
+    (("--out", "{tmp}/ev", "--jobs", "0"), "--jobs must be ≥ 1, got 0"),
+    (("--out", "{tmp}/full"), "--out folder exists and is not empty"),
+    (("--name", "a/b"), "--name must be a folder name"),
+])
+def test_bad_options(inputs, tmp_path, capsys, extra, message):
+    folder, _ = inputs
+    (tmp_path / "full").mkdir()
+    (tmp_path / "full" / "x").write_text("x")
+    extra = [e.replace("{tmp}", str(tmp_path)) for e in extra]
+    assert message in run_error(args(folder, *extra), capsys)
+    assert not (tmp_path / "ev").exists()
+
+
+def test_bad_inputs(inputs, tmp_path, capsys):
+    folder, records = inputs
+    out = ["--out", str(tmp_path / "ev")]
+    err = run_error(["learn", "robots", str(tmp_path / "nope"), "--features",
+                     str(folder / "features.csv"), *out], capsys)
+    assert "nope: campaign folder not found" in err
+    err = run_error(["learn", "robots", str(folder / "data"), "--features",
+                     str(tmp_path / "f.csv"), *out], capsys)
+    assert "f.csv: table not found" in err
+    broken = tmp_path / "broken"
+    (broken / "w00" / "run_000").mkdir(parents=True)
+    (broken / "w00" / "run_000" / "run.json").write_text("[1, 2")
+    err = run_error(["learn", "robots", str(broken), "--features",
+                     str(folder / "features.csv"), *out], capsys)
+    assert "run.json: unreadable run record (JSONDecodeError)" in err
+    (tmp_path / "bad.yaml").write_text("robot_learning:\n  modles: [elasticnet]\n")
+    err = run_error(["learn", "robots", str(folder / "data"), "--features",
+                     str(folder / "features.csv"), "--config", str(tmp_path / "bad.yaml"),
+                     *out], capsys)
+    assert "unknown config key 'modles'" in err and "did you mean 'models'" in err
+    (tmp_path / "feat.yaml").write_text("robot_learning:\n  plan_features: [area]\n")
+    err = run_error(["learn", "robots", str(folder / "data"), "--features",
+                     str(folder / "features.csv"), "--config", str(tmp_path / "feat.yaml"),
+                     *out], capsys)
+    assert "plan feature 'area' is not in the feature table" in err
+    assert not (tmp_path / "ev").exists()
+
+
+def test_shipped_configuration_is_the_documented_defaults(root):
+    from slam_predict.learn.robot_config import RobotLearningConfig, load_robot_learning_config
+
+    assert load_robot_learning_config(root / "config" / "robot_learning.yaml") == \
+        RobotLearningConfig()
