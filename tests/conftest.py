@@ -60,3 +60,16 @@ def run_record_keys() -> frozenset:
         "explorer_end",
         "sim_duration_s", "wall_time_s", "distance_m", "rotation_rad", "coverage", "stalls",
         "free_area_m2", "snapshots", "metric", "timing", "sensor", "slam"})
+
+
+@pytest.fixture(scope="session")
+def robot_models_dir(tmp_path_factory) -> Path:
+    """A models/ folder holding ``own-robots``: a robot-aware model (elasticnet and gradient
+    boosting) trained on the synthetic campaign of tests/learn/robot_synthetic.py, with this
+    installation's feature configuration (so ``predict --robot`` runs on real plans; its
+    numbers mean nothing there), design bounds and GMapping maxUrange 30 m."""
+    from learn import robot_synthetic as syn
+
+    folder = tmp_path_factory.mktemp("robot_models")
+    syn.train_model(folder)
+    return folder / "models"

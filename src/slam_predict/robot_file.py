@@ -181,18 +181,25 @@ class RobotDescription:
         return {"thesis": {"inscribed_radius": self.costmap_half_side()}}
 
     def gmapping_caps(self, params: P) -> P:
-        """A copy of GMapping parameters ``params`` with maxRange = min(theirs, range_max −
-        0.01) and maxUrange = min(theirs, maxRange), in m. An unset (None) value stays unset:
-        slam_gmapping then derives it from the laser itself (range_max − 0.01, then maxRange)."""
-        limit = self.laser.range_max - GMAPPING_MARGIN
-        max_range = params.maxRange  # type: ignore[attr-defined]
-        max_urange = params.maxUrange  # type: ignore[attr-defined]
-        if max_range is not None:
-            max_range = min(max_range, limit)
-        if max_urange is not None:
-            max_urange = min(max_urange, limit if max_range is None else max_range)
-        return dataclasses.replace(params, maxRange=max_range,  # type: ignore[type-var]
-                                   maxUrange=max_urange)
+        """GMapping parameters ``params`` capped by this robot's laser
+        (:func:`gmapping_caps`)."""
+        return gmapping_caps(params, self.laser.range_max)
+
+
+def gmapping_caps(params: P, range_max: float) -> P:
+    """A copy of GMapping parameters ``params`` with maxRange = min(theirs, range_max − 0.01)
+    and maxUrange = min(theirs, maxRange), in m, for a laser of ``range_max`` m. An unset (None)
+    value stays unset: slam_gmapping then derives it from the laser itself (range_max − 0.01,
+    then maxRange)."""
+    limit = range_max - GMAPPING_MARGIN
+    max_range = params.maxRange  # type: ignore[attr-defined]
+    max_urange = params.maxUrange  # type: ignore[attr-defined]
+    if max_range is not None:
+        max_range = min(max_range, limit)
+    if max_urange is not None:
+        max_urange = min(max_urange, limit if max_range is None else max_range)
+    return dataclasses.replace(params, maxRange=max_range,  # type: ignore[type-var]
+                               maxUrange=max_urange)
 
 
 def _require_finite(section: str, values: Mapping[str, Any]) -> None:

@@ -7,17 +7,25 @@ Ground truth of a run's mean translational error (m)::
 with u lognormal of mean 1 and log-sd σ(yaw) = 0.08 + 2·yaw (heteroscedastic: 0.08–0.22);
 the rotational error (rad) is 0.002 · area^0.25 · (1 + 15·yaw) · u' (u' as u, independent).
 The design draws robots like the real one: a Latin hypercube over range 3.5–30 m, fov
-180–360°, odometry bound scales 0–2 × (0.01 m/m, 0.0349 rad/rad); 0.5° beams.
+180–360°, odometry bound scales 0–2 × (0.01 m/m, 0.0349 rad/rad); 0.5° beams. Records name
+config/collect.yaml as their settings (GMapping maxUrange 30 m) with the GMapping config hash
+the collection would record for their laser; :func:`write_design` writes the design file of
+a campaign's robots and :func:`train_model` a model folder (also used by
+bench/bench_predict_robot.py, which imports this module by path).
 """
 from __future__ import annotations
 
 import csv
+import functools
 import json
 import math
 from pathlib import Path
 
 import numpy as np
 
+ROOT = Path(__file__).resolve().parents[2]
+SETTINGS = "config/collect.yaml"   # relative to the project root, as run.json records it
+SEED_ROBOT = ROOT / "config" / "robots" / "seed_realistic.yaml"
 YAW = 2.0 * math.pi / 180.0   # 2 °/rad in rad/rad
 FEATURES = ("building_area", "building_perimeter", "voronoi_traversal_distance",
             "voronoi_traversal_rotation", "junk")
@@ -81,9 +89,26 @@ def sensor(robot: dict) -> dict:
                      "model": "uniform_per_run", "gaussian": [0.005, 0.005, 0.01, 0.002]}}
 
 
+@functools.lru_cache(maxsize=1)
+def _gmapping_params():
+    from slam_predict.collect.settings import load_settings
+
+    return load_settings(ROOT / SETTINGS).slam.params
+
+
+@functools.lru_cache(maxsize=256)
+def gmapping_hash(range_max: float) -> str:
+    """The GMapping config hash a run with this laser records under the default settings."""
+    from slam_predict.config import config_hash
+    from slam_predict.robot_file import gmapping_caps
+
+    return config_hash(gmapping_caps(_gmapping_params(), range_max))
+
+
 def record(world: str, index: int, seed: int, robot: dict, errors: tuple[float, float],
            design: dict | None, coverage: float = 0.99) -> dict:
     """A run.json dict as the campaign writes it."""
+    gmapping = gmapping_hash(robot["range_max"])
     out = {"world": world, "run_index": index, "seed": seed, "free_area_m2": 500.0,
            "coverage": coverage, "stop_reason": "map_converged", "distance_m": 300.0,
            "sensor": sensor(robot),
@@ -91,7 +116,8 @@ def record(world: str, index: int, seed: int, robot: dict, errors: tuple[float, 
                               "model": "uniform_per_run"},
            "metric": {"trans_mean": errors[0], "rot_mean": errors[1], "trans_std": 0.1,
                       "rot_std": 0.01},
-           "config_hashes": {"gmapping": "g1", "sim": "s1"}, "code_version": "0.1.0+test"}
+           "config_hashes": {"gmapping": gmapping, "sim": "s1"}, "code_version": "0.1.0+test",
+           "settings_file": SETTINGS, "slam": {"type": "gmapping", "params_hash": gmapping}}
     if design is not None:
         out["design"] = design
     return out
@@ -137,6 +163,8 @@ def campaign(folder: Path, n_worlds: int = 12, n_configs: int = 6, replicates: i
     return worlds, robots, records
 
 
+FAST_FEATURES = ("building_area", "building_perimeter", "voronoi_traversal_distance",
+                 "voronoi_traversal_rotation")   # the configuration's default plan features
 FAST = {"conformal_folds": 3, "folds": 3,
         "elasticnet": {"alphas": [0.001, 0.01, 0.1], "l1_ratios": [0.5, 1.0], "cv": 3},
         "gradient_boosting": {"n_estimators": 60, "learning_rate": 0.1, "max_depth": 2}}
@@ -150,13 +178,14 @@ def fast_config(**changes):
     return from_dict(RobotLearningConfig, {**FAST, **changes}, "test")
 
 
-def load(folder: Path, worlds: dict[str, dict], min_coverage: float = 0.9):
+def load(folder: Path, worlds: dict[str, dict], min_coverage: float = 0.9,
+         version: str = "synthetic-v1"):
     """The RobotDataset of a synthetic campaign folder with its true plan features."""
     from slam_predict.learn.robot_dataset import build_dataset, read_runs
 
     runs, skipped = read_runs([folder], min_coverage)
     features = {w: {k: v for k, v in f.items()} for w, f in worlds.items()}
-    return build_dataset(runs, skipped, features, "synthetic-v1")
+    return build_dataset(runs, skipped, features, version)
 
 
 def true_point_values(data, worlds: dict[str, dict], robots: list[dict]) -> dict:
@@ -169,3 +198,48 @@ def true_point_values(data, worlds: dict[str, dict], robots: list[dict]) -> dict
         mean.append(trans)
         std.append(trans * math.sqrt(math.exp(s * s) - 1.0))
     return {"trans_mean": np.array(mean), "trans_std": np.array(std)}
+
+
+def write_design(path: Path, worlds: dict[str, dict], robots: list[dict],
+                 replicates: int = 2) -> Path:
+    """The design file (``slam-predict design``'s format) of a campaign's robots: base robot
+    the seed study's realistic one, configuration ``cNN`` = robot NN, every world all of them."""
+    from slam_predict.collect.robot_design import DEFAULT_BOUNDS, RobotDesign, write_design
+    from slam_predict.robot_file import load_robot
+
+    configs = {f"c{c:02d}": {"range_max": float(r["range_max"]), "fov": float(r["fov"]),
+                             "odom_xy_scale": float(r["xy"] / 0.01),
+                             "odom_yaw_scale": float(r["yaw"] / YAW)}
+               for c, r in enumerate(robots)}
+    design = RobotDesign(load_robot(SEED_ROBOT), dict(DEFAULT_BOUNDS), 0.5, configs,
+                         {w: list(configs) for w in worlds}, replicates, 0)
+    write_design(design, path)
+    return path
+
+
+# Best model per component of the test models (the fast ones: a Gaussian process takes
+# seconds per fit; tests/learn/test_robot_plain.py checks its plain form on its own).
+BEST = {"trans_mean": "gradient_boosting", "trans_std": "elasticnet",
+        "rot_mean": "gradient_boosting", "rot_std": "elasticnet"}
+
+
+def train_model(folder: Path, name: str = "own-robots", config=None, best=None,
+                n_worlds: int = 12, n_configs: int = 6) -> Path:
+    """``folder/models/<name>``: a robot-aware model folder trained on a synthetic campaign
+    written under ``folder`` (with its design file), whose card names this installation's
+    default feature configuration and version, so that ``predict --robot`` can use it on real
+    plans (the numbers mean nothing there). ``config``: a RobotLearningConfig (default
+    :func:`fast_config` with elasticnet and gradient boosting); ``best``: component → kind."""
+    from slam_predict.learn.featurize import full_feature_config, version_of
+    from slam_predict.learn.robot_domain import design_ranges
+    from slam_predict.learn.robot_train import train_robot_store
+
+    worlds, robots, _ = campaign(folder / "data", n_worlds, n_configs)
+    design = write_design(folder / "design.yaml", worlds, robots)
+    feature_config = full_feature_config({})
+    data = load(folder / "data", worlds, version=version_of(feature_config))
+    config = config or fast_config(models=["elasticnet", "gradient_boosting"])
+    bounds = design_ranges(design, data.max_urange_m, data.configs)
+    return train_robot_store(data, config, [], best or BEST, folder / "models" / name,
+                             {"name": name, "description": "synthetic test model",
+                              "feature_config": feature_config, "design_bounds": bounds})

@@ -23,8 +23,11 @@ FAST = """robot_learning:
 @pytest.fixture(scope="module")
 def inputs(tmp_path_factory):
     folder = tmp_path_factory.mktemp("robots_cli")
-    worlds, _, records = syn.campaign(folder / "data", n_worlds=8, n_configs=4)
+    worlds, robots, records = syn.campaign(folder / "data", n_worlds=8, n_configs=4)
     syn.write_features(folder / "features.csv", worlds)
+    syn.write_design(folder / "design.yaml", worlds, robots)
+    other = [dict(r, fov=r["fov"] - 1.0) for r in robots]
+    syn.write_design(folder / "other_design.yaml", worlds, other)
     (folder / "fast.yaml").write_text(FAST)
     return folder, records
 
@@ -38,7 +41,7 @@ def test_evaluate_and_train(inputs, tmp_path, capsys):
     folder, _ = inputs
     out, models = tmp_path / "ev", tmp_path / "models"
     assert main(args(folder, "--out", str(out), "--name", "own-robots", "--models-dir",
-                     str(models), "--seed", "3")) == 0
+                     str(models), "--seed", "3", "--design", str(folder / "design.yaml"))) == 0
     printed = capsys.readouterr().out
     assert "64 runs, 32 points, 8 buildings, 4 configurations; best: trans_mean elasticnet" \
         in printed
@@ -58,6 +61,11 @@ def test_evaluate_and_train(inputs, tmp_path, capsys):
     assert set(metrics) == {"buildings", "configs", "both"} and metrics["both"]["n_points"] == 32
     model = RobotModel.load(models / "own-robots")
     assert model.card["features"] == ["building_area", "voronoi_traversal_distance"]
+    assert model.max_urange_m == 30.0 and "maxUrange 30 m" in page
+    ranges = model.card["input_ranges"]
+    assert ranges["laser_range_max_m"] == [3.5, 30.0] and ranges["laser_fov_deg"] == [180, 360]
+    assert model.card["design"]["bounds"]["odom_xy_error"] == pytest.approx([0.0, 0.02])
+    assert card["sources"]["design"] == str(folder / "design.yaml")
 
 
 def test_features_of_the_evaluation_folder_are_reusable(inputs, tmp_path):
@@ -121,6 +129,13 @@ def test_bad_inputs(inputs, tmp_path, capsys):
                      str(folder / "features.csv"), "--config", str(tmp_path / "feat.yaml"),
                      *out], capsys)
     assert "plan feature 'area' is not in the feature table" in err
+    err = run_error(args(folder, *out, "--design", str(folder / "other_design.yaml")), capsys)
+    assert "other_design.yaml: configuration 'c00': laser_fov_deg is" in err
+    err = run_error(args(folder, *out, "--design", str(tmp_path / "none.yaml")), capsys)
+    assert "none.yaml" in err and "not found" in err
+    (tmp_path / "urange.yaml").write_text("robot_learning:\n  max_urange_m: -1\n")
+    err = run_error(args(folder, *out, "--config", str(tmp_path / "urange.yaml")), capsys)
+    assert "max_urange_m" in err
     assert not (tmp_path / "ev").exists()
 
 

@@ -109,8 +109,15 @@ def edit(path, change):
      "'design' has no 'replicate'"),
     (lambda r: r.update(coverage="most"), "'coverage' must be a finite number"),
     (lambda r: r.update(run_index=1.5), "'run_index' must be an integer"),
-    (lambda r: r["sensor"]["laser"].update(range_max=12.0),
+    (lambda r: r["sensor"]["laser"].update(fov=3.0),
      "configuration 'c00' has other robot inputs than in"),
+    (lambda r: r["sensor"]["laser"].update(range_max=12.0),
+     "settings file config/collect.yaml gives GMapping config .* for the run's 12 m laser, "
+     "the run recorded"),
+    (lambda r: r.pop("settings_file"), "names no settings_file or GMapping config hash"),
+    (lambda r: r.update(settings_file="config/nope.yaml"),
+     "settings file config/nope.yaml of the run not found"),
+    (lambda r: r.update(slam={"type": "karto"}), "SLAM back-end 'karto'"),
     (lambda r: r["design"].update(point="w01/c00"), "point 'w01/c00' is w0. × c00 here but"),
 ])
 def test_bad_records_are_one_line_errors_naming_the_file(tmp_path, change, message):

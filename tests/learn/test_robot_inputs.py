@@ -11,6 +11,7 @@ from slam_predict.learn.robot_inputs import (
     ROBOT_INPUTS,
     ROBOT_UNITS,
     angular_resolution_deg,
+    effective_range,
     inputs_from_robot,
     inputs_from_sensor,
     sensor_dict,
@@ -74,3 +75,16 @@ def test_bad_sensors_are_one_line_errors_naming_the_file(change, message):
     with pytest.raises(InputError, match=message.replace("[", r"\[").replace("]", r"\]")) as err:
         inputs_from_sensor(sensor, "DATA/w/run_000/run.json")
     assert err.value.one_line().startswith("DATA/w/run_000/run.json: ")
+
+
+def test_range_input_is_the_range_gmapping_uses(root):
+    """GMapping crops beams at maxUrange (30 m): the seed study's 80 m laser is a 30 m input,
+    inside the design's 3.5-30 m; a shorter laser keeps its range; None = no cap."""
+    assert effective_range(80.0, 30.0) == 30.0 and effective_range(3.5, 30.0) == 3.5
+    assert effective_range(80.0, None) == 80.0
+    seed = load_robot(root / "config" / "robots" / "seed_realistic.yaml")
+    assert inputs_from_robot(seed, 30.0)["laser_range_max_m"] == 30.0
+    assert inputs_from_robot(seed)["laser_range_max_m"] == 80.0
+    assert inputs_from_sensor(REALISTIC, max_urange_m=30.0)["laser_range_max_m"] == 30.0
+    lds = load_robot(root / "config" / "robots" / "lds_360_3p5.yaml")
+    assert inputs_from_robot(lds, 30.0)["laser_range_max_m"] == 3.5

@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
+from slam_predict.learn.robot_plain import PlainComponentModel
 from slam_predict.learn.robot_predict import RobotModel
-from slam_predict.learn.robot_train import build_card, fit_all, save_robot_store
+from slam_predict.learn.robot_train import build_card, fit_all, plain_forms, save_robot_store
 from slam_predict.learn.store import CARD, resolve_store
 
 from . import robot_synthetic as syn
@@ -38,7 +39,7 @@ def trained(tmp_path_factory):
     from slam_predict.learn.robot_dataset import points_csv
 
     save_robot_store(folder / "models" / "own-robots", card, fitted,
-                     points_csv(data, config.plan_features))
+                     points_csv(data, config.plan_features), plain_forms(fitted, tables.point_X))
     return folder / "models" / "own-robots", fitted, data
 
 
@@ -53,26 +54,33 @@ def test_card_says_what_the_models_were_trained_on(trained):
     assert card["design"]["buildings"] == data.worlds and len(card["design"]["configs"]) == 6
     assert card["design"]["angular_resolution_deg"] == [0.5] and card["interval_runs"] == 2
     assert {c: e["best"] for c, e in card["components"].items()} == BEST
-    assert card["feature_version"] == "synthetic-v1" and card["slam_config_hash"] == "g1"
-    assert set(card["files"]) == {"trans_mean.joblib", "trans_std.joblib", "rot_mean.joblib",
-                                  "rot_std.joblib", "training_points.csv"}
+    assert card["feature_version"] == "synthetic-v1"
+    assert card["slam_config_hash"].split(",") == data.config_hashes()["gmapping"]
+    assert card["max_urange_m"] == 30.0 and card["design"]["bounds"] is None
+    components = ("trans_mean", "trans_std", "rot_mean", "rot_std")
+    assert set(card["files"]) == {"training_points.csv", *(f"{c}.joblib" for c in components),
+                                  *(f"{c}.plain.json" for c in components)}
+    assert all(entry["plain"] for comp in card["components"].values()
+               for entry in comp["models"].values())
 
 
 def test_round_trip_gives_identical_predictions(trained):
     folder, fitted, data = trained
     model = RobotModel.load(folder)
     assert model.feature_config == {"some": "config"}
+    assert all(isinstance(m, PlainComponentModel) for m in model.models.values())
     for point in data.points[:10]:
         plan = {k: data.features[point.world][k] for k in PLAN}
         result = model.predict(plan, point.robot)
         x = model.row(plan, point.robot)
         for component, entry in result.items():
             direct = fitted[component][BEST[component]]
-            assert entry["value"] == direct.predict(x)[0]
+            value = direct.predict(x)[0]
+            assert entry["value"] == pytest.approx(value, rel=1e-9)
             low, high = (direct.interval(x, 0.9, 2) if "std" in component
                          else direct.interval(x, 0.9))[0]
-            assert entry["low"] == min(low, entry["value"])
-            assert entry["high"] == max(high, entry["value"])
+            assert entry["low"] == pytest.approx(min(low, value), rel=1e-9)
+            assert entry["high"] == pytest.approx(max(high, value), rel=1e-9)
             assert entry["model"] == f"own-robots/{BEST[component]}"
             assert entry["unit"] == ("m" if component.startswith("trans") else "rad")
 

@@ -1,10 +1,12 @@
 """``slam-predict learn robots``: robot-aware models from campaign run records (issue #18).
 
-``learn robots DATA_DIR [DATA_DIR...] (--worlds DIR | --features CSV) [--out EVAL_DIR]
-[--name NAME [--models-dir DIR]]`` reads every ``<world>/run_NNN/run.json``, builds the RUN and
-POINT tables, joins the plan features, evaluates the models (leave buildings out, leave
-configurations out, both) and writes ``EVAL_DIR/robots_eval.md`` + CSVs; with ``--name`` it
-fits the models on every run and writes the model folder. Dispatched from :mod:`learn_cmd`.
+``learn robots DATA_DIR [DATA_DIR...] (--worlds DIR | --features CSV) [--design YAML]
+[--out EVAL_DIR] [--name NAME [--models-dir DIR]]`` reads every ``<world>/run_NNN/run.json``,
+builds the RUN and POINT tables (the range capped at the runs' GMapping maxUrange), joins the
+plan features, evaluates the models (leave buildings out, leave configurations out, both) and
+writes ``EVAL_DIR/robots_eval.md`` + CSVs; with ``--name`` it fits the models on every run and
+writes the model folder, whose robot inputs' training ranges are the design file's bounds with
+``--design`` (checked against the runs). Dispatched from :mod:`learn_cmd`.
 """
 from __future__ import annotations
 
@@ -26,6 +28,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     src.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
     src.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
     parser.add_argument("--feature-version", help="feature version of a --features table")
+    parser.add_argument("--design", metavar="YAML",
+                        help="the campaign's design file (e.g. config/robot_campaign/design."
+                             "yaml): the card's robot input ranges become its bounds")
     parser.add_argument("--feature-config", metavar="YAML",
                         help="with --worlds: feature configuration (section 'features')")
     parser.add_argument("--out", metavar="EVAL_DIR",
@@ -76,7 +81,7 @@ def _check_outputs(args: argparse.Namespace) -> Path | None:
     check_at_least(args.jobs, 1, "--jobs")
     if not args.out and not args.name:
         raise InputError("nothing to write: give --out EVAL_DIR and/or --name NAME")
-    inputs = [*args.data, args.features, args.worlds, args.config]
+    inputs = [*args.data, args.features, args.worlds, args.config, args.design]
     if args.out:
         check_out_dir(args.out, args.force, inputs=inputs)
     if not args.name:
@@ -102,7 +107,9 @@ def _header(data, config, plan: list[str]) -> list[str]:
             f"- points: {len(data.points)} ({plural(len(data.worlds), 'building')} × "
             f"{plural(len(data.configs), 'configuration')} present)",
             f"- plan features ({data.feature_version}): {', '.join(plan)}; robot inputs: "
-            "laser_range_max_m, laser_fov_deg, odom_xy_error, odom_yaw_error",
+            "laser_range_max_m (capped at GMapping's maxUrange "
+            + (f"{data.max_urange_m:g} m" if data.max_urange_m is not None else "(unset)")
+            + "), laser_fov_deg, odom_xy_error, odom_yaw_error",
             f"- models: {', '.join(config.models)}; {config.folds} folds per protocol; "
             f"seed {config.seed}; intervals: CV+ grouped by building, "
             f"{config.conformal_folds} folds, {100 * config.confidence:g} %",
@@ -139,12 +146,21 @@ def run(args: argparse.Namespace) -> int:
 
     target = _check_outputs(args)
     config = load_config(args)
+    if args.design:
+        from slam_predict.errors import require_file
+
+        require_file(args.design, "design file")
     feature_config = _feature_config(args.feature_config)
-    runs, skipped = read_runs(args.data, config.min_coverage)
+    runs, skipped = read_runs(args.data, config.min_coverage, config.max_urange_m)
     features, version, full_config = plan_features(
         sorted({r.world for r in runs}), args.features, args.worlds, feature_config,
         args.feature_version, args.jobs)
     data = build_dataset(runs, skipped, features, version)
+    bounds = None
+    if args.design:
+        from slam_predict.learn.robot_domain import design_ranges
+
+        bounds = design_ranges(args.design, data.max_urange_m, data.configs)
     tables = data.tables(config.plan_features)
     rows = evaluate(tables, config, n_jobs=args.jobs)
     summary = summarize(rows)
@@ -162,9 +178,11 @@ def run(args: argparse.Namespace) -> int:
         from slam_predict.learn.robot_train import train_robot_store
 
         sources = {"data": [os.path.abspath(d) for d in args.data],
-                   "features_from": os.path.abspath(args.worlds or args.features)}
+                   "features_from": os.path.abspath(args.worlds or args.features),
+                   "design": os.path.abspath(args.design) if args.design else None}
         train_robot_store(data, config, summary, best, target,
                           {"name": args.name, "description": args.description,
-                           "feature_config": full_config, "sources": sources}, args.jobs)
+                           "feature_config": full_config, "sources": sources,
+                           "design_bounds": bounds}, args.jobs)
         print(f"model written to {target}")
     return 0

@@ -67,6 +67,9 @@ class RobotLearningConfig:
         select_protocol: the protocol whose median percentage error picks the best model.
         joint_factor: domain warning when the (odom_xy, odom_yaw) pair lies farther from every
             design configuration than ``joint_factor`` × the design's widest gap.
+        max_urange_m: GMapping's maxUrange the runs were collected with, m (the range input is
+            min(range_max, maxUrange)); None = read from each run's settings file, checked
+            against its recorded GMapping config hash (learn/robot_domain.py).
     """
 
     plan_features: tuple[str, ...] = DEFAULT_PLAN_FEATURES
@@ -80,12 +83,14 @@ class RobotLearningConfig:
     confidence: float = 0.9
     select_protocol: str = "both"
     joint_factor: float = 2.0
+    max_urange_m: float | None = None
     elasticnet: ElasticNetConfig = field(default_factory=ElasticNetConfig)
     gradient_boosting: RobotBoostingConfig = field(default_factory=RobotBoostingConfig)
     gaussian_process: GaussianProcessConfig = field(default_factory=GaussianProcessConfig)
     RANGES: ClassVar[dict[str, Range]] = {
         "seed": NON_NEGATIVE, "min_coverage": Range(0.0, 1.0), "folds": TWO_OR_MORE,
-        "conformal_folds": TWO_OR_MORE, "confidence": FRACTION, "joint_factor": AT_LEAST_ONE}
+        "conformal_folds": TWO_OR_MORE, "confidence": FRACTION, "joint_factor": AT_LEAST_ONE,
+        "max_urange_m": POSITIVE}
 
     def __post_init__(self) -> None:
         from slam_predict.learn.robot_inputs import ROBOT_INPUTS

@@ -2,7 +2,8 @@
 
 A campaign folder holds ``<world>/run_NNN/run.json``, one robot configuration per run. A RUN
 row is one run: ``world, run_index, seed, config, point, replicate``, the robot inputs
-(:data:`~slam_predict.learn.robot_inputs.ROBOT_INPUTS`), ``coverage`` and the run's
+(:data:`~slam_predict.learn.robot_inputs.ROBOT_INPUTS`; the range capped at the maxUrange of the
+run's GMapping settings, :mod:`~slam_predict.learn.robot_domain`), ``coverage`` and the run's
 ``trans_mean`` (m) and ``rot_mean`` (rad) — its mean relation errors. Runs of the design carry
 ``"design": {"config", "point", "replicate"}``; other runs (``collect --robot``) get
 config = :func:`slam_predict.sensor.sensor_hash` of their ``sensor`` dict, point =
@@ -65,6 +66,7 @@ class RunRow:
     resolution_deg: float = math.nan
     config_hashes: dict[str, str] = field(default_factory=dict)
     source: str = ""
+    max_urange_m: float | None = None    # GMapping's maxUrange of the run's settings, m
 
 
 @dataclass
@@ -156,14 +158,14 @@ def skip_reason(record: Mapping[str, Any], min_coverage: float, path) -> str | N
     return None
 
 
-def run_row(record: Mapping[str, Any], path) -> RunRow:
-    """The RUN row of a complete, usable record."""
+def run_row(record: Mapping[str, Any], path, max_urange_m: float | None = None) -> RunRow:
+    """The RUN row of a complete, usable record (range capped at ``max_urange_m`` m)."""
     from slam_predict.sensor import sensor_hash
 
     world = record["world"]
     if not isinstance(world, str) or not world:
         raise InputError(f"'world' must be a non-empty string, got {world!r}", path)
-    robot = inputs_from_sensor(record["sensor"], path)
+    robot = inputs_from_sensor(record["sensor"], path, max_urange_m)
     config, point, replicate = _design(record, world, sensor_hash(record["sensor"]), path)
     hashes = record.get("config_hashes") if isinstance(record.get("config_hashes"), dict) else {}
     return RunRow(world=world, run_index=_integer(record, "run_index", path),
@@ -172,14 +174,20 @@ def run_row(record: Mapping[str, Any], path) -> RunRow:
                   trans_mean=float(record["metric"]["trans_mean"]),
                   rot_mean=float(record["metric"]["rot_mean"]),
                   resolution_deg=angular_resolution_deg(record["sensor"], path),
-                  config_hashes={str(k): str(v) for k, v in hashes.items()}, source=str(path))
+                  config_hashes={str(k): str(v) for k, v in hashes.items()}, source=str(path),
+                  max_urange_m=max_urange_m)
 
 
-def read_runs(folders: Sequence[os.PathLike | str],
-              min_coverage: float = 0.9) -> tuple[list[RunRow], dict[str, int]]:
-    """(RUN rows, {skip reason: count}) of the campaign folders, checked for consistency."""
+def read_runs(folders: Sequence[os.PathLike | str], min_coverage: float = 0.9,
+              max_urange_m: float | None = None) -> tuple[list[RunRow], dict[str, int]]:
+    """(RUN rows, {skip reason: count}) of the campaign folders, checked for consistency;
+    ``max_urange_m``: GMapping's maxUrange, m, for every run (None: from each run's settings,
+    :class:`~slam_predict.learn.robot_domain.MaxUrangeSource`)."""
+    from slam_predict.learn.robot_domain import MaxUrangeSource, common_max_urange
+
     rows: list[RunRow] = []
     skipped: dict[str, int] = {}
+    caps = MaxUrangeSource(max_urange_m)
     for path in find_records(folders):
         record = read_record(path)
         reason = skip_reason(record, min_coverage, path)
@@ -187,7 +195,7 @@ def read_runs(folders: Sequence[os.PathLike | str],
             skipped[reason] = skipped.get(reason, 0) + 1
             LOG.debug("skipping %s: %s", path, reason)
             continue
-        rows.append(run_row(record, path))
+        rows.append(run_row(record, path, caps.of_record(record, path)))
     for reason, count in sorted(skipped.items()):
         LOG.warning("skipped %s: %s%s", plural(count, "run"), reason,
                     f" (< {min_coverage:g})" if reason == "low coverage" else "")
@@ -195,6 +203,7 @@ def read_runs(folders: Sequence[os.PathLike | str],
         raise InputError("no usable run (every run was skipped: "
                          + ", ".join(f"{n} {r}" for r, n in sorted(skipped.items())) + ")",
                          os.fspath(folders[0]))
+    common_max_urange({r.source: r.max_urange_m for r in rows})
     _check_consistency(rows)
     _assign_replicates(rows)
     rows.sort(key=lambda r: (r.world, r.config, r.replicate, r.run_index, r.seed))
@@ -329,6 +338,11 @@ class RobotDataset:
     def configs(self) -> dict[str, dict[str, float]]:
         """Configuration id → robot inputs, sorted by id."""
         return {p.config: dict(p.robot) for p in sorted(self.points, key=lambda p: p.config)}
+
+    @property
+    def max_urange_m(self) -> float | None:
+        """GMapping's maxUrange of the runs, m (one value, checked by :func:`read_runs`)."""
+        return self.runs[0].max_urange_m if self.runs else None
 
     @property
     def resolutions_deg(self) -> list[float]:

@@ -2,7 +2,9 @@
 
 ``ROBOT_INPUTS`` and their units:
 
-- ``laser_range_max_m`` — the laser's maximum range, m;
+- ``laser_range_max_m`` — the laser range GMapping uses, m: min(laser range_max, maxUrange)
+  (:func:`effective_range`; GMapping crops every beam at maxUrange, config/gmapping.yaml's
+  30 m, so a longer laser is the same robot to it);
 - ``laser_fov_deg`` — the laser's field of view, DEGREES (run.json records it in rad);
 - ``odom_xy_error`` — the mean of the x and y odometry error bounds, m/m;
 - ``odom_yaw_error`` — the yaw odometry error bound, rad/rad (2 °/rad = 0.0349 rad/rad).
@@ -14,7 +16,9 @@ odometry differently (signed biases, noise densities) and are refused: their num
 comparable with the design's bounds.
 
 Two sources give the same numbers: a run record's ``sensor`` dict (:func:`inputs_from_sensor`)
-and a robot description file (:func:`inputs_from_robot`, through its ``to_sensor_config()``).
+and a robot description file (:func:`inputs_from_robot`, through its ``to_sensor_config()``),
+both with the maxUrange of the GMapping settings the runs were collected with
+(:mod:`slam_predict.learn.robot_domain`; a model folder's card records it).
 The laser's angular resolution is not a model input: the design keeps it at
 :data:`DESIGN_RESOLUTION_DEG` (:func:`angular_resolution_deg`).
 """
@@ -73,14 +77,22 @@ def _odom_bounds(sensor: Mapping[str, Any], source) -> tuple[float, float, float
     return (bounds[0], bounds[1], bounds[2])
 
 
-def inputs_from_sensor(sensor: Mapping[str, Any],
-                       source: os.PathLike | str | None = None) -> dict[str, float]:
+def effective_range(range_max: float, max_urange_m: float | None) -> float:
+    """The laser range GMapping uses, m: min(range_max, maxUrange); ``range_max`` when
+    maxUrange is None (unset: slam_gmapping then takes the laser's own range)."""
+    return float(range_max) if max_urange_m is None else min(float(range_max),
+                                                             float(max_urange_m))
+
+
+def inputs_from_sensor(sensor: Mapping[str, Any], source: os.PathLike | str | None = None,
+                       max_urange_m: float | None = None) -> dict[str, float]:
     """The robot inputs of a run record's ``sensor`` dict (SI units, fov in rad).
 
     Args:
         sensor: ``{"laser": {"range_max" m, "fov" rad, ...}, "odom": {"model", "error":
             [x m/m, y m/m, yaw rad/rad]}}`` as run.json records it.
         source: file named in the InputError raised for a missing or malformed value.
+        max_urange_m: GMapping's maxUrange, m (None: no cap), see :func:`effective_range`.
     """
     if not isinstance(sensor, Mapping):
         raise InputError(f"'sensor' must be a mapping, got {type(sensor).__name__}", source)
@@ -89,7 +101,8 @@ def inputs_from_sensor(sensor: Mapping[str, Any],
     if range_max <= 0 or fov <= 0:
         raise InputError("sensor laser range_max and fov must be > 0", source)
     x, y, yaw = _odom_bounds(sensor, source)
-    return {"laser_range_max_m": range_max, "laser_fov_deg": math.degrees(fov),
+    return {"laser_range_max_m": effective_range(range_max, max_urange_m),
+            "laser_fov_deg": math.degrees(fov),
             "odom_xy_error": 0.5 * (x + y), "odom_yaw_error": yaw}
 
 
@@ -100,10 +113,11 @@ def sensor_dict(robot) -> dict[str, Any]:
     return to_dict(robot.to_sensor_config())
 
 
-def inputs_from_robot(robot) -> dict[str, float]:
+def inputs_from_robot(robot, max_urange_m: float | None = None) -> dict[str, float]:
     """The robot inputs of a :class:`~slam_predict.robot_file.RobotDescription` (its
-    ``to_sensor_config()``, so the numbers equal those of the runs collected with it)."""
-    return inputs_from_sensor(sensor_dict(robot), f"robot '{robot.name}'")
+    ``to_sensor_config()``, so the numbers equal those of the runs collected with it), the
+    range capped at GMapping's ``max_urange_m`` (m, None: no cap)."""
+    return inputs_from_sensor(sensor_dict(robot), f"robot '{robot.name}'", max_urange_m)
 
 
 def angular_resolution_deg(sensor: Mapping[str, Any],

@@ -36,38 +36,30 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.special import digamma
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.pipeline import Pipeline
 from sklearn.preprocessing import StandardScaler
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from slam_predict.errors import InputError
-from slam_predict.learn.intervals import cv_plus_interval
 from slam_predict.learn.robot_config import RobotLearningConfig
 from slam_predict.learn.robot_dataset import RobotTables
 from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+from slam_predict.learn.robot_plain import (  # noqa: F401  (is_std, MEANS, STDS re-exported)
+    MEANS,
+    STDS,
+    LogScaleModel,
+    chi2_log_bias,
+    is_std,
+)
 
 LOG = logging.getLogger(__name__)
-MEANS = ("trans_mean", "rot_mean")
-STDS = ("trans_std", "rot_std")
 STD_FLOOR = 1e-3   # a point's std below 1e-3 × its mean is taken as that (log of 0 is -inf)
-
-
-def is_std(component: str) -> bool:
-    """True for the run-to-run standard deviations."""
-    return component in STDS
 
 
 def mean_of(component: str) -> str:
     """The run metric a component is computed from (``trans_std`` → ``trans_mean``)."""
     return component.replace("_std", "_mean")
-
-
-def chi2_log_bias(dof: np.ndarray | float) -> np.ndarray:
-    """b(ν) = E[log(χ²_ν / ν)] = ψ(ν/2) + log(2/ν) (−1.27 for ν = 1, → 0 for large ν)."""
-    dof = np.asarray(dof, dtype=float)
-    return digamma(dof / 2.0) + np.log(2.0 / dof)
 
 
 class PositiveLog(TransformerMixin, BaseEstimator):
@@ -214,8 +206,9 @@ def component_data(tables: RobotTables, component: str) -> ComponentData:
 
 
 @dataclass
-class ComponentModel:
-    """A fitted model of one component with its building-grouped CV+ calibration.
+class ComponentModel(LogScaleModel):
+    """A fitted model of one component with its building-grouped CV+ calibration
+    (predictions and intervals: :class:`~slam_predict.learn.robot_plain.LogScaleModel`).
 
     Attributes (fitted):
         estimator: the pipeline fitted on every training row.
@@ -235,33 +228,9 @@ class ComponentModel:
     offset: float = 0.0
     log_columns: tuple = ()
 
-    def predict_log(self, X: np.ndarray) -> np.ndarray:
-        """The model's log-scale output (means: log of the point mean; stds: log σ²)."""
-        return np.asarray(self.estimator.predict(np.atleast_2d(X))) + self.offset
-
-    def predict(self, X: np.ndarray) -> np.ndarray:
-        """Predicted values, m or rad: the point mean, or the run-to-run std σ."""
-        out = self.predict_log(X)
-        return np.exp(out / 2.0) if is_std(self.component) else np.exp(out)
-
-    def interval(self, X: np.ndarray, confidence: float = 0.9,
-                 runs: int | np.ndarray = 2) -> np.ndarray:
-        """(n, 2) CV+ bounds, m or rad: of the point mean, or (stds) of the sample std of a
-        point measured over ``runs`` runs (≥ 2; per row or one for all)."""
-        if not 0.0 < confidence < 1.0:
-            raise InputError(f"confidence must lie in (0, 1), got {confidence!r}")
-        X = np.atleast_2d(X)
-        fold_pred = np.stack([np.asarray(m.predict(X)) + self.offset
-                              for m in self.fold_estimators])
-        log_bounds = cv_plus_interval(fold_pred, self.calibration_fold, self.residuals,
-                                      1.0 - confidence, "absolute", 1.0)
-        if not is_std(self.component):
-            return np.exp(log_bounds)
-        runs = np.broadcast_to(np.asarray(runs, dtype=float), (len(X),))
-        if np.any(runs < 2):
-            raise InputError("a std interval needs 2 or more runs")
-        shift = chi2_log_bias(runs - 1)[:, None]
-        return np.exp((log_bounds + shift) / 2.0)
+    def evaluate(self, regressor, X: np.ndarray) -> np.ndarray:
+        """A fitted pipeline's raw output at rows ``X``."""
+        return np.asarray(regressor.predict(X))
 
 
 def fit_component(tables: RobotTables, component: str, kind: str,

@@ -3,8 +3,12 @@
 :class:`RobotModel` loads ``models/<name>`` written by :mod:`robot_train` (card, checksums,
 scikit-learn major version checked, as :class:`~slam_predict.learn.store.ModelStore`), then
 predicts without refitting anything: per component the best model's value and its CV+
-interval. The plan features are computed by the caller with :attr:`RobotModel.feature_config`
-(:func:`slam_predict.learn.featurize.compute`), as ``predict`` does for the plan-only models.
+interval. Each best model is read from its plain form (``<component>.plain.json``,
+:mod:`~slam_predict.learn.robot_plain`: numpy only) when it has one, else unpickled (which
+imports scikit-learn, ≈ 1.5 s). The plan features are computed by the caller with
+:attr:`RobotModel.feature_config` (:func:`slam_predict.learn.featurize.compute`), as
+``predict`` does for the plan-only models; the robot inputs with :meth:`RobotModel.inputs`
+(the laser range capped at the card's GMapping maxUrange).
 """
 from __future__ import annotations
 
@@ -21,15 +25,20 @@ import numpy as np
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.robot_inputs import DESIGN_RESOLUTION_DEG, ROBOT_INPUTS, ROBOT_UNITS
-from slam_predict.learn.robot_models import ComponentModel, is_std
-from slam_predict.learn.robot_train import KIND, POINTS_FILE
+from slam_predict.learn.robot_plain import (
+    KIND,
+    POINTS_FILE,
+    LogScaleModel,
+    PlainComponentModel,
+    is_std,
+)
 from slam_predict.learn.store import CARD, ModelStore
 
 
 class RobotModel:
     """A loaded robot-aware model folder (see the module doc); use :meth:`load`."""
 
-    def __init__(self, store: ModelStore, models: dict[str, ComponentModel],
+    def __init__(self, store: ModelStore, models: dict[str, LogScaleModel],
                  points: np.ndarray):
         self.store = store
         self.card = store.card
@@ -46,13 +55,12 @@ class RobotModel:
         if store.card.get("kind") != KIND:
             raise InputError(f"not a robot-aware model (kind {store.card.get('kind')!r}, "
                              f"expected '{KIND}')", card_path)
-        models = {}
-        for component, entry in store.card["components"].items():
-            model = store.estimator(component, entry.get("best"))
-            if not isinstance(model, ComponentModel):
-                raise InputError(f"corrupt model file (no robot model of {component})",
-                                 Path(path) / f"{component}.joblib")
-            models[component] = model
+        for key in ("max_urange_m", "input_ranges", "design"):
+            if key not in store.card:
+                raise InputError(f"corrupt model card (missing '{key}'); retrain with "
+                                 "'slam-predict learn robots'", card_path)
+        models = {component: _component_model(store, component, entry.get("best"))
+                  for component, entry in store.card["components"].items()}
         return cls(store, models, _read_points(Path(path) / POINTS_FILE,
                                                list(store.card["features"]) + list(ROBOT_INPUTS)))
 
@@ -68,6 +76,20 @@ class RobotModel:
     @property
     def feature_version(self) -> str:
         return str(self.card["feature_version"])
+
+    @property
+    def max_urange_m(self) -> float | None:
+        """GMapping's maxUrange of the training runs, m (None: no cap): a laser's range
+        beyond it is the same robot input."""
+        value = self.card["max_urange_m"]
+        return None if value is None else float(value)
+
+    def inputs(self, robot) -> dict[str, float]:
+        """The robot inputs of a :class:`~slam_predict.robot_file.RobotDescription`, its
+        laser range capped at :attr:`max_urange_m`."""
+        from slam_predict.learn.robot_inputs import inputs_from_robot
+
+        return inputs_from_robot(robot, self.max_urange_m)
 
     def check_feature_version(self) -> None:
         """InputError unless this installation computes the card's feature version."""
@@ -185,6 +207,23 @@ class RobotModel:
         X[:, :, j] = grid[:, None]
         values = self.models[component].predict(X.reshape(-1, X.shape[2]))
         return grid, values.reshape(grid_points, -1).mean(axis=1)
+
+
+def _component_model(store: ModelStore, component: str, kind: str | None) -> LogScaleModel:
+    """The best model of ``component``: its plain form if it has one, else the pickle."""
+    if kind is not None:
+        form = store.plain(component, kind)
+        if form is not None:
+            try:
+                return PlainComponentModel.from_form(form)
+            except (KeyError, TypeError, ValueError):
+                raise InputError(f"corrupt model file (plain form of {kind})",
+                                 store.path / f"{component}.plain.json") from None
+    model = store.estimator(component, kind)
+    if not isinstance(model, LogScaleModel):
+        raise InputError(f"corrupt model file (no robot model of {component})",
+                         store.path / f"{component}.joblib")
+    return model
 
 
 def _read_points(path: Path, names: list[str]) -> np.ndarray:

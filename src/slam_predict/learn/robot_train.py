@@ -2,13 +2,17 @@
 
 Folder (learn/store.py conventions, read back by :class:`~slam_predict.learn.robot_predict.
 RobotModel`): ``card.json`` (``"kind": "robots"``), ``<component>.joblib`` =
-``{model kind: fitted ComponentModel}`` for every evaluated kind, and ``training_points.csv``
-(the POINT rows the models were trained on: partial dependence and the design's coverage).
-The card holds the plan feature names and configuration, the robot inputs and units, the
-training range of every input, the design (configurations with their robot inputs,
-buildings, run counts, angular resolutions), the evaluation figures of every model under
-every protocol, the best model per component, the library versions and the SHA-256 of every
-file (checked on loading).
+``{model kind: fitted ComponentModel}`` for every evaluated kind, ``<component>.plain.json`` =
+``{model kind: plain form}`` for those that have one (:mod:`~slam_predict.learn.robot_plain`:
+predicting without importing scikit-learn; the card marks them ``"plain": true``), and
+``training_points.csv`` (the POINT rows the models were trained on: partial dependence and the
+design's coverage). The card holds the plan feature names and configuration, the robot inputs
+and units, GMapping's maxUrange the range input is capped at (``max_urange_m``, m; None = no
+cap), the training range of every input (robot inputs: widened to the design's bounds when the
+design file is given), the design (configurations with their robot inputs, buildings, run
+counts, angular resolutions, bounds), the evaluation figures of every model under every
+protocol, the best model per component, the library versions and the SHA-256 of every file
+(checked on loading).
 """
 from __future__ import annotations
 
@@ -30,28 +34,35 @@ from slam_predict.learn.robot_config import RobotLearningConfig
 from slam_predict.learn.robot_dataset import RobotDataset, RobotTables, points_csv
 from slam_predict.learn.robot_inputs import DESIGN_RESOLUTION_DEG, ROBOT_INPUTS, ROBOT_UNITS
 from slam_predict.learn.robot_models import fit_component
+from slam_predict.learn.robot_plain import KIND, POINTS_FILE, plain_component
 from slam_predict.learn.store import CARD, FORMAT, library_versions, sha256
 
 LOG = logging.getLogger(__name__)
-KIND = "robots"
-POINTS_FILE = "training_points.csv"
 
 
-def input_ranges(tables: RobotTables) -> dict[str, list[float]]:
-    """Input name → [min, max] over the training POINT rows (plan features and robot)."""
-    return {name: [float(tables.point_X[:, j].min()), float(tables.point_X[:, j].max())]
-            for j, name in enumerate(tables.names)}
+def input_ranges(tables: RobotTables,
+                 design: Mapping[str, Sequence[float]] | None = None) -> dict[str, list[float]]:
+    """Input name → [min, max] over the training POINT rows (plan features and robot), a
+    robot input's widened to the design's bounds ``design`` (input → [low, high]) if given."""
+    out = {name: [float(tables.point_X[:, j].min()), float(tables.point_X[:, j].max())]
+           for j, name in enumerate(tables.names)}
+    for name, (low, high) in (design or {}).items():
+        out[name] = [min(out[name][0], float(low)), max(out[name][1], float(high))]
+    return out
 
 
-def design_summary(data: RobotDataset) -> dict[str, Any]:
-    """The design as trained on: configurations, buildings, counts, resolutions."""
+def design_summary(data: RobotDataset,
+                   bounds: Mapping[str, Sequence[float]] | None = None) -> dict[str, Any]:
+    """The design as trained on: configurations, buildings, counts, resolutions, and the
+    design file's bounds in input units (None without the file)."""
     runs = np.array([p.runs for p in data.points])
     return {"configs": data.configs, "buildings": data.worlds, "points": len(data.points),
             "runs": len(data.runs),
             "runs_per_point": {"min": int(runs.min()), "median": float(np.median(runs)),
                                "max": int(runs.max())},
             "angular_resolution_deg": data.resolutions_deg,
-            "design_resolution_deg": DESIGN_RESOLUTION_DEG}
+            "design_resolution_deg": DESIGN_RESOLUTION_DEG,
+            "bounds": {k: list(v) for k, v in bounds.items()} if bounds else None}
 
 
 def _metrics(summary: Sequence[dict], component: str, kind: str) -> dict[str, dict]:
@@ -86,9 +97,13 @@ def fit_all(tables: RobotTables, config: RobotLearningConfig,
 def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningConfig,
                summary: Sequence[dict], best: Mapping[str, str], fitted: Mapping[str, dict],
                meta: Mapping[str, Any]) -> dict[str, Any]:
-    """The card of a robot-aware model folder (without files and versions)."""
+    """The card of a robot-aware model folder (without files and versions); ``meta``:
+    ``name``, ``description``, ``feature_config``, ``sources``, ``design_bounds`` (robot
+    input → [low, high] of the design file, optional)."""
     plan = [n for n in tables.names if n not in ROBOT_INPUTS]
     hashes = data.config_hashes()
+    bounds = meta.get("design_bounds")
+    design = design_summary(data, bounds)
     components = {}
     for component in COMPONENTS:
         if component not in fitted:
@@ -106,27 +121,54 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
         "feature_version": data.feature_version,
         "feature_config": dict(meta.get("feature_config") or {}), "features": plan,
         "robot_inputs": list(ROBOT_INPUTS), "robot_units": dict(ROBOT_UNITS),
-        "input_ranges": input_ranges(tables), "design": design_summary(data),
+        "max_urange_m": data.max_urange_m,
+        "input_ranges": input_ranges(tables, bounds), "design": design,
         "training_buildings": data.worlds, "skipped_runs": dict(data.skipped),
         "confidence": config.confidence,
-        "interval_runs": int(round(design_summary(data)["runs_per_point"]["median"])),
+        "interval_runs": int(round(design["runs_per_point"]["median"])),
         "sources": dict(meta.get("sources") or {}),
         "robot_learning_config": to_dict(config), "components": components}
 
 
+def plain_forms(fitted: Mapping[str, Mapping[str, Any]],
+                X_check: np.ndarray) -> dict[str, dict[str, Any]]:
+    """{component: {kind: plain form}} of the fitted models that have one (checked against
+    them on ``X_check``, the training inputs, and around; others are logged)."""
+    out: dict[str, dict[str, Any]] = {}
+    for component, models in fitted.items():
+        for kind, model in models.items():
+            form = plain_component(model, X_check)
+            if form is None:
+                LOG.warning("%s %s has no plain form: predict will import scikit-learn",
+                            component, kind)
+                continue
+            out.setdefault(component, {})[kind] = form
+    return out
+
+
 def save_robot_store(path: os.PathLike | str, card: dict[str, Any],
-                     fitted: Mapping[str, Mapping[str, Any]], points_text: str) -> Path:
-    """Write the folder atomically: joblib files, the training points, then the card."""
+                     fitted: Mapping[str, Mapping[str, Any]], points_text: str,
+                     plain: Mapping[str, Mapping[str, Any]] | None = None) -> Path:
+    """Write the folder atomically: joblib files, plain forms (``plain``: component → kind →
+    form, marked in the card), the training points, then the card."""
     import joblib
 
     path = Path(path)
     card = dict(card, format=FORMAT, versions=library_versions(), files={})
+    card["components"] = json.loads(json.dumps(card["components"]))   # marked below
     with atomic_dir(path) as tmp:
         os.chmod(tmp, 0o755)
         for component, models in fitted.items():
             name = f"{component}.joblib"
             joblib.dump(dict(models), tmp / name, compress=3)
             card["files"][name] = sha256(tmp / name)
+            forms = dict((plain or {}).get(component) or {})
+            for kind, entry in card["components"].get(component, {}).get("models", {}).items():
+                entry["plain"] = kind in forms
+            if forms:
+                name = f"{component}.plain.json"
+                (tmp / name).write_text(json.dumps(forms) + "\n", encoding="utf-8")
+                card["files"][name] = sha256(tmp / name)
         (tmp / POINTS_FILE).write_text(points_text, encoding="utf-8")
         card["files"][POINTS_FILE] = sha256(tmp / POINTS_FILE)
         (tmp / CARD).write_text(json.dumps(card, indent=2) + "\n", encoding="utf-8")
@@ -140,7 +182,8 @@ def train_robot_store(data: RobotDataset, config: RobotLearningConfig,
                       n_jobs: int = 1) -> Path:
     """Fit every model kind on all rows and write the folder ``out``.
 
-    ``meta``: ``name`` (required), ``description``, ``feature_config``, ``sources``.
+    ``meta``: ``name`` (required), ``description``, ``feature_config``, ``sources``,
+    ``design_bounds`` (see :func:`build_card`).
     """
     if not data.feature_version or data.feature_version == "reference-table":
         raise InputError(f"feature version '{data.feature_version}' cannot be shipped: use "
@@ -151,4 +194,5 @@ def train_robot_store(data: RobotDataset, config: RobotLearningConfig,
         raise InputError("no component could be trained: nothing to store")
     card = build_card(data, tables, config, summary, best, fitted, meta)
     plan = [n for n in tables.names if n not in ROBOT_INPUTS]
-    return save_robot_store(out, card, fitted, points_csv(data, plan))
+    return save_robot_store(out, card, fitted, points_csv(data, plan),
+                            plain_forms(fitted, tables.point_X))

@@ -1,0 +1,172 @@
+"""What the robot inputs span: GMapping's usable laser range and the design's box (issue #18).
+
+**maxUrange.** GMapping never uses a beam beyond ``maxUrange`` (config/gmapping.yaml: 30 m;
+the seed study's robot has an 80 m laser): every reading is cropped there before it is matched
+or marks the map. So the models' range input is min(laser range_max, maxUrange)
+(:func:`~slam_predict.learn.robot_inputs.effective_range`), with the maxUrange of the GMapping
+settings the runs were collected with — the settings' own value, before the collection caps it
+per robot at range_max − 0.01 (:func:`slam_predict.robot_file.gmapping_caps`). Per run
+(:class:`MaxUrangeSource`) it is ``robot_learning.max_urange_m`` when set, else read from the
+run's settings file (run.json ``settings_file``, relative to the project root unless absolute),
+loaded once per file; its GMapping parameters, capped for the run's laser as the collection
+did (or not capped, for a run collected without a robot file), must hash to the run's recorded
+``config_hashes.gmapping``, else the file has changed since the run (one-line error: set
+``max_urange_m``). run.json records the parameters' hash only (``slam.params_hash``), not the
+parameters. Every run must give the same value; the card records it as ``max_urange_m`` and
+prediction applies it to the user's robot.
+
+**Design box.** With the campaign's design file (``learn robots --design``), the robot inputs'
+training ranges are the design's bounds (range 3.5–30 m, fov 180–360°, odometry 0–2 × the base
+robot's bounds), not only the span of the configurations drawn from them: a Latin hypercube
+covers its box, and the seed study's robot (80 m laser, so 30 m used) sits at its edge
+(:func:`design_ranges`). The design's configurations are checked against the runs' inputs.
+"""
+from __future__ import annotations
+
+import logging
+import math
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from slam_predict.errors import InputError
+from slam_predict.learn.robot_inputs import ROBOT_INPUTS, inputs_from_robot
+
+LOG = logging.getLogger(__name__)
+HINT = "set robot_learning.max_urange_m to the maxUrange (m) the runs were collected with"
+
+
+def settings_cap(params) -> float | None:
+    """The range cap of GMapping parameters, m: maxUrange, else maxRange (slam_gmapping sets
+    maxUrange = maxRange when unset), else None (both unset: the laser's own range)."""
+    for value in (params.maxUrange, params.maxRange):
+        if value is not None:
+            return float(value)
+    return None
+
+
+def _laser_range(record: Mapping[str, Any], path) -> float:
+    try:
+        value = record["sensor"]["laser"]["range_max"]
+    except (KeyError, TypeError):
+        raise InputError("sensor has no 'laser.range_max'", path) from None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(f"sensor 'laser.range_max' must be a finite number, got {value!r}", path)
+    return float(value)
+
+
+class MaxUrangeSource:
+    """maxUrange (m, or None: no cap) of the GMapping settings of each run (module doc).
+
+    Args:
+        override: ``robot_learning.max_urange_m``; when not None every run gets it.
+        root: folder a relative ``settings_file`` is taken from (the project root).
+    """
+
+    def __init__(self, override: float | None = None, root: os.PathLike | str | None = None):
+        from slam_predict.paths import PROJECT_ROOT
+
+        self.override = override
+        self.root = Path(root) if root is not None else PROJECT_ROOT
+        self._params: dict[str, Any] = {}
+
+    def of_record(self, record: Mapping[str, Any], path) -> float | None:
+        """The maxUrange of the settings a run record was collected with; InputError naming
+        ``path`` when it cannot be told."""
+        if self.override is not None:
+            return float(self.override)
+        slam = record.get("slam") if isinstance(record.get("slam"), Mapping) else {}
+        backend = slam.get("type", "gmapping")
+        if backend != "gmapping":
+            raise InputError(f"run of SLAM back-end '{backend}': the robot-aware models learn "
+                             "GMapping runs", path)
+        hashes = record.get("config_hashes")
+        recorded = (hashes.get("gmapping") if isinstance(hashes, Mapping) else None) \
+            or slam.get("params_hash")
+        settings_file = record.get("settings_file")
+        if not isinstance(settings_file, str) or not settings_file or not recorded:
+            raise InputError("run record names no settings_file or GMapping config hash: "
+                             f"cannot tell GMapping's maxUrange; {HINT}", path)
+        params = self.params(settings_file, path)
+        self._check_hash(params, _laser_range(record, path), str(recorded), settings_file, path)
+        return settings_cap(params)
+
+    def params(self, settings_file: str, path):
+        """The GMapping parameters of a settings file (loaded once)."""
+        if settings_file not in self._params:
+            from slam_predict.collect.settings import load_settings
+
+            file = Path(settings_file)
+            file = file if file.is_absolute() else self.root / file
+            if not file.is_file():
+                raise InputError(f"settings file {settings_file} of the run not found "
+                                 f"(looked for {file}); {HINT}", path)
+            try:
+                settings = load_settings(file)
+            except InputError as exc:
+                raise InputError(f"settings file {settings_file} of the run: {exc.one_line()}",
+                                 path) from None
+            if settings.slam.type != "gmapping":
+                raise InputError(f"settings file {settings_file} runs SLAM back-end "
+                                 f"'{settings.slam.type}', not GMapping", path)
+            LOG.info("GMapping maxUrange of %s: %s", settings_file,
+                     settings_cap(settings.slam.params))
+            self._params[settings_file] = settings.slam.params
+        return self._params[settings_file]
+
+    @staticmethod
+    def _check_hash(params, range_max: float, recorded: str, settings_file: str, path) -> None:
+        """InputError unless the settings' parameters (capped for the run's laser, or as they
+        are) hash to the run's recorded GMapping config hash."""
+        from slam_predict.config import config_hash
+        from slam_predict.robot_file import gmapping_caps
+
+        hashes = {config_hash(gmapping_caps(params, range_max)), config_hash(params)}
+        if recorded not in hashes:
+            raise InputError(f"settings file {settings_file} gives GMapping config "
+                             f"{config_hash(gmapping_caps(params, range_max))} for the run's "
+                             f"{range_max:g} m laser, the run recorded {recorded} (has the file "
+                             f"changed since?); {HINT}", path)
+
+
+def common_max_urange(values: Mapping[str, float | None]) -> float | None:
+    """The one maxUrange of runs (source file → value); InputError naming two runs that
+    differ (the range input would mean different things)."""
+    items = list(values.items())
+    if not items:
+        return None
+    first_source, first = items[0]
+    for source, value in items[1:]:
+        if value != first:
+            raise InputError(f"runs collected with different GMapping maxUrange: "
+                             f"{_text(value)} here, {_text(first)} in {first_source}", source)
+    return first
+
+
+def _text(value: float | None) -> str:
+    return "unset (the laser's range)" if value is None else f"{value:g} m"
+
+
+def design_ranges(path: os.PathLike | str, max_urange_m: float | None,
+                  configs: Mapping[str, Mapping[str, float]]) -> dict[str, list[float]]:
+    """Robot input → [low, high] of a design file's bounds, in the inputs' units (range
+    capped at ``max_urange_m``); InputError naming the file when a configuration of the runs
+    (``configs``: id → robot inputs) is not in the design or has other inputs there."""
+    from slam_predict.collect.robot_design import FACTORS, configured_robot, load_design
+
+    design = load_design(path)
+    for config, inputs in configs.items():
+        if config not in design.configs:
+            raise InputError(f"configuration '{config}' of the runs is not in the design", path)
+        expected = inputs_from_robot(design.robot(config), max_urange_m)
+        for name in ROBOT_INPUTS:
+            if not math.isclose(expected[name], inputs[name], rel_tol=1e-6, abs_tol=1e-9):
+                raise InputError(f"configuration '{config}': {name} is {expected[name]:.6g} in "
+                                 f"the design, {inputs[name]:.6g} in the runs", path)
+    corners = [inputs_from_robot(configured_robot(design.base,
+                                                  {f: design.bounds[f][i] for f in FACTORS},
+                                                  design.resolution_deg, f"bound{i}"),
+                                 max_urange_m) for i in (0, 1)]
+    return {name: [min(c[name] for c in corners), max(c[name] for c in corners)]
+            for name in ROBOT_INPUTS}

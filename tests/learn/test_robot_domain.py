@@ -1,0 +1,106 @@
+"""GMapping's maxUrange of the runs (the range input's cap) and the design's bounds."""
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from slam_predict.errors import InputError
+from slam_predict.learn.robot_domain import (
+    MaxUrangeSource,
+    common_max_urange,
+    design_ranges,
+    settings_cap,
+)
+from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+from slam_predict.slam.gmapping.params import GMappingParams
+
+from . import robot_synthetic as syn
+
+
+def test_settings_cap_is_maxurange_then_maxrange_then_none():
+    params = GMappingParams(maxRange=60.0, maxUrange=30.0)
+    assert settings_cap(params) == 30.0
+    assert settings_cap(dataclasses.replace(params, maxUrange=None)) == 60.0
+    assert settings_cap(dataclasses.replace(params, maxUrange=None, maxRange=None)) is None
+
+
+def test_runs_get_the_maxurange_of_their_settings_file(tmp_path):
+    """The synthetic runs name config/collect.yaml (maxUrange 30 m) with the hash of its
+    GMapping parameters capped for their laser; an 80 m laser becomes a 30 m input."""
+    rng = np.random.default_rng(2)
+    robots = syn.robot_configs(2, rng)
+    robots[1]["range_max"] = 80.0
+    worlds = syn.buildings(2, rng)
+    records = syn.write_campaign(tmp_path, worlds, robots, 1, rng)
+    source = MaxUrangeSource()
+    assert [source.of_record(r, r["path"]) for r in records] == [30.0] * 4
+    assert MaxUrangeSource(25.0).of_record({}, "x") == 25.0      # robot_learning.max_urange_m
+    data = syn.load(tmp_path, worlds)
+    assert data.max_urange_m == 30.0
+    assert {r.robot["laser_range_max_m"] for r in data.runs if r.config == "c01"} == {30.0}
+
+
+def test_a_run_collected_without_robot_file_has_uncapped_parameters(tmp_path):
+    """collect without --robot records the settings' own parameters (no per-laser cap)."""
+    from slam_predict.config import config_hash
+
+    record = syn.record("w00", 0, 1, {"range_max": 20.0, "fov": 270.0, "xy": 0.01,
+                                      "yaw": syn.YAW}, (0.1, 0.01), None)
+    record["config_hashes"]["gmapping"] = config_hash(syn._gmapping_params())
+    assert MaxUrangeSource().of_record(record, "run.json") == 30.0
+
+
+def test_runs_of_two_maxurange_values_are_refused():
+    assert common_max_urange({"a": 30.0, "b": 30.0}) == 30.0 and common_max_urange({}) is None
+    with pytest.raises(InputError, match="different GMapping maxUrange: unset .* here, "
+                                         "30 m in a") as err:
+        common_max_urange({"a": 30.0, "b": None})
+    assert err.value.one_line().startswith("b: ")
+
+
+def test_changed_settings_need_max_urange_m(tmp_path):
+    settings = tmp_path / "settings.yaml"
+    settings.write_text(f"extends: {syn.ROOT / 'config' / 'collect.yaml'}\n")
+    record = syn.record("w00", 0, 1, {"range_max": 10.0, "fov": 270.0, "xy": 0.01,
+                                      "yaw": syn.YAW}, (0.1, 0.01), None)
+    record["settings_file"] = str(settings)          # absolute: taken as it is
+    assert MaxUrangeSource().of_record(record, "run.json") == 30.0
+    record["config_hashes"]["gmapping"] = "000000000000"
+    with pytest.raises(InputError, match="set robot_learning.max_urange_m"):
+        MaxUrangeSource().of_record(record, "run.json")
+    assert MaxUrangeSource(30.0).of_record(record, "run.json") == 30.0
+
+
+@pytest.fixture(scope="module")
+def designed(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("designed")
+    worlds, robots, _ = syn.campaign(folder / "data", n_worlds=3, n_configs=4)
+    return syn.write_design(folder / "design.yaml", worlds, robots), syn.load(folder / "data",
+                                                                               worlds)
+
+
+def test_design_ranges_are_its_bounds_in_input_units(designed):
+    design, data = designed
+    ranges = design_ranges(design, 30.0, data.configs)
+    assert list(ranges) == list(ROBOT_INPUTS)
+    assert ranges["laser_range_max_m"] == [3.5, 30.0]
+    assert ranges["laser_fov_deg"] == pytest.approx([180.0, 360.0])
+    assert ranges["odom_xy_error"] == pytest.approx([0.0, 0.02])
+    assert ranges["odom_yaw_error"] == pytest.approx([0.0, 2 * syn.YAW])
+    assert design_ranges(design, 10.0, {})["laser_range_max_m"] == [3.5, 10.0]
+
+
+def test_a_design_that_does_not_match_the_runs_is_refused(designed, tmp_path):
+    design, data = designed
+    configs = dict(data.configs)
+    with pytest.raises(InputError, match="configuration 'c09' of the runs is not in the design"):
+        design_ranges(design, 30.0, {**configs, "c09": configs["c00"]})
+    other = json.loads(json.dumps(configs))
+    other["c01"]["laser_fov_deg"] += 10.0
+    with pytest.raises(InputError, match="configuration 'c01': laser_fov_deg is .* in the "
+                                         "design, .* in the runs") as err:
+        design_ranges(design, 30.0, other)
+    assert err.value.one_line().startswith(str(design))
