@@ -77,6 +77,24 @@ def test_resume_runs_nothing_and_prints_the_same_figures(simulated):
     assert f"measured   {value:.3f} m" in text
 
 
+def test_a_robot_aware_model_predicts_beside_the_measured_values(simulated, robot_models_dir):
+    """With a robot-aware model installed the prediction takes the robot (resume: no run)."""
+    argv, out, _ = simulated
+    before = run_jsons(out)
+    code, text, err = call([*argv, "--models-dir", str(robot_models_dir)])
+    assert code == 0, err
+    result = json.loads(text)
+    assert result["model_takes_robot"] is True and result["model_store"] == "own-robots"
+    assert result["robot"]["name"] == "lds_360_3p5" and result["simulation"]["runs_new"] == 0
+    assert result["trans_mean"]["model"].startswith("own-robots/")
+    code, text, err = call([a for a in argv if a != "--json"]
+                           + ["--models-dir", str(robot_models_dir)])
+    assert code == 0, err
+    assert ("model: own-robots (robot-aware: takes the robot into account; laser range 3.5 m, "
+            "fov 360°") in text
+    assert run_jsons(out) == before
+
+
 @pytest.mark.parametrize("change", [
     ["--seed", "1"],
     ["--robot", None],

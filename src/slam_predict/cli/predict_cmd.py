@@ -6,10 +6,12 @@ one JSON object instead. PLAN is an image (with ``--resolution`` or a map_server
 it), a map YAML, a Stage .world or a layout XML; ``--world W`` takes the scale and the start
 pose from the Stage world W (PLAN may then be omitted: W's own floorplan is used).
 
-``--simulate N|auto --out DIR`` also runs N simulated explorations of PLAN (with ``--robot``
-and ``--settings``) and prints the measured components beside the prediction
-(:mod:`slam_predict.cli.predict_simulate`). The models do not take the robot as input:
-``--robot`` without ``--simulate`` only adds a warning saying so.
+``--robot FILE`` (a robot description file) takes the prediction from a robot-aware model
+folder, ``own-robots`` unless ``--model`` names another (:mod:`slam_predict.cli.predict_robot`;
+no such folder: one-line error, exit 2). ``--simulate N|auto --out DIR`` also runs N simulated
+explorations of PLAN (with ``--robot`` and ``--settings``) and prints the measured components
+beside the prediction (:mod:`slam_predict.cli.predict_simulate`): the robot-aware one when such
+a folder is installed, else the plan-only one with a note that it ignores the robot.
 """
 from __future__ import annotations
 
@@ -17,7 +19,7 @@ import argparse
 import json
 import math
 
-from slam_predict.cli import plan_checks, predict_simulate
+from slam_predict.cli import plan_checks, predict_robot, predict_simulate
 from slam_predict.cli.predict_format import LABELS, format_text  # noqa: F401  (LABELS re-exported)
 from slam_predict.errors import InputError
 
@@ -39,7 +41,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--component", default="all", metavar="C",
                         help="all (default), trans_mean, trans_std, rot_mean or rot_std")
     parser.add_argument("--model", default="best",
-                        help="model folder name under models/ (or a path), default best")
+                        help="model folder name under models/ (or a path), default best; "
+                             "with --robot a robot-aware one, default own-robots")
     parser.add_argument("--setting",
                         help="robot setting (realistic, optimistic): with --model best the "
                              "default is realistic; with a named model it must match its card")
@@ -93,25 +96,27 @@ def run(args: argparse.Namespace) -> int:
     components = components_of(args.component)  # before the (slow) feature computation
     predict_simulate.check_options(args)
     setting = args.setting or ("realistic" if args.model == "best" else None)
+    robot = robot_model = None
+    if args.robot:
+        from slam_predict.robot_file import load_robot
+
+        robot = load_robot(args.robot)  # a bad robot file is the first error
+        robot_model = predict_robot.load_model(args, required=args.simulate is None)
 
     def predict(world) -> dict:
         plan_checks.show_progress()
+        if robot_model is not None:
+            return predict_robot.predict(world, robot_model, robot, args.robot, args.component)
         return predict_plan(world, args.model, setting, args.component, args.models_dir)
 
-    if args.robot and args.simulate is None:
-        from slam_predict.robot_file import load_robot
-
-        load_robot(args.robot)  # a bad robot file is an error even without --simulate
     world = plan_checks.load_checked(load_world, args)
     if args.simulate is not None:
         return predict_simulate.run(args, world, components, predict)
     result = predict(world)
-    if args.robot:
-        result["warnings"].insert(0, f"model {result['model_store']} "
-                                     f"{predict_simulate.ROBOT_NOTE} ({args.robot})")
     if args.json:
-        keys = ["world", "setting", "model_store", "confidence", *components, "free_space",
-                "warnings", "features"]
+        robot_keys = ["model_takes_robot", "robot"] if robot_model is not None else []
+        keys = ["world", "setting", "model_store", *robot_keys, "confidence", *components,
+                "free_space", "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))
     else:
         print(format_text(result, components))

@@ -1,6 +1,7 @@
 """Text forms of ``predict``'s result: one line per component (value, interval, model).
 
-Shared by ``predict`` (:mod:`slam_predict.cli.predict_cmd`) and ``predict --simulate``
+Shared by ``predict`` (:mod:`slam_predict.cli.predict_cmd`, with ``--robot``
+:mod:`slam_predict.cli.predict_robot`) and ``predict --simulate``
 (:mod:`slam_predict.cli.predict_simulate`); lengths in m, angles in rad and deg.
 """
 from __future__ import annotations
@@ -37,11 +38,27 @@ def entry_text(e: dict, conf: str) -> str:
     return value_text(e, conf)
 
 
+def header(result: dict) -> list[str]:
+    """The first line(s): world, model, interval level; with a robot-aware model the robot
+    and what the model took of it."""
+    conf = f"{100 * result['confidence']:g} %"
+    if not result.get("model_takes_robot"):
+        return [f"{result['world']}: predicted GMapping localization error "
+                f"(setting {result['setting']}, model {result['model_store']}, {conf} "
+                "intervals)"]
+    from slam_predict.cli.predict_robot import robot_text
+
+    robot = result["robot"]
+    return [f"{result['world']}: predicted GMapping localization error for robot "
+            f"{robot['name']} ({robot['file']})",
+            f"model {result['model_store']} (robot-aware: takes the robot into account), "
+            f"{conf} intervals; robot inputs: {robot_text(result)}"]
+
+
 def format_text(result: dict, components) -> str:
     """Human-readable lines: value, interval and model per component, then warnings."""
     conf = f"{100 * result['confidence']:g} %"
-    lines = [f"{result['world']}: predicted GMapping localization error "
-             f"(setting {result['setting']}, model {result['model_store']}, {conf} intervals)"]
+    lines = header(result)
     for comp in components:
         e = result[comp]
         model = f"  [{e['model']}]" if e["model"] else ""

@@ -4,8 +4,9 @@ Runs N simulated explorations of PLAN (``auto``: the seed study's run-count rule
 runs then ⌈z²s²/d²⌉ at 95 % with d_t 0.03 m and d_r 0.002 rad, capped by ``--max-runs``) with
 the collection settings (``--settings``) and robot (``--robot``), and prints the measured four
 components, each with its 95 % interval (:mod:`slam_predict.metric.intervals`: t for the means,
-chi-square for the stds), beside the model's prediction and its 90 % interval. The model does
-not take the robot as input; the output says so.
+chi-square for the stds), beside the model's prediction and its 90 % interval: with ``--robot``
+that of the robot-aware model when one is installed (:mod:`slam_predict.cli.predict_robot`),
+else the plan-only model's, which does not take the robot as input (the output says so).
 
 DIR is a campaign folder (:mod:`slam_predict.collect.simulate`): a second call with the same
 arguments redoes no finished run (a larger N adds runs; the statistics use runs 0..N-1); another
@@ -30,8 +31,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The --robot and --simulate options of ``predict``."""
     group = parser.add_argument_group("simulation (--simulate)")
     group.add_argument("--robot", metavar="YAML",
-                       help="robot description file (e.g. config/robots/lds_360_3p5.yaml) for "
-                            "the simulated runs; the models do not take it into account")
+                       help="robot description file (e.g. config/robots/lds_360_3p5.yaml): "
+                            "the prediction comes from a robot-aware model (--model, default "
+                            "own-robots); with --simulate also the simulated runs' robot")
     group.add_argument("--simulate", metavar="N|auto",
                        help="also run N simulated explorations of PLAN (auto: pilot of 10, "
                             "then the seed study's run-count rule) and print the measured "
@@ -123,9 +125,7 @@ def format_text(result: dict, components) -> str:
     robot = sim["robot"] or "the settings' robot"
     lines = [f"{result['world']}: GMapping localization error measured over "
              f"{sim['runs']} simulated runs ({sim['runs_new']} new; robot {robot}, "
-             f"seed {sim['seed']}, in {sim['out']}), 95 % intervals",
-             f"model: {result['model_store']} ({ROBOT_NOTE}), setting {result['setting']}, "
-             f"{100 * result['confidence']:g} % intervals"]
+             f"seed {sim['seed']}, in {sim['out']}), 95 % intervals", model_line(result)]
     conf = f"{100 * result['confidence']:g} %"
     for comp in components:
         lines.append(f"  {comp:<10s} {LABELS[comp]}")
@@ -140,6 +140,17 @@ def format_text(result: dict, components) -> str:
     return "\n".join(lines)
 
 
+def model_line(result: dict) -> str:
+    """Which model predicted, and whether it took the robot into account."""
+    conf = f"{100 * result['confidence']:g} % intervals"
+    if result.get("model_takes_robot"):
+        from slam_predict.cli.predict_robot import robot_text
+
+        return (f"model: {result['model_store']} (robot-aware: takes the robot into account; "
+                f"{robot_text(result)}), {conf}")
+    return f"model: {result['model_store']} ({ROBOT_NOTE}), setting {result['setting']}, {conf}"
+
+
 def run(args: argparse.Namespace, world, components, predict) -> int:
     """Check the simulation inputs for ``world`` (the loaded, checked plan), predict
     (``predict(world) -> result``), simulate, print both."""
@@ -151,9 +162,10 @@ def run(args: argparse.Namespace, world, components, predict) -> int:
                             "robot": args.robot, "settings": args.settings, "out": args.out,
                             "requested": args.simulate, "confidence": 0.95,
                             "measured": sim["measured"], "notes": sim["notes"]}
-    result["model_takes_robot"] = False
+    result.setdefault("model_takes_robot", False)
     if args.json:
-        keys = ["world", "setting", "model_store", "model_takes_robot", "confidence",
+        robot = ["robot"] if result["model_takes_robot"] else []
+        keys = ["world", "setting", "model_store", "model_takes_robot", *robot, "confidence",
                 *components, "simulation", "free_space", "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))
     else:

@@ -1,0 +1,132 @@
+"""``slam-predict predict PLAN --robot FILE``: the prediction of a robot-aware model.
+
+With a robot description file the four components come from a robot-aware model folder (card
+``kind: robots``, :class:`~slam_predict.learn.robot_predict.RobotModel`): ``--model NAME`` (a
+folder under ``--models-dir``, or a path), by default ``own-robots``. The robot enters as its
+laser range capped at the card's GMapping maxUrange, its field of view and its odometry error
+bounds; the output says so and adds the model's domain warnings (robot or plan outside the
+training ranges, another laser angular resolution, an odometry pair far from the design).
+Without such a folder: a one-line error naming it and how to train one (exit 2).
+
+With ``--simulate`` (:mod:`slam_predict.cli.predict_simulate`) the robot-aware prediction is
+printed beside the measured values when the folder exists; otherwise (or when ``--model``
+names a plan-only folder) the plan-only one, with the note that it ignores the robot.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+from slam_predict.errors import InputError
+
+DEFAULT_MODEL = "own-robots"
+TRAIN_HINT = ("train one with 'slam-predict learn robots DATA_DIR... --features CSV --design "
+              "config/robot_campaign/design.yaml --name own-robots' (docs/learning.md)")
+
+
+def model_path(model: str, models_dir: str | None) -> Path:
+    """The folder ``--model`` names (``best``: own-robots) under ``models_dir`` or as a path."""
+    from slam_predict.learn.store import default_models_dir
+
+    name = DEFAULT_MODEL if model == "best" else model
+    if os.sep in name or Path(name).is_dir():
+        return Path(name)
+    return Path(models_dir or default_models_dir()) / name
+
+
+def load_model(args: argparse.Namespace, required: bool):
+    """The robot-aware :class:`RobotModel` for ``--robot``, or None when ``required`` is
+    False (``--simulate``) and there is none (no folder, or a plan-only one): then the
+    plan-only prediction is shown with a note. InputError (one line) otherwise."""
+    from slam_predict.learn.robot_plain import KIND
+    from slam_predict.learn.robot_predict import RobotModel
+    from slam_predict.learn.store import CARD, read_card
+
+    path = model_path(args.model, args.models_dir)
+    if not (path / CARD).is_file():
+        if not required and args.model == "best":
+            return None
+        raise InputError(f"no robot-aware model folder {path} (needed by --robot): "
+                         f"{TRAIN_HINT}")
+    kind = read_card(path).get("kind", "plan")
+    if kind != KIND:
+        if not required:
+            return None
+        raise InputError(f"model {path.name} is a plan-only model (kind {kind}): --robot needs "
+                         f"a robot-aware one (kind {KIND}), default {DEFAULT_MODEL}; "
+                         f"{TRAIN_HINT}", path / CARD)
+    model = RobotModel.load(path)
+    model.check_feature_version()
+    if args.setting:
+        raise InputError(f"--setting applies to the plan-only models: the robot-aware model "
+                         f"{model.name} takes the robot itself as input")
+    return model
+
+
+def _entry(raw: dict[str, Any]) -> dict[str, Any]:
+    """The reported form of one component (as the plan-only ``predict``'s)."""
+    from slam_predict.learn.predict import component_entry
+
+    if raw["value"] is None:
+        return {"status": "no_model", "value": None, "low": None, "high": None, "model": None,
+                "unit": raw["unit"], "r2": None}
+    return component_entry(raw["value"], raw["low"], raw["high"], raw["unit"], raw["model"])
+
+
+def robot_summary(robot, robot_path: str, model, inputs: dict[str, float]) -> dict[str, Any]:
+    """The ``robot`` entry of the result: file, name, the model's inputs, the laser's own
+    range (m), GMapping's maxUrange (m) and the laser's angular resolution (deg)."""
+    from slam_predict.learn.robot_inputs import angular_resolution_deg, sensor_dict
+
+    return {"file": robot_path, "name": robot.name, "inputs": inputs,
+            "laser_range_max_m": float(robot.laser.range_max),
+            "max_urange_m": model.max_urange_m,
+            "angular_resolution_deg": angular_resolution_deg(sensor_dict(robot), robot_path)}
+
+
+def predict(world, model, robot, robot_path: str, component: str = "all") -> dict[str, Any]:
+    """The robot-aware prediction for ``world`` (a loaded, checked plan) and ``robot`` (a
+    :class:`~slam_predict.robot_file.RobotDescription` read from ``robot_path``)."""
+    from slam_predict.features.vector import degenerate_reason
+    from slam_predict.learn.featurize import compute
+    from slam_predict.learn.predict import components_of
+    from slam_predict.world.plausibility import reachability, unreachable_warning
+
+    features = compute(world, model.feature_config)
+    reason = degenerate_reason(features)
+    if reason:
+        raise InputError(f"{reason}: nothing to predict from", world.provenance.get("source"))
+    inputs = model.inputs(robot)
+    confidence = float(model.card.get("confidence", 0.9))
+    raw = model.predict(features, inputs, confidence)
+    summary = robot_summary(robot, robot_path, model, inputs)
+    result: dict[str, Any] = {"world": world.name, "setting": model.card.get("setting"),
+                              "model_store": model.name, "model_takes_robot": True,
+                              "robot": summary, "confidence": confidence}
+    for comp in components_of(component):
+        result[comp] = _entry(raw[comp])
+    reach = reachability(world)
+    result["free_space"] = {"free_m2": reach.free_m2, "reachable_m2": reach.reachable_m2,
+                            "reachable_share": reach.share}
+    note = unreachable_warning(world)
+    result["warnings"] = ([note] if note else []) + list(model.store.notes) + \
+        model.domain_warnings(features, inputs, summary["angular_resolution_deg"])
+    result["features"] = features
+    return result
+
+
+def robot_text(result: dict[str, Any]) -> str:
+    """What the robot-aware model took: "laser range 30 m used (laser 80 m, GMapping
+    maxUrange 30 m), fov 270°, odometry 0.01 m/m and 0.0349 rad/rad"."""
+    robot = result["robot"]
+    inputs = robot["inputs"]
+    cap = robot["max_urange_m"]
+    used = inputs["laser_range_max_m"]
+    laser = (f"laser range {used:g} m used (laser {robot['laser_range_max_m']:g} m, GMapping "
+             f"maxUrange {cap:g} m)" if cap is not None and not math.isclose(
+                 used, robot["laser_range_max_m"]) else f"laser range {used:g} m")
+    return (f"{laser}, fov {inputs['laser_fov_deg']:g}°, odometry {inputs['odom_xy_error']:.4g}"
+            f" m/m and {inputs['odom_yaw_error']:.4g} rad/rad")
