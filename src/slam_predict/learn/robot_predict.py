@@ -189,10 +189,12 @@ class RobotModel:
                     f"configuration ({distance / gap:.1f} × the design's widest gap)")
         return None
 
-    def partial_dependence(self, component: str, robot_input: str,
-                           grid_points: int = 20) -> tuple[np.ndarray, np.ndarray]:
-        """(grid, values): the mean prediction over the training POINT rows with
-        ``robot_input`` set to each of ``grid_points`` values spanning its training range."""
+    def partial_dependence(self, component: str, robot_input: str, grid_points: int = 20,
+                           span: tuple[float, float] | None = None
+                           ) -> tuple[np.ndarray, np.ndarray]:
+        """(grid, values): the mean prediction (m or rad) over the training POINT rows with
+        ``robot_input`` set to each of ``grid_points`` values spanning its training range
+        (or ``span``, (low, high) in the input's unit)."""
         if component not in self.models:
             raise InputError(f"model has no component '{component}'"
                              + did_you_mean(component, list(self.models)))
@@ -202,7 +204,7 @@ class RobotModel:
         if grid_points < 2:
             raise InputError(f"grid_points must be ≥ 2, got {grid_points}")
         j = self.names.index(robot_input)
-        grid = np.linspace(*self.card["input_ranges"][robot_input], grid_points)
+        grid = np.linspace(*(span or self.card["input_ranges"][robot_input]), grid_points)
         X = np.repeat(self.points[None], grid_points, axis=0)     # (G, n, d)
         X[:, :, j] = grid[:, None]
         values = self.models[component].predict(X.reshape(-1, X.shape[2]))

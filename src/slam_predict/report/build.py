@@ -2,7 +2,8 @@
 
 Page: campaign overview, per-building summary, one section per world (map with trajectories,
 per-run table), and — when model folders are given — the learning section: each model card
-with its scores, and its predictions for the campaign's worlds next to the measured values.
+with its scores, and its predictions for the campaign's worlds next to the measured values
+(a robot-aware model: its card, evaluation and partial-dependence plots on the robot inputs).
 """
 from __future__ import annotations
 
@@ -33,6 +34,7 @@ def learning(campaign: Campaign, models_path, feature_fn=None) -> str:
     """Model cards and their predictions for the campaign's worlds."""
     from slam_predict.report.models import card_section, load_models
     from slam_predict.report.predictions import FeatureCache, predictions_section
+    from slam_predict.report.robot_models import is_robot_card
 
     entries = load_models(models_path)
     cache = FeatureCache(campaign, feature_fn)
@@ -41,7 +43,8 @@ def learning(campaign: Campaign, models_path, feature_fn=None) -> str:
              "the model's feature configuration).</p>"]
     for entry in entries:
         parts.append(card_section(entry))
-        parts.append(predictions_section(entry, campaign, cache))
+        if not is_robot_card(entry.card):
+            parts.append(predictions_section(entry, campaign, cache))
     return H.section("Learning", "\n".join(parts), anchor="learning")
 
 

@@ -174,3 +174,33 @@ def predicted_vs_measured(points: dict[str, list[dict]], units: dict[str, str],
     fig.suptitle(title, fontsize=11)
     fig.tight_layout()
     return png_bytes(fig)
+
+
+def partial_dependence(curves: dict[str, dict], ylabel: str, title: str) -> bytes:
+    """One panel per robot input (2×2 for four): the model's average prediction against the
+    input, the training range shaded, the training configurations as ticks on the x axis and
+    an optional cap line (GMapping's maxUrange on the range).
+
+    ``curves[input]``: ``grid``, ``values`` (same length), ``xlabel`` (with unit),
+    ``trained`` (low, high), ``configs`` (values of the configurations), ``cap`` (x or None).
+    """
+    n = len(curves)
+    cols = 2 if n == 4 else n
+    rows = 2 if n == 4 else 1
+    fig, axes = plt.subplots(rows, cols, figsize=(4.75 * cols, 3.6 * rows + 0.5), squeeze=False)
+    for ax, (name, c) in zip(axes.ravel(), curves.items(), strict=False):
+        ax.axvspan(*c["trained"], color="tab:green", alpha=0.12, label="training range")
+        ax.plot(c["grid"], c["values"], "-", color="tab:blue", lw=1.6,
+                label="average prediction")
+        ax.plot(c["configs"], np.full(len(c["configs"]), 0.0), "|", color="black", ms=10,
+                transform=ax.get_xaxis_transform(), label="training configurations")
+        if c.get("cap") is not None:
+            ax.axvline(c["cap"], ls="--", color="grey", lw=1,
+                       label="GMapping maxUrange (a longer laser is this input)")
+        ax.set_xlabel(c["xlabel"])
+        ax.set_ylabel(ylabel)
+        ax.set_title(name, fontsize=10)
+        ax.legend(fontsize=7, loc="best")
+    fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    return png_bytes(fig)

@@ -3,7 +3,9 @@
 ``--models`` names either one model folder (``card.json`` inside) or a folder of them (like
 the shipped ``models/``). A card that cannot be read, or a folder whose files fail the store's
 checks (checksums, scikit-learn major version), is reported on the page; the other models are
-still shown.
+still shown. A robot-aware folder (card ``kind: robots``) is loaded as a
+:class:`~slam_predict.learn.robot_predict.RobotModel` and shown by
+:mod:`slam_predict.report.robot_models` (its card, evaluation and partial-dependence plots).
 """
 from __future__ import annotations
 
@@ -51,20 +53,29 @@ def load_models(path) -> list[ModelEntry]:
 
 
 def load_entry(folder: Path) -> ModelEntry:
-    """Read one model folder; problems become notes."""
+    """Read one model folder; problems become notes. ``store``: a ModelStore, or for a
+    robot-aware folder a RobotModel."""
     from slam_predict.learn.predict import check_feature_version
+    from slam_predict.learn.robot_predict import RobotModel
     from slam_predict.learn.store import ModelStore, read_card
+    from slam_predict.report.robot_models import is_robot_card
 
     entry = ModelEntry(folder)
     try:
         entry.card = read_card(folder)
-        store = ModelStore(folder)
-        check_feature_version(store)
+        if is_robot_card(entry.card):
+            store = RobotModel.load(folder)
+            store.check_feature_version()
+            notes = store.store.notes
+        else:
+            store = ModelStore(folder)
+            check_feature_version(store)
+            notes = store.notes
     except InputError as exc:
         entry.notes.append(f"model not usable for predictions: {exc.one_line()}")
         return entry
     entry.store = store
-    entry.notes += store.notes
+    entry.notes += notes
     return entry
 
 
@@ -132,7 +143,12 @@ def card_overview(card: dict[str, Any]) -> str:
 
 def card_section(entry: ModelEntry) -> str:
     """The model card: overview, metrics table (scores of the evaluation on the training
-    buildings: repeated random splits and leave-one-building-out) and the folder's notes."""
+    buildings: repeated random splits and leave-one-building-out) and the folder's notes; a
+    robot-aware folder's is :func:`slam_predict.report.robot_models.robot_card_section`."""
+    from slam_predict.report.robot_models import is_robot_card, robot_card_section
+
+    if is_robot_card(entry.card):
+        return robot_card_section(entry)
     if entry.card is None:
         return H.section(f"Model {entry.name}", H.notes(entry.notes), level=3)
     body = (card_overview(entry.card)
