@@ -163,6 +163,13 @@ def test_bad_folders_are_refused(trained, tmp_path):
     (plan_only / CARD).write_text(json.dumps(card))
     with pytest.raises(InputError, match="not a robot-aware model"):
         RobotModel.load(plan_only)
+    old = tmp_path / "old"
+    shutil.copytree(trained[0], old)
+    card = json.loads((old / CARD).read_text())
+    del card["max_urange_m"]       # a card written before the range cap
+    (old / CARD).write_text(json.dumps(card))
+    with pytest.raises(InputError, match="missing 'max_urange_m'.*learn robots"):
+        RobotModel.load(old)
     # the plan-only predict refuses a robot-aware folder by name and never picks it as best
     with pytest.raises(InputError, match="is a robot-aware model"):
         resolve_store(trained[0].parent, "own-robots", None, None)
