@@ -18,9 +18,8 @@ from slam_predict.errors import InputError
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.store import skilful
 from slam_predict.report import html as H
+from slam_predict.report.labels import LABELS  # noqa: F401  (re-exported for report.predictions)
 
-LABELS = {"trans_mean": "mean translational error", "trans_std": "std of translational error",
-          "rot_mean": "mean rotational error", "rot_std": "std of rotational error"}
 METRIC_COLUMNS = ("R² mean", "R² std", "R² median", "RMSE", "NRMSE", "NRMSE (all)",
                   "mean % error", "LOO coverage", "LOO interval width", "LOO R²")
 

@@ -19,6 +19,7 @@ import numpy as np
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.robot_inputs import ROBOT_INPUTS, ROBOT_UNITS
 from slam_predict.report import html as H
+from slam_predict.report.labels import LABELS
 
 KIND = "robots"
 PROTOCOLS = ("buildings", "configs", "both")
@@ -125,7 +126,6 @@ def curves(model, component: str) -> dict[str, dict]:
 def pdp_section(entry) -> str:
     """Partial-dependence figures, one per component the model predicts."""
     from slam_predict.report.figures import partial_dependence
-    from slam_predict.report.models import LABELS
 
     model = entry.store
     figures = []

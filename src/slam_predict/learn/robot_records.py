@@ -1,0 +1,265 @@
+"""Robot campaign run records → RUN rows and POINT rows (issue #18).
+
+A campaign folder holds ``<world>/run_NNN/run.json``, one robot configuration per run. A RUN
+row is one run: ``world, run_index, seed, config, point, replicate``, the robot inputs
+(:data:`~slam_predict.learn.robot_inputs.ROBOT_INPUTS`; the range capped at the maxUrange of the
+run's GMapping settings, :mod:`~slam_predict.learn.robot_domain`), ``coverage`` and the run's
+``trans_mean`` (m) and ``rot_mean`` (rad) — its mean relation errors. Runs of the design carry
+``"design": {"config", "point", "replicate"}``; other runs (``collect --robot``) get
+config = :func:`slam_predict.sensor.sensor_hash` of their ``sensor`` dict, point =
+``world/config`` and replicate = their rank by run_index within the point.
+
+A POINT row is one building × robot configuration: ``world, config, point, runs``, the robot
+inputs and the four components — ``trans_mean``/``rot_mean`` the mean over the point's runs,
+``trans_std``/``rot_std`` their sample standard deviation (ddof = 1; NaN with one run).
+
+Runs with ``coverage`` below the minimum (default 0.9) or without a usable metric are skipped,
+logged and counted; a missing or malformed record is a one-line :class:`InputError` naming
+the file.
+"""
+from __future__ import annotations
+
+import json
+import logging
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from slam_predict.errors import InputError
+from slam_predict.learn.dataset import COMPONENTS
+from slam_predict.learn.robot_inputs import (
+    ROBOT_INPUTS,
+    angular_resolution_deg,
+    inputs_from_sensor,
+)
+from slam_predict.words import plural
+
+LOG = logging.getLogger(__name__)
+RUN_TARGETS = ("trans_mean", "rot_mean")        # per-run metric values (m, rad)
+REQUIRED = ("world", "run_index", "seed", "coverage", "sensor")
+RUN_COLUMNS = ("world", "run_index", "seed", "config", "point", "replicate", *ROBOT_INPUTS,
+               "coverage", *RUN_TARGETS)
+POINT_COLUMNS = ("world", "config", "point", "runs", *ROBOT_INPUTS, *COMPONENTS)
+
+
+@dataclass
+class RunRow:
+    """One run: identity, robot inputs, coverage (share), mean errors (m, rad)."""
+
+    world: str
+    run_index: int
+    seed: int
+    config: str
+    point: str
+    replicate: int | None
+    robot: dict[str, float]
+    coverage: float
+    trans_mean: float
+    rot_mean: float
+    resolution_deg: float = math.nan
+    config_hashes: dict[str, str] = field(default_factory=dict)
+    source: str = ""
+    max_urange_m: float | None = None    # GMapping's maxUrange of the run's settings, m
+
+
+@dataclass
+class PointRow:
+    """One building × configuration: run count, robot inputs, the four components."""
+
+    world: str
+    config: str
+    point: str
+    runs: int
+    robot: dict[str, float]
+    targets: dict[str, float]
+
+
+# ----------------------------------------------------------------------------- run records
+
+def find_records(folders: Sequence[os.PathLike | str]) -> list[Path]:
+    """Every ``<world>/run_NNN/run.json`` under the campaign folders (a world folder's
+    ``run_NNN/run.json`` too), sorted; InputError for a missing folder or one without runs."""
+    found: list[Path] = []
+    for folder in map(Path, folders):
+        if not folder.is_dir():
+            raise InputError("campaign folder not found", folder)
+        files = sorted(folder.glob("*/run_*/run.json")) or sorted(folder.glob("run_*/run.json"))
+        if not files:
+            raise InputError("no run.json found (expected WORLD/run_NNN/run.json)", folder)
+        found += files
+    return found
+
+
+def read_record(path: os.PathLike | str) -> dict[str, Any]:
+    """A run.json as a dict; InputError naming the file when unreadable or incomplete."""
+    try:
+        record = json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise InputError(f"unreadable run record ({exc.__class__.__name__})", path) from None
+    if not isinstance(record, dict):
+        raise InputError("run record is not a JSON object", path)
+    missing = [key for key in REQUIRED if key not in record]
+    if missing:
+        raise InputError(f"run record has no '{missing[0]}'", path)
+    return record
+
+
+def _finite(value: Any) -> float | None:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    return float(value) if math.isfinite(value) else None
+
+
+def _integer(record: Mapping[str, Any], key: str, path) -> int:
+    value = record[key]
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise InputError(f"'{key}' must be an integer, got {value!r}", path)
+    return value
+
+
+def _design(record: Mapping[str, Any], world: str, config: str, path):
+    """(config, point, replicate) from ``design`` (defaults: sensor hash, world/config, None)."""
+    design = record.get("design")
+    if design is None:
+        return config, f"{world}/{config}", None
+    if not isinstance(design, Mapping):
+        raise InputError("'design' must be a mapping", path)
+    for key in ("config", "point", "replicate"):
+        if key not in design:
+            raise InputError(f"'design' has no '{key}'", path)
+    if not isinstance(design["config"], str) or not isinstance(design["point"], str) \
+            or not design["config"] or not design["point"]:
+        raise InputError("'design.config' and 'design.point' must be non-empty strings", path)
+    return design["config"], design["point"], _integer(design, "replicate", path)
+
+
+def skip_reason(record: Mapping[str, Any], min_coverage: float, path) -> str | None:
+    """Why a complete record is not used ('low coverage', 'no metric', 'error <= 0'), or None."""
+    coverage = _finite(record["coverage"])
+    if coverage is None:
+        raise InputError(f"'coverage' must be a finite number, got {record['coverage']!r}", path)
+    if coverage < min_coverage:
+        return "low coverage"
+    metric = record.get("metric")
+    if not isinstance(metric, Mapping):
+        return "no metric"
+    values = [_finite(metric.get(key)) for key in RUN_TARGETS]
+    if any(v is None for v in values):
+        return "no metric"
+    if any(v <= 0 for v in values):  # type: ignore[operator]
+        return "error <= 0"
+    return None
+
+
+def run_row(record: Mapping[str, Any], path, max_urange_m: float | None = None) -> RunRow:
+    """The RUN row of a complete, usable record (range capped at ``max_urange_m`` m)."""
+    from slam_predict.sensor import sensor_hash
+
+    world = record["world"]
+    if not isinstance(world, str) or not world:
+        raise InputError(f"'world' must be a non-empty string, got {world!r}", path)
+    robot = inputs_from_sensor(record["sensor"], path, max_urange_m)
+    config, point, replicate = _design(record, world, sensor_hash(record["sensor"]), path)
+    hashes = record.get("config_hashes") if isinstance(record.get("config_hashes"), dict) else {}
+    return RunRow(world=world, run_index=_integer(record, "run_index", path),
+                  seed=_integer(record, "seed", path), config=config, point=point,
+                  replicate=replicate, robot=robot, coverage=float(record["coverage"]),
+                  trans_mean=float(record["metric"]["trans_mean"]),
+                  rot_mean=float(record["metric"]["rot_mean"]),
+                  resolution_deg=angular_resolution_deg(record["sensor"], path),
+                  config_hashes={str(k): str(v) for k, v in hashes.items()}, source=str(path),
+                  max_urange_m=max_urange_m)
+
+
+def read_runs(folders: Sequence[os.PathLike | str], min_coverage: float = 0.9,
+              max_urange_m: float | None = None) -> tuple[list[RunRow], dict[str, int]]:
+    """(RUN rows, {skip reason: count}) of the campaign folders, checked for consistency;
+    ``max_urange_m``: GMapping's maxUrange, m, for every run (None: from each run's settings,
+    :class:`~slam_predict.learn.robot_domain.MaxUrangeSource`)."""
+    from slam_predict.learn.robot_domain import MaxUrangeSource, common_max_urange
+
+    rows: list[RunRow] = []
+    skipped: dict[str, int] = {}
+    caps = MaxUrangeSource(max_urange_m)
+    for path in find_records(folders):
+        record = read_record(path)
+        reason = skip_reason(record, min_coverage, path)
+        if reason is not None:
+            skipped[reason] = skipped.get(reason, 0) + 1
+            LOG.debug("skipping %s: %s", path, reason)
+            continue
+        rows.append(run_row(record, path, caps.of_record(record, path)))
+    for reason, count in sorted(skipped.items()):
+        LOG.warning("skipped %s: %s%s", plural(count, "run"), reason,
+                    f" (< {min_coverage:g})" if reason == "low coverage" else "")
+    if not rows:
+        raise InputError("no usable run (every run was skipped: "
+                         + ", ".join(f"{n} {r}" for r, n in sorted(skipped.items())) + ")",
+                         os.fspath(folders[0]))
+    common_max_urange({r.source: r.max_urange_m for r in rows})
+    _check_consistency(rows)
+    _assign_replicates(rows)
+    rows.sort(key=lambda r: (r.world, r.config, r.replicate, r.run_index, r.seed))
+    return rows, skipped
+
+
+def _check_consistency(rows: Sequence[RunRow]) -> None:
+    """InputError for a run listed twice, a configuration with two robots, or a point of two
+    buildings or configurations."""
+    seen: dict[tuple, str] = {}
+    robot_of: dict[str, RunRow] = {}
+    point_of: dict[str, RunRow] = {}
+    for row in rows:
+        key = (row.world, row.config, row.seed, row.run_index)
+        if key in seen:
+            raise InputError(f"run listed twice (also {seen[key]})", row.source)
+        seen[key] = row.source
+        first = robot_of.setdefault(row.config, row)
+        if any(not math.isclose(first.robot[k], row.robot[k], rel_tol=1e-9, abs_tol=1e-12)
+               for k in ROBOT_INPUTS):
+            raise InputError(f"configuration '{row.config}' has other robot inputs than in "
+                             f"{first.source}", row.source)
+        other = point_of.setdefault(row.point, row)
+        if (other.world, other.config) != (row.world, row.config):
+            raise InputError(f"point '{row.point}' is {row.world} × {row.config} here but "
+                             f"{other.world} × {other.config} in {other.source}", row.source)
+
+
+def _assign_replicates(rows: Sequence[RunRow]) -> None:
+    """Runs without a design replicate: their rank by run_index within the point."""
+    by_point: dict[str, list[RunRow]] = {}
+    for row in rows:
+        by_point.setdefault(row.point, []).append(row)
+    for members in by_point.values():
+        given = {r.replicate for r in members if r.replicate is not None}
+        for rank, row in enumerate(sorted(members, key=lambda r: (r.run_index, r.seed))):
+            if row.replicate is None:
+                row.replicate = rank
+                while row.replicate in given:
+                    row.replicate += 1
+                given.add(row.replicate)
+
+
+def point_rows(runs: Sequence[RunRow]) -> list[PointRow]:
+    """POINT rows: per point the mean and the sample std (ddof 1, NaN for one run) of the
+    runs' errors, in order of first appearance."""
+    groups: dict[str, list[RunRow]] = {}
+    for row in runs:
+        groups.setdefault(row.point, []).append(row)
+    out = []
+    for point, members in groups.items():
+        targets: dict[str, float] = {}
+        for name in RUN_TARGETS:
+            values = np.array([getattr(r, name) for r in members])
+            targets[name] = float(values.mean())
+            std = name.replace("_mean", "_std")
+            targets[std] = float(values.std(ddof=1)) if len(values) > 1 else math.nan
+        first = members[0]
+        out.append(PointRow(first.world, first.config, point, len(members), dict(first.robot),
+                            {c: targets[c] for c in COMPONENTS}))
+    return out
