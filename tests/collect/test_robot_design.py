@@ -49,6 +49,21 @@ def test_deal_gives_distinct_configs_and_balanced_use():
     assert all(len(set(cs)) == 4 for cs in dealt.values())
     uses = Counter(c for cs in dealt.values() for c in cs)
     assert set(uses) == set(configs) and set(uses.values()) == {3}   # 21 x 4 = 28 x 3
+    sets = [frozenset(cs) for cs in dealt.values()]
+    assert len(set(sets)) == len(sets)          # no two worlds explored with the same robots
+    pairs = Counter(p for cs in dealt.values() for p in itertools.combinations(sorted(cs), 2))
+    assert max(pairs.values()) <= 2             # pairs of robots spread over the buildings
+
+
+@pytest.mark.parametrize("n_worlds, n_configs, per_world", [(5, 7, 3), (9, 4, 4), (13, 28, 5)])
+def test_deal_use_counts_differ_by_at_most_one(n_worlds, n_configs, per_world):
+    configs = [f"c{k}" for k in range(n_configs)]
+    dealt = rd.deal([f"w{i}" for i in range(n_worlds)], configs, per_world,
+                    np.random.default_rng(n_worlds))
+    uses = Counter(c for cs in dealt.values() for c in cs)
+    counts = [uses.get(c, 0) for c in configs]
+    assert max(counts) - min(counts) <= 1 and sum(counts) == n_worlds * per_world
+    assert all(len(set(cs)) == per_world for cs in dealt.values())
 
 
 def test_deal_refuses_more_points_than_configs():

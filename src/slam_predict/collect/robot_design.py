@@ -7,8 +7,8 @@ A design is a YAML file (``slam-predict design``, then ``collect --design FILE``
   the base robot's: x/y and yaw scales); the range is spread evenly in log(range), where the
   error changes most (3.5–7 m gets as many configurations as 15–30 m);
 - ``worlds``: for every building, the configurations it is explored with (``points_per_world``
-  distinct ones, dealt cyclically from a shuffled list so every configuration is used on
-  ⌊W·P/C⌋ or ⌈W·P/C⌉ buildings);
+  distinct ones, each building taking the least-used so far with random tie-breaks, so every
+  configuration is used on ⌊W·P/C⌋ or ⌈W·P/C⌉ buildings and the sets vary);
 - ``replicates``: runs per building × configuration, with different seeds.
 
 Run ``i`` of a building is point ``i mod P`` of its list, replicate ``i div P``: the batch's
@@ -72,16 +72,19 @@ def maximin_hypercube(n: int, dims: int, rng: np.random.Generator,
 
 def deal(worlds: Sequence[str], configs: Sequence[str], per_world: int,
          rng: np.random.Generator) -> dict[str, list[str]]:
-    """Give each world ``per_world`` distinct configurations: a shuffled configuration list is
-    dealt cyclically over the worlds in shuffled order (config use counts differ by ≤ 1)."""
+    """Give each world ``per_world`` distinct configurations: worlds in shuffled order each take
+    the least-used configurations so far, ties broken at random. Use counts never differ by
+    more than 1, and the random tie-breaks keep the worlds' sets from repeating in blocks."""
     if not 1 <= per_world <= len(configs):
         raise ValueError(f"points per world must be in 1..{len(configs)}, got {per_world}")
-    order = [configs[i] for i in rng.permutation(len(configs))]
-    shuffled = [worlds[i] for i in rng.permutation(len(worlds))]
+    uses = dict.fromkeys(configs, 0)
     dealt = {}
-    for slot, world in enumerate(shuffled):
-        start = slot * per_world
-        dealt[world] = [order[(start + k) % len(order)] for k in range(per_world)]
+    for index in rng.permutation(len(worlds)):
+        shuffled = [configs[i] for i in rng.permutation(len(configs))]
+        chosen = sorted(shuffled, key=uses.__getitem__)[:per_world]   # stable: ties random
+        for config in chosen:
+            uses[config] += 1
+        dealt[worlds[index]] = chosen
     return {world: dealt[world] for world in worlds}
 
 
