@@ -77,7 +77,7 @@ class RobotLearningConfig:
     log_robot_inputs: tuple[str, ...] = ("laser_range_max_m",)
     models: tuple[str, ...] = ROBOT_MODEL_KINDS
     seed: int = 0
-    min_coverage: float = 0.9
+    min_coverage: float = 0.5
     folds: int = 5
     conformal_folds: int = 5
     confidence: float = 0.9

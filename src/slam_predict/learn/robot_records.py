@@ -13,9 +13,9 @@ A POINT row is one building × robot configuration: ``world, config, point, runs
 inputs and the four components — ``trans_mean``/``rot_mean`` the mean over the point's runs,
 ``trans_std``/``rot_std`` their sample standard deviation (ddof = 1; NaN with one run).
 
-Runs with ``coverage`` below the minimum (default 0.9) or without a usable metric are skipped,
-logged and counted; a missing or malformed record is a one-line :class:`InputError` naming
-the file.
+Runs with ``coverage`` below the minimum (``min_coverage``; config/robot_learning.yaml: 0.5)
+or without a usable metric are skipped, logged and counted; a missing or malformed record is
+a one-line :class:`InputError` naming the file.
 """
 from __future__ import annotations
 
