@@ -160,15 +160,16 @@ def compute_plan_features(world, card: dict[str, Any]) -> dict[str, float]:
     return compute(world, card.get("feature_config") or {})
 
 
-def check_feature_version(store: ModelStore) -> None:
-    """InputError unless this installation computes the card's feature version."""
+def check_feature_version(store: ModelStore, retrain: str = "slam-predict learn train") -> None:
+    """InputError unless this installation computes the card's feature version (the message
+    names the ``retrain`` command)."""
     from slam_predict.learn.featurize import version_of
 
     current = version_of(store.card.get("feature_config") or {})
     if current != store.card["feature_version"]:
         raise InputError(f"model uses feature version {store.card['feature_version']}, this "
-                         f"slam_predict computes {current}; retrain with "
-                         "'slam-predict learn train'", store.path / "card.json")
+                         f"slam_predict computes {current}; retrain with '{retrain}'",
+                         store.path / "card.json")
 
 
 def predict_plan(world, model: str = "best", setting: str | None = "realistic",

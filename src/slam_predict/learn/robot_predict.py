@@ -93,13 +93,9 @@ class RobotModel:
 
     def check_feature_version(self) -> None:
         """InputError unless this installation computes the card's feature version."""
-        from slam_predict.learn.featurize import version_of
+        from slam_predict.learn.predict import check_feature_version
 
-        current = version_of(self.feature_config)
-        if current != self.feature_version:
-            raise InputError(f"model uses feature version {self.feature_version}, this "
-                             f"slam_predict computes {current}; retrain with 'slam-predict "
-                             "learn robots'", self.store.path / CARD)
+        check_feature_version(self.store, retrain="slam-predict learn robots")
 
     def row(self, plan_features: Mapping[str, float], robot: Mapping[str, float]) -> np.ndarray:
         """The (1, d) raw input row; InputError naming a missing or non-finite input."""

@@ -26,7 +26,6 @@ from typing import Any
 
 import numpy as np
 
-from slam_predict.atomic import atomic_dir
 from slam_predict.config import to_dict
 from slam_predict.errors import InputError
 from slam_predict.learn.dataset import COMPONENTS, UNITS
@@ -35,7 +34,7 @@ from slam_predict.learn.robot_dataset import RobotDataset, RobotTables, points_c
 from slam_predict.learn.robot_inputs import DESIGN_RESOLUTION_DEG, ROBOT_INPUTS, ROBOT_UNITS
 from slam_predict.learn.robot_models import fit_component
 from slam_predict.learn.robot_plain import KIND, POINTS_FILE, plain_component
-from slam_predict.learn.store import CARD, FORMAT, library_versions, sha256
+from slam_predict.learn.store import save_store
 
 LOG = logging.getLogger(__name__)
 
@@ -149,31 +148,18 @@ def plain_forms(fitted: Mapping[str, Mapping[str, Any]],
 def save_robot_store(path: os.PathLike | str, card: dict[str, Any],
                      fitted: Mapping[str, Mapping[str, Any]], points_text: str,
                      plain: Mapping[str, Mapping[str, Any]] | None = None) -> Path:
-    """Write the folder atomically: joblib files, plain forms (``plain``: component → kind →
-    form, marked in the card), the training points, then the card."""
-    import joblib
-
-    path = Path(path)
-    card = dict(card, format=FORMAT, versions=library_versions(), files={})
-    card["components"] = json.loads(json.dumps(card["components"]))   # marked below
-    with atomic_dir(path) as tmp:
-        os.chmod(tmp, 0o755)
-        for component, models in fitted.items():
-            name = f"{component}.joblib"
-            joblib.dump(dict(models), tmp / name, compress=3)
-            card["files"][name] = sha256(tmp / name)
-            forms = dict((plain or {}).get(component) or {})
-            for kind, entry in card["components"].get(component, {}).get("models", {}).items():
-                entry["plain"] = kind in forms
-            if forms:
-                name = f"{component}.plain.json"
-                (tmp / name).write_text(json.dumps(forms) + "\n", encoding="utf-8")
-                card["files"][name] = sha256(tmp / name)
-        (tmp / POINTS_FILE).write_text(points_text, encoding="utf-8")
-        card["files"][POINTS_FILE] = sha256(tmp / POINTS_FILE)
-        (tmp / CARD).write_text(json.dumps(card, indent=2) + "\n", encoding="utf-8")
-    LOG.info("robot model %s written to %s", card["name"], path)
-    return path
+    """Write the folder atomically (:func:`slam_predict.learn.store.save_store`): joblib
+    files, plain forms (``plain``: component → kind → form, marked in the card), the training
+    points, then the card."""
+    card = dict(card, components=json.loads(json.dumps(card["components"])))   # marked below
+    plain = {component: dict(forms) for component, forms in (plain or {}).items() if forms}
+    for component in fitted:
+        forms = plain.get(component, {})
+        for kind, entry in card["components"].get(component, {}).get("models", {}).items():
+            entry["plain"] = kind in forms
+    LOG.info("robot model %s: writing %s", card["name"], path)
+    return save_store(path, card, {c: dict(m) for c, m in fitted.items()}, plain,
+                      {POINTS_FILE: points_text})
 
 
 def train_robot_store(data: RobotDataset, config: RobotLearningConfig,

@@ -82,9 +82,11 @@ def default_models_dir() -> Path:
 
 def save_store(path: os.PathLike | str, card: dict[str, Any],
                estimators: dict[str, dict[str, Any]],
-               plain: dict[str, dict[str, Any]] | None = None) -> Path:
+               plain: dict[str, dict[str, Any]] | None = None,
+               extra_files: dict[str, str] | None = None) -> Path:
     """Write a model folder atomically: per component a joblib file (and the plain forms of
-    its models, if any), then the card."""
+    its models, if any), the ``extra_files`` (name → text), then the card; every file's
+    SHA-256 goes into the card."""
     path = Path(path)
     card = dict(card, format=FORMAT, versions=library_versions(), files={})
     with atomic_dir(path) as tmp:
@@ -99,6 +101,9 @@ def save_store(path: os.PathLike | str, card: dict[str, Any],
                 name = f"{component}.plain.json"
                 (tmp / name).write_text(json.dumps(plain[component]) + "\n")
                 card["files"][name] = sha256(tmp / name)
+        for name, text in (extra_files or {}).items():
+            (tmp / name).write_text(text, encoding="utf-8")
+            card["files"][name] = sha256(tmp / name)
         (tmp / CARD).write_text(json.dumps(card, indent=2, sort_keys=False) + "\n")
     LOG.info("model %s written to %s", card.get("name"), path)
     return path
