@@ -110,8 +110,8 @@ def check_start_footprint(world, path: str, footprint_side: float | None = None)
 
 
 def load_run_design(args: argparse.Namespace, worlds: dict[str, str]):
-    """(design, its path) of ``--design``, or None; InputError when it is combined with
-    --robot or --runs auto, or a world is not in it."""
+    """The robot design of ``--design``, or None; InputError when it is combined with --robot
+    or a world is not in it."""
     if not args.design:
         return None
     from slam_predict.collect.robot_design import load_design
@@ -122,12 +122,11 @@ def load_run_design(args: argparse.Namespace, worlds: dict[str, str]):
     for name, path in worlds.items():
         if name not in design.worlds:
             raise InputError(f"world '{name}' is not in the design {args.design}", path)
-    return design, os.path.abspath(args.design)
+    return design
 
 
 def design_runs(text: str | None, design) -> int:
     """Runs per world of a design campaign: all of the design's, or ``--runs`` N ≤ that."""
-    design = design[0]
     if text is None:
         return design.runs_per_world
     runs = parse_runs(text)
@@ -160,18 +159,17 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     check_out_folder(out)
     check_creatable(out)
-    footprint = design[0].base.footprint_side if design else settings.sim.robot.footprint_side
+    footprint = design.base.footprint_side if design else settings.sim.robot.footprint_side
     load_worlds(worlds, footprint)
     current = identity(settings, args.seed, code_version())
-    if design:
-        current["design"] = {"file": portable_path(design[1]),
-                             "sha256": file_sha256(design[1])}
-    open_campaign(out, current, force=args.force)
     options = {"settings": args.settings} if args.settings else {}
     if args.robot:
         options["robot"] = args.robot
     if design:
-        options["design"] = design[1]
+        options["design"] = os.path.abspath(args.design)   # the workers may run elsewhere
+        current["design"] = {"file": portable_path(args.design),
+                             "sha256": file_sha256(args.design)}
+    open_campaign(out, current, force=args.force)
     config = BatchConfig(runs=runs, max_runs=args.max_runs, jobs=args.jobs,
                          scheduler=args.scheduler, base_seed=args.seed,
                          progress=not args.no_progress, options=options)

@@ -60,7 +60,8 @@ def bounds_of(args: argparse.Namespace) -> dict[str, tuple[float, float]]:
 
 def run(args: argparse.Namespace) -> int:
     from slam_predict.cli.collect_cmd import find_worlds
-    from slam_predict.collect.robot_design import load_base_robot, make_design, write_design
+    from slam_predict.collect.robot_design import make_design, write_design
+    from slam_predict.robot_file import load_robot
 
     for option in ("configs", "points_per_world", "replicates"):
         check_at_least(getattr(args, option), 1, "--" + option.replace("_", "-"))
@@ -70,13 +71,11 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--points-per-world ({args.points_per_world}) exceeds --configs "
                          f"({args.configs})")
     worlds = find_worlds(args.worlds)
-    base = load_base_robot(args.base_robot)
+    base = load_robot(args.base_robot)
     check_out_file(args.out, args.force)
-    try:
+    try:   # the design checks that every configuration makes a valid robot
         design = make_design(list(worlds), base, args.configs, args.points_per_world,
                              args.replicates, args.seed, bounds_of(args), args.resolution)
-        for config in design.configs:
-            design.robot(config)
     except ValueError as exc:
         raise InputError(f"cannot make the design: {exc}", args.base_robot) from None
     write_design(design, args.out)

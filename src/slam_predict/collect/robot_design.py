@@ -31,7 +31,7 @@ import yaml
 from slam_predict.atomic import write_text
 from slam_predict.config import from_dict, load_yaml, to_dict
 from slam_predict.errors import InputError, require_file
-from slam_predict.robot_file import RobotDescription, load_robot
+from slam_predict.robot_file import RobotDescription
 
 FACTORS = ("range_max", "fov", "odom_xy_scale", "odom_yaw_scale")
 UNITS = {"range_max": "m", "fov": "deg", "odom_xy_scale": "x base", "odom_yaw_scale": "x base"}
@@ -99,6 +99,10 @@ class RobotDesign:
     worlds: dict[str, list[str]]
     replicates: int
     seed: int
+
+    def __post_init__(self) -> None:
+        for config in self.configs:
+            self.robot(config)   # ValueError unless every configuration makes a valid robot
 
     @property
     def points_per_world(self) -> int:
@@ -194,7 +198,7 @@ def load_design(path: os.PathLike | str) -> RobotDesign:
 
 
 def _design_from(data: Mapping[str, Any], path: str) -> RobotDesign:
-    base = _base_robot(data["base_robot"], path)
+    base = from_dict(RobotDescription, data["base_robot"], path, "base_robot")
     configs = {str(k): {f: float(v[f]) for f in FACTORS} for k, v in data["configs"].items()}
     worlds = {str(w): [str(c) for c in cs] for w, cs in data["worlds"].items()}
     sizes = {len(cs) for cs in worlds.values()}
@@ -204,18 +208,6 @@ def _design_from(data: Mapping[str, Any], path: str) -> RobotDesign:
         unknown = sorted(set(cs) - set(configs))
         if unknown or len(set(cs)) != len(cs):
             raise ValueError(f"world '{world}' lists unknown or repeated configurations")
-    design = RobotDesign(base, {f: tuple(data["bounds"][f]) for f in FACTORS},
-                         float(data["resolution_deg"]), configs, worlds,
-                         int(data["replicates"]), int(data["seed"]))
-    for config in configs:
-        design.robot(config)  # every configuration must make a valid robot
-    return design
-
-
-def _base_robot(tree: Mapping[str, Any], path: str) -> RobotDescription:
-    return from_dict(RobotDescription, tree, path, "base_robot")
-
-
-def load_base_robot(path: os.PathLike | str) -> RobotDescription:
-    """The base robot of a new design (a robot description file)."""
-    return load_robot(path)
+    return RobotDesign(base, {f: tuple(data["bounds"][f]) for f in FACTORS},
+                       float(data["resolution_deg"]), configs, worlds,
+                       int(data["replicates"]), int(data["seed"]))
