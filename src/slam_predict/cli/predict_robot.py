@@ -90,15 +90,9 @@ def robot_summary(robot, robot_path: str, model, inputs: dict[str, float]) -> di
 def predict(world, model, robot, robot_path: str, component: str = "all") -> dict[str, Any]:
     """The robot-aware prediction for ``world`` (a loaded, checked plan) and ``robot`` (a
     :class:`~slam_predict.robot_file.RobotDescription` read from ``robot_path``)."""
-    from slam_predict.features.vector import degenerate_reason
-    from slam_predict.learn.featurize import compute
-    from slam_predict.learn.predict import components_of
-    from slam_predict.world.plausibility import reachability, unreachable_warning
+    from slam_predict.learn.predict import components_of, free_space, predictable_features
 
-    features = compute(world, model.feature_config)
-    reason = degenerate_reason(features)
-    if reason:
-        raise InputError(f"{reason}: nothing to predict from", world.provenance.get("source"))
+    features = predictable_features(world, model.feature_config)
     inputs = model.inputs(robot)
     confidence = float(model.card.get("confidence", 0.9))
     raw = model.predict(features, inputs, confidence)
@@ -108,11 +102,8 @@ def predict(world, model, robot, robot_path: str, component: str = "all") -> dic
                               "robot": summary, "confidence": confidence}
     for comp in components_of(component):
         result[comp] = _entry(raw[comp])
-    reach = reachability(world)
-    result["free_space"] = {"free_m2": reach.free_m2, "reachable_m2": reach.reachable_m2,
-                            "reachable_share": reach.share}
-    note = unreachable_warning(world)
-    result["warnings"] = ([note] if note else []) + list(model.store.notes) + \
+    result["free_space"], unreachable = free_space(world)
+    result["warnings"] = unreachable + list(model.store.notes) + \
         model.domain_warnings(features, inputs, summary["angular_resolution_deg"])
     result["features"] = features
     return result

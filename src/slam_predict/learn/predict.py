@@ -160,6 +160,30 @@ def compute_plan_features(world, card: dict[str, Any]) -> dict[str, float]:
     return compute(world, card.get("feature_config") or {})
 
 
+def predictable_features(world, feature_config: dict[str, Any] | None) -> dict[str, float]:
+    """The plan's features with ``feature_config``; InputError when they are degenerate (no
+    Voronoi graph, no rooms: nothing to predict from)."""
+    from slam_predict.features.vector import degenerate_reason
+    from slam_predict.learn.featurize import compute
+
+    features = compute(world, feature_config or {})
+    reason = degenerate_reason(features)
+    if reason:
+        raise InputError(f"{reason}: nothing to predict from", world.provenance.get("source"))
+    return features
+
+
+def free_space(world) -> tuple[dict[str, float], list[str]]:
+    """A prediction's ``free_space`` entry (m², share) and its unreachable-space warning (none
+    or one line)."""
+    from slam_predict.world.plausibility import reachability, unreachable_warning
+
+    reach = reachability(world)
+    note = unreachable_warning(world)
+    return ({"free_m2": reach.free_m2, "reachable_m2": reach.reachable_m2,
+             "reachable_share": reach.share}, [note] if note else [])
+
+
 def check_feature_version(store: ModelStore, retrain: str = "slam-predict learn train") -> None:
     """InputError unless this installation computes the card's feature version (the message
     names the ``retrain`` command)."""
@@ -182,22 +206,13 @@ def predict_plan(world, model: str = "best", setting: str | None = "realistic",
         component: ``all`` or one of COMPONENTS.
         models_dir: where model folders live (default: the package's ``models/``).
     """
-    from slam_predict.features.vector import degenerate_reason
-    from slam_predict.world.plausibility import reachability, unreachable_warning
-
     components_of(component)
     store = resolve_store(models_dir or default_models_dir(), model, setting, None)
     check_feature_version(store)
-    features = compute_plan_features(world, store.card)
-    reason = degenerate_reason(features)
-    if reason:
-        raise InputError(f"{reason}: nothing to predict from", world.provenance.get("source"))
+    features = predictable_features(world, store.card.get("feature_config"))
     result = predict_features(features, store, component)
-    reach = reachability(world)
-    result["free_space"] = {"free_m2": reach.free_m2, "reachable_m2": reach.reachable_m2,
-                            "reachable_share": reach.share}
-    note = unreachable_warning(world)
-    result["warnings"] = ([note] if note else []) + result["warnings"]
+    result["free_space"], unreachable = free_space(world)
+    result["warnings"] = unreachable + result["warnings"]
     result["world"] = world.name
     result["features"] = features
     return result
