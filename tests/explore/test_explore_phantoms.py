@@ -101,3 +101,22 @@ def test_open_ends_at_the_edge_of_the_known_area_stay_frontiers():
     plain = find_frontiers(grid, (1.0, 1.0), 0.2)
     roomy = find_frontiers(grid, (1.0, 1.0), 0.2, min_unknown_width=0.25)
     assert sum(f.size for f in roomy) == sum(f.size for f in plain) == 56
+
+
+def reference_roomy_unknown(unknown: np.ndarray, width: int) -> np.ndarray:
+    """The definition, with scipy's binary morphology: erosion by a width x width square
+    (outside = unknown), then propagation through unknown cells (4-connected)."""
+    from scipy import ndimage
+    core = ndimage.binary_erosion(unknown, np.ones((width, width), bool), border_value=1)
+    return ndimage.binary_propagation(core, mask=unknown)
+
+
+@pytest.mark.parametrize("width", [2, 3, 4, 5, 6, 9])
+def test_roomy_unknown_equals_the_morphological_definition(width):
+    rng = np.random.default_rng(width)
+    for density in (0.3, 0.6, 0.85, 0.95):
+        unknown = rng.random((57, 83)) < density
+        unknown[20:35, 30:60] = True           # a large unknown block
+        assert (roomy_unknown(unknown, width) == reference_roomy_unknown(unknown, width)).all()
+    sliver = grazed_wall_grid().data == -1
+    assert (roomy_unknown(sliver, width) == reference_roomy_unknown(sliver, width)).all()

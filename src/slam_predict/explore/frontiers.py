@@ -60,10 +60,18 @@ def roomy_unknown(unknown: np.ndarray, width: int) -> np.ndarray:
     ``width`` <= 1 returns ``unknown`` itself."""
     if width <= 1:
         return unknown
-    core = ndimage.binary_erosion(unknown, np.ones((width, width), bool), border_value=1)
+    # binary erosion by a square of ones (outside = 1), as a separable minimum filter
+    core = ndimage.minimum_filter(unknown.view(np.uint8), size=width, mode="constant",
+                                  cval=1).view(bool)
     if not core.any():
         return core
-    return ndimage.binary_propagation(core, mask=unknown)
+    # propagation from the squares through unknown cells: the 4-connected unknown components
+    # that hold a square cell
+    labels, _ = ndimage.label(unknown)
+    keep = np.zeros(labels.max() + 1, bool)
+    keep[labels[core]] = True
+    keep[0] = False
+    return keep[labels]
 
 
 def known_box(data: np.ndarray, grow: int = 1):
