@@ -87,11 +87,12 @@ def test_size_trend_and_acceptance_bars_against_a_hand_computation(tables):
     assert c.size_trend() == pytest.approx(spearmanr(ratios, [100, 400, 300, 200])[0])
     lines = acceptance_lines(c)
     assert len(lines) == len(ACCEPTANCE) == 5
-    assert lines[0] == "- ε_t Spearman ≥ 0.85: 0.80 (FAIL)"
-    assert lines[1].endswith(f"{np.median(ratios):.2f} (FAIL)")          # 1.60
+    assert lines[0].startswith("- ε_t Spearman ≥ 0.85: 0.80 [95 % ")
+    assert lines[0].endswith("] (FAIL)")
+    assert f": {np.median(ratios):.2f} [95 % " in lines[1]                 # 1.60
     # the path ratio: ours 100·ε_t m against 50 m
     path = np.median([100 * np.mean(ours[w]) / 50.0 for w in "abcd"])
-    assert lines[3].endswith(f"{path:.2f} (FAIL)")
+    assert f": {path:.2f} [95 % " in lines[3] and lines[3].endswith("(FAIL)")
 
 
 def test_size_trend_needs_areas(tmp_path):
@@ -107,3 +108,61 @@ def test_plot_is_written(tables, tmp_path):
     png = tmp_path / "ratio.png"
     assert main(["fidelity", str(camp), "--thesis", str(thesis), "--plot", str(png)]) == 0
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000
+
+
+def exhaustive_median_ratio_draws(c) -> np.ndarray:
+    """Every equally likely outcome of one bootstrap draw of the ε_t median ratio (buildings
+    drawn with replacement, then each drawn building's runs with replacement), enumerated."""
+    import itertools
+    per_building = []
+    for row in c.rows:
+        runs = c.per_run[row["world"]]["trans_mean"]
+        means = [np.mean(runs[list(p)]) for p in
+                 itertools.product(range(len(runs)), repeat=len(runs))]
+        per_building.append([m / row["trans_mean_theirs"] for m in means])
+    n = len(c.rows)
+    out = []
+    for pick in itertools.product(range(n), repeat=n):
+        for choice in itertools.product(*(per_building[i] for i in pick)):
+            out.append(np.median(choice))
+    return np.array(out)
+
+
+def test_bootstrap_interval_matches_the_enumerated_distribution(tmp_path):
+    from slam_predict.collect.fidelity_bootstrap import bootstrap_intervals
+    thesis = tmp_path / "stats.csv"
+    theirs = {"a": 0.1, "b": 0.2, "c": 0.3}
+    thesis.write_text(THESIS_HEADER + "".join(
+        f"{w}, 1, 1, 50, 1, {v}, 0.01, {v / 5}, 0.001\n" for w, v in theirs.items()))
+    camp = fake_campaign(tmp_path / "camp", {"a": [0.1, 0.2], "b": [0.15, 0.3], "c": [0.3]},
+                         {"a": 100.0, "b": 200.0, "c": 300.0})
+    c = compare_campaign(camp, read_thesis_table(thesis))
+    bar = ACCEPTANCE[1]                                    # ε_t median ratio
+    low, high = bootstrap_intervals(c, [bar], draws=20000, seed=3)[bar.label]
+    exact = exhaustive_median_ratio_draws(c)               # a discrete distribution:
+    assert np.quantile(exact, 0.015) <= low <= np.quantile(exact, 0.035)   # quantiles ± 1 %
+    assert np.quantile(exact, 0.965) <= high <= np.quantile(exact, 0.985)
+    assert low < high
+    again = bootstrap_intervals(c, [bar], draws=20000, seed=3)[bar.label]
+    assert again == (low, high)                            # seeded: same draws, same interval
+
+
+def test_bootstrap_tells_a_real_size_trend_from_scatter(tmp_path):
+    from slam_predict.collect.fidelity_bootstrap import bootstrap_intervals
+    rng = np.random.default_rng(0)
+    names = [f"w{i}" for i in range(16)]
+    areas = {w: 100.0 * (i + 1) for i, w in enumerate(names)}
+    thesis = tmp_path / "stats.csv"
+    thesis.write_text(THESIS_HEADER + "".join(
+        f"{w}, 1, 1, 50, 1, 0.2, 0.01, 0.04, 0.001\n" for w in names))
+    trend = {w: list(0.2 * (1.5 - i / 16) * rng.uniform(0.97, 1.03, 3))
+             for i, w in enumerate(names)}
+    shuffled = [8, 1, 14, 5, 11, 3, 15, 0, 9, 6, 12, 2, 13, 7, 4, 10]   # ρ with area 0.04
+    noise = {w: list(0.2 * (0.7 + shuffled[i] / 25) * rng.uniform(0.8, 1.2, 3))
+             for i, w in enumerate(names)}
+    bar = ACCEPTANCE[4]
+    for name, runs, real in (("trend", trend, True), ("noise", noise, False)):
+        c = compare_campaign(fake_campaign(tmp_path / name, runs, areas),
+                             read_thesis_table(thesis))
+        low, high = bootstrap_intervals(c, [bar], draws=500, seed=1)[bar.label]
+        assert (high < -0.3) == real and (low < 0 < high) != real

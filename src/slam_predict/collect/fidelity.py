@@ -61,6 +61,7 @@ class Comparison:
 
     name: str
     rows: list[dict[str, float]] = field(default_factory=list)   # per shared building
+    per_run: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)  # world → key → runs
 
     def values(self, key: str, side: str) -> np.ndarray:
         """Our (side 'ours') or the thesis' (side 'theirs') values of ``key``, by building."""
@@ -134,7 +135,15 @@ def compare_campaign(folder: Path, thesis: dict[str, dict[str, float]],
             row[f"{key}_ours"] = float(ours[key])
             row[f"{key}_theirs"] = thesis[world][key]
         comparison.rows.append(row)
+        comparison.per_run[world] = _per_run(records)
     return comparison
+
+
+def _per_run(records: list[dict]) -> dict[str, np.ndarray]:
+    """Each run's value of the compared figures (the terms of building_row's means)."""
+    return {"trans_mean": np.array([r["metric"]["trans_mean"] for r in records], float),
+            "rot_mean": np.array([r["metric"]["rot_mean"] for r in records], float),
+            "path_length_mean": np.array([r["distance_m"] for r in records], float)}
 
 
 def _free_area(records: list[dict]) -> float:
@@ -143,12 +152,19 @@ def _free_area(records: list[dict]) -> float:
     return float(np.mean(areas)) if areas else float("nan")
 
 
-def acceptance_lines(comparison: Comparison) -> list[str]:
-    """One line per acceptance bar: the figure, and whether it holds."""
+def acceptance_lines(comparison: Comparison, draws: int = 2000, seed: int = 0) -> list[str]:
+    """One line per acceptance bar: the figure, its 95 % bootstrap interval
+    (:func:`~slam_predict.collect.fidelity_bootstrap.bootstrap_intervals`) and whether the
+    figure holds the bar."""
+    from slam_predict.collect.fidelity_bootstrap import bootstrap_intervals
+
+    intervals = bootstrap_intervals(comparison, ACCEPTANCE, draws, seed)
     lines = []
     for bar in ACCEPTANCE:
         verdict = "pass" if bar.holds(comparison) else "FAIL"
-        lines.append(f"- {bar.label}: {bar.value(comparison):.2f} ({verdict})")
+        low, high = intervals[bar.label]
+        lines.append(f"- {bar.label}: {bar.value(comparison):.2f} "
+                     f"[95 % {low:.2f}, {high:.2f}] ({verdict})")
     return lines
 
 
@@ -166,7 +182,8 @@ def markdown_report(comparisons: list[Comparison], thesis_source: str) -> str:
               f"(m) of {thesis_source}. Ours: the campaign's per-building mean over runs."]
     for c in comparisons:
         lines += ["", f"### {c.name}", "", f"Issue #16's bars ({len(c.rows)} buildings, "
-                  f"{c.runs} runs):", "", *acceptance_lines(c), "",
+                  f"{c.runs} runs; in brackets a 95 % bootstrap interval over buildings and "
+                  "their runs):", "", *acceptance_lines(c), "",
                   "| building | free area (m²) | runs | ε_t ours (m) | ε_t theirs (m) | ratio "
                   "| ε_r ours (rad) | ε_r theirs (rad) | ratio | path ours (m) | path theirs (m) |",
                   "|---|---|---|---|---|---|---|---|---|---|---|"]
