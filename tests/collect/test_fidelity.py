@@ -74,7 +74,8 @@ def test_bad_inputs_are_one_line_errors(tables, tmp_path, capsys):
     bad.write_text("a,b\n1,2\n")
     for argv in (["fidelity", str(camp), "--thesis", str(bad)],
                  ["fidelity", str(tmp_path / "none"), "--thesis", str(thesis)],
-                 ["fidelity", str(camp), "--thesis", str(tmp_path / "missing.csv")]):
+                 ["fidelity", str(camp), "--thesis", str(tmp_path / "missing.csv")],
+                 ["fidelity", str(camp), "--thesis", str(thesis), "--min-coverage", "1.5"]):
         assert main(argv) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1, err
@@ -166,3 +167,19 @@ def test_bootstrap_tells_a_real_size_trend_from_scatter(tmp_path):
                              read_thesis_table(thesis))
         low, high = bootstrap_intervals(c, [bar], draws=500, seed=1)[bar.label]
         assert (high < -0.3) == real and (low < 0 < high) != real
+
+
+def test_runs_below_min_coverage_are_left_out(tables, capsys):
+    camp, thesis, theirs, ours = tables
+    failed = camp / "b" / "run_001" / "run.json"          # b's second run (0.3 m) failed
+    record = json.loads(failed.read_text())
+    failed.write_text(json.dumps({**record, "coverage": 0.37}))
+    table = read_thesis_table(thesis)
+    assert compare_campaign(camp, table).runs == 8
+    kept = compare_campaign(camp, table, min_coverage=0.5)
+    row = {r["world"]: r for r in kept.rows}["b"]
+    assert kept.runs == 7 and row["runs"] == 1 and row["trans_mean_ours"] == pytest.approx(0.5)
+    assert list(kept.per_run["b"]["trans_mean"]) == [0.5]
+    assert compare_campaign(camp, table, min_coverage=0.38, min_runs=2).runs == 6   # b dropped
+    assert main(["fidelity", str(camp), "--thesis", str(thesis), "--min-coverage", "0.5"]) == 0
+    assert "| camp | 4 | 7 |" in capsys.readouterr().out

@@ -3,7 +3,12 @@ from __future__ import annotations
 
 import argparse
 
-from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_file
+from slam_predict.cli.guards import (
+    add_force_argument,
+    check_at_least,
+    check_out_file,
+    check_share,
+)
 
 NAME = "fidelity"
 HELP = ("compare campaigns' per-building errors with the seed study's table (Spearman rank "
@@ -17,6 +22,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the seed study's stats table, e.g. thesis/stats_realistic.csv")
     parser.add_argument("--min-runs", type=int, default=1,
                         help="skip buildings with fewer finished runs")
+    parser.add_argument("--min-coverage", type=float, default=0.0, metavar="SHARE",
+                        help="leave out runs that explored less than this share of the "
+                             "reachable free area, e.g. 0.5 as the robot-aware learner does "
+                             "(default 0: every run)")
     parser.add_argument("--out", metavar="MD", help="also write the markdown tables to MD")
     parser.add_argument("--plot", metavar="PNG",
                         help="also write the ratios ours/theirs against free area to PNG")
@@ -30,10 +39,12 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.collect.fidelity import compare_campaign, markdown_report, read_thesis_table
 
     check_at_least(args.min_runs, 1, "--min-runs")
+    check_share(args.min_coverage, "--min-coverage")
     if args.out:
         check_out_file(args.out, args.force)
     thesis = read_thesis_table(Path(args.thesis))
-    comparisons = [compare_campaign(Path(c), thesis, args.min_runs) for c in args.campaigns]
+    comparisons = [compare_campaign(Path(c), thesis, args.min_runs,
+                                    min_coverage=args.min_coverage) for c in args.campaigns]
     text = markdown_report(comparisons, Path(args.thesis).name)
     if args.out:
         write_text(args.out, text)

@@ -106,3 +106,9 @@ def check_positive(value: Number | None, option: str) -> None:
     """InputError when ``value`` (None = not given) is not > 0 (NaN included)."""
     if value is not None and not value > 0:
         raise InputError(f"{option} must be > 0, got {value:g}")
+
+
+def check_share(value: Number | None, option: str) -> None:
+    """InputError when ``value`` (None = not given) is not a share in [0, 1] (NaN included)."""
+    if value is not None and not 0.0 <= value <= 1.0:
+        raise InputError(f"{option} must be in [0, 1], got {value:g}")

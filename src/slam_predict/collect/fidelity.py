@@ -116,8 +116,11 @@ def read_thesis_table(path: Path) -> dict[str, dict[str, float]]:
 
 
 def compare_campaign(folder: Path, thesis: dict[str, dict[str, float]],
-                     min_runs: int = 1, name: str | None = None) -> Comparison:
-    """Compare the buildings of campaign ``folder`` that the thesis table also holds."""
+                     min_runs: int = 1, name: str | None = None,
+                     min_coverage: float = 0.0) -> Comparison:
+    """Compare the buildings of campaign ``folder`` that the thesis table also holds; runs
+    whose coverage (explored share of the reachable free area) is below ``min_coverage`` are
+    left out (0: every run counts)."""
     folder = Path(folder)
     if not folder.is_dir():
         raise InputError("campaign folder not found", folder)
@@ -126,8 +129,9 @@ def compare_campaign(folder: Path, thesis: dict[str, dict[str, float]],
     for world in store.worlds():
         if world not in thesis:
             continue
-        records = store.records(world)
-        if len(records) < min_runs:
+        records = [r for r in store.records(world)
+                   if float(r.get("coverage", 1.0)) >= min_coverage]
+        if len(records) < min_runs or not records:
             continue
         ours = building_row(world, records)
         row = {"world": world, "runs": len(records), "free_area_m2": _free_area(records)}
