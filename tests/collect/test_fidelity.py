@@ -183,3 +183,25 @@ def test_runs_below_min_coverage_are_left_out(tables, capsys):
     assert compare_campaign(camp, table, min_coverage=0.38, min_runs=2).runs == 6   # b dropped
     assert main(["fidelity", str(camp), "--thesis", str(thesis), "--min-coverage", "0.5"]) == 0
     assert "| camp | 4 | 7 |" in capsys.readouterr().out
+
+
+def test_run_to_run_scatter_against_a_hand_computation(tables, capsys):
+    camp, thesis, theirs, ours = tables
+    c = compare_campaign(camp, read_thesis_table(thesis))
+    # theirs: transError.mean.std 0.01 and rotError.mean.std 0.001 for every building
+    mine = [np.std(ours[w], ddof=1) for w in "abcd"]      # 0.028, 0.141, 0.028, 0.141
+    assert c.median_ratio("trans_std") == pytest.approx(np.median(mine) / 0.01)
+    assert c.median_ratio("rot_std") == pytest.approx(np.median(mine) / 10 / 0.001)
+    assert main(["fidelity", str(camp), "--thesis", str(thesis)]) == 0
+    summary = capsys.readouterr().out.splitlines()[2]
+    assert summary.endswith(f"| {np.median(mine) / 0.01:.2f} | {np.median(mine) / 0.01:.2f} |")
+
+
+def test_scatter_of_a_single_run_is_left_out(tmp_path):
+    thesis = tmp_path / "stats.csv"
+    thesis.write_text(THESIS_HEADER + "".join(f"{w}, 1, 1, 50, 1, 0.1, 0.02, 0.02, 0.001\n"
+                                              for w in "abc"))
+    camp = fake_campaign(tmp_path / "camp", {"a": [0.1], "b": [0.1, 0.14], "c": [0.2]})
+    c = compare_campaign(camp, read_thesis_table(thesis))
+    assert np.isnan(c.rows[0]["trans_std_ours"])
+    assert c.median_ratio("trans_std") == pytest.approx(np.std([0.1, 0.14], ddof=1) / 0.02)

@@ -21,6 +21,10 @@ from slam_predict.errors import InputError
 
 THESIS_COLUMNS = {"trans_mean": "transError.mean.mean", "rot_mean": "rotError.mean.mean",
                   "path_length_mean": "totalLen"}
+# Run-to-run scatter: the std over a building's runs of the per-run mean error (theirs over
+# ≥ 10 runs; ours the sample std, n − 1, over ≥ 2 runs).
+SCATTER_COLUMNS = {"trans_std": "transError.mean.std", "rot_std": "rotError.mean.std"}
+SCATTER_OF = {"trans_std": "trans_mean", "rot_std": "rot_mean"}
 
 
 @dataclass(frozen=True)
@@ -76,10 +80,13 @@ class Comparison:
         return float(spearmanr(self.values(key, "ours"), self.values(key, "theirs"))[0])
 
     def median_ratio(self, key: str) -> float:
-        """Median over buildings of ours / theirs."""
+        """Median over buildings of ours / theirs (buildings where it is undefined, e.g. a
+        scatter of one run, left out; nan when none is left)."""
         if not self.rows:
             return float("nan")
-        return float(np.median(self.values(key, "ours") / self.values(key, "theirs")))
+        ratios = self.values(key, "ours") / self.values(key, "theirs")
+        ratios = ratios[np.isfinite(ratios)]
+        return float(np.median(ratios)) if len(ratios) else float("nan")
 
     def ratios(self, key: str) -> np.ndarray:
         """Per-building ours / theirs of ``key``."""
@@ -108,10 +115,11 @@ def read_thesis_table(path: Path) -> dict[str, dict[str, float]]:
             rows = list(csv.DictReader(handle, skipinitialspace=True))
     except OSError as exc:
         raise InputError(f"cannot read the thesis table: {exc.strerror}", path) from None
-    needed = ("dataset", *THESIS_COLUMNS.values())
+    columns = {**THESIS_COLUMNS, **SCATTER_COLUMNS}
+    needed = ("dataset", *columns.values())
     if not rows or any(column not in rows[0] for column in needed):
         raise InputError(f"not a thesis stats table (needs columns {', '.join(needed)})", path)
-    return {row["dataset"].strip(): {key: float(row[col]) for key, col in THESIS_COLUMNS.items()}
+    return {row["dataset"].strip(): {key: float(row[col]) for key, col in columns.items()}
             for row in rows}
 
 
@@ -138,8 +146,11 @@ def compare_campaign(folder: Path, thesis: dict[str, dict[str, float]],
         for key in THESIS_COLUMNS:
             row[f"{key}_ours"] = float(ours[key])
             row[f"{key}_theirs"] = thesis[world][key]
-        comparison.rows.append(row)
         comparison.per_run[world] = _per_run(records)
+        for key, of in SCATTER_OF.items():
+            row[f"{key}_ours"] = sample_std(comparison.per_run[world][of])
+            row[f"{key}_theirs"] = thesis[world][key]
+        comparison.rows.append(row)
     return comparison
 
 
@@ -148,6 +159,11 @@ def _per_run(records: list[dict]) -> dict[str, np.ndarray]:
     return {"trans_mean": np.array([r["metric"]["trans_mean"] for r in records], float),
             "rot_mean": np.array([r["metric"]["rot_mean"] for r in records], float),
             "path_length_mean": np.array([r["distance_m"] for r in records], float)}
+
+
+def sample_std(values: np.ndarray) -> float:
+    """The sample standard deviation (n − 1) of ``values``; nan under 2 values."""
+    return float(np.std(values, ddof=1)) if len(values) >= 2 else float("nan")
 
 
 def _free_area(records: list[dict]) -> float:
@@ -175,15 +191,20 @@ def acceptance_lines(comparison: Comparison, draws: int = 2000, seed: int = 0) -
 def markdown_report(comparisons: list[Comparison], thesis_source: str) -> str:
     """docs/fidelity.md text: one summary row per campaign, then each campaign's buildings."""
     lines = ["| campaign | buildings | runs | Spearman ε_t | median ratio ε_t | Spearman ε_r "
-             "| median ratio ε_r | median ratio path length |",
-             "|---|---|---|---|---|---|---|---|"]
+             "| median ratio ε_r | median ratio path length | median ratio ε_t std "
+             "| median ratio ε_r std |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for c in comparisons:
         lines.append(f"| {c.name} | {len(c.rows)} | {c.runs} | {c.spearman('trans_mean'):.2f} | "
                      f"{c.median_ratio('trans_mean'):.2f} | {c.spearman('rot_mean'):.2f} | "
                      f"{c.median_ratio('rot_mean'):.2f} | "
-                     f"{c.median_ratio('path_length_mean'):.2f} |")
+                     f"{c.median_ratio('path_length_mean'):.2f} | "
+                     f"{c.median_ratio('trans_std'):.2f} | {c.median_ratio('rot_std'):.2f} |")
     lines += ["", f"Theirs: `transError.mean.mean` (m), `rotError.mean.mean` (rad) and `totalLen` "
-              f"(m) of {thesis_source}. Ours: the campaign's per-building mean over runs."]
+              f"(m) of {thesis_source}. Ours: the campaign's per-building mean over runs. The std "
+              f"columns compare the run-to-run scatter of the per-run mean errors "
+              f"(`transError.mean.std`, `rotError.mean.std`; ours the sample std over a "
+              f"building's runs, buildings with ≥ 2 runs)."]
     for c in comparisons:
         lines += ["", f"### {c.name}", "", f"Issue #16's bars ({len(c.rows)} buildings, "
                   f"{c.runs} runs; in brackets a 95 % bootstrap interval over buildings and "

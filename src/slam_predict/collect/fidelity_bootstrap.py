@@ -16,7 +16,13 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from slam_predict.collect.fidelity import THESIS_COLUMNS, Bar, Comparison
+from slam_predict.collect.fidelity import (
+    SCATTER_OF,
+    THESIS_COLUMNS,
+    Bar,
+    Comparison,
+    sample_std,
+)
 
 
 def resampled(comparison: Comparison, rng: np.random.Generator) -> Comparison:
@@ -31,6 +37,8 @@ def resampled(comparison: Comparison, rng: np.random.Generator) -> Comparison:
             pick = rng.integers(0, count, count)
             for key in THESIS_COLUMNS:
                 row[f"{key}_ours"] = float(np.mean(runs[key][pick]))
+            for key, of in SCATTER_OF.items():
+                row[f"{key}_ours"] = sample_std(runs[of][pick])
         rows.append(row)
     return Comparison(comparison.name, rows, comparison.per_run)
 
