@@ -130,7 +130,7 @@ def exhaustive_median_ratio_draws(c) -> np.ndarray:
 
 
 def test_bootstrap_interval_matches_the_enumerated_distribution(tmp_path):
-    from slam_predict.collect.fidelity_bootstrap import bootstrap_intervals
+    from slam_predict.collect.fidelity import bootstrap_intervals
     thesis = tmp_path / "stats.csv"
     theirs = {"a": 0.1, "b": 0.2, "c": 0.3}
     thesis.write_text(THESIS_HEADER + "".join(
@@ -149,7 +149,7 @@ def test_bootstrap_interval_matches_the_enumerated_distribution(tmp_path):
 
 
 def test_bootstrap_tells_a_real_size_trend_from_scatter(tmp_path):
-    from slam_predict.collect.fidelity_bootstrap import bootstrap_intervals
+    from slam_predict.collect.fidelity import bootstrap_intervals
     rng = np.random.default_rng(0)
     names = [f"w{i}" for i in range(16)]
     areas = {w: 100.0 * (i + 1) for i, w in enumerate(names)}

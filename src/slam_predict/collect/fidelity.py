@@ -5,11 +5,15 @@ table (``stats_realistic.csv``: ``dataset``, ``transError.mean.mean`` m, ``rotEr
 rad, ``totalLen`` m) are compared: Spearman rank correlation and median ratio ours/theirs of the
 mean translational error, the mean rotational error and the explored path length, plus the
 size trend (Spearman of our ε_t ratio with the building's free area, m²) and the acceptance bars
-of issue #16 (:data:`ACCEPTANCE`).
+of issue #16 (:data:`ACCEPTANCE`), each with a bootstrap interval (:func:`bootstrap_intervals`),
+and the run-to-run scatter (ours the sample std over a building's runs, theirs
+``transError.mean.std`` / ``rotError.mean.std``).
 """
 from __future__ import annotations
 
 import csv
+import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -174,10 +178,8 @@ def _free_area(records: list[dict]) -> float:
 
 def acceptance_lines(comparison: Comparison, draws: int = 2000, seed: int = 0) -> list[str]:
     """One line per acceptance bar: the figure, its 95 % bootstrap interval
-    (:func:`~slam_predict.collect.fidelity_bootstrap.bootstrap_intervals`) and whether the
+    (:func:`bootstrap_intervals`) and whether the
     figure holds the bar."""
-    from slam_predict.collect.fidelity_bootstrap import bootstrap_intervals
-
     intervals = bootstrap_intervals(comparison, ACCEPTANCE, draws, seed)
     lines = []
     for bar in ACCEPTANCE:
@@ -223,3 +225,55 @@ def markdown_report(comparisons: list[Comparison], thesis_source: str) -> str:
                 f"| {r['path_length_mean_ours']:.0f} "
                 f"| {r['path_length_mean_theirs']:.0f} |")
     return "\n".join(lines) + "\n"
+
+
+# ------------------------------------------------------------------------------ bootstrap
+# How sure a figure is: a campaign holds a few runs per building and a few dozen buildings, so
+# a bar's figure moves with the runs that happened to be drawn and the buildings that happened
+# to be chosen. Each bootstrap draw resamples the buildings with replacement and, within each
+# drawn building, its runs with replacement, recomputes our per-building means and stds (the
+# seed study's stay fixed: they average ≥ 10 runs each) and then the figure. With one run per
+# building the interval reflects the choice of buildings only and is too narrow.
+
+
+def resampled(comparison: Comparison, rng: np.random.Generator) -> Comparison:
+    """One bootstrap replicate: buildings drawn with replacement, each with its runs drawn with
+    replacement and our means recomputed."""
+    rows = []
+    for i in rng.integers(0, len(comparison.rows), len(comparison.rows)):
+        row = dict(comparison.rows[i])
+        runs = comparison.per_run.get(row["world"])
+        if runs is not None:
+            count = len(runs["trans_mean"])
+            pick = rng.integers(0, count, count)
+            for key in THESIS_COLUMNS:
+                row[f"{key}_ours"] = float(np.mean(runs[key][pick]))
+            for key, of in SCATTER_OF.items():
+                row[f"{key}_ours"] = sample_std(runs[of][pick])
+        rows.append(row)
+    return Comparison(comparison.name, rows, comparison.per_run)
+
+
+def bootstrap_intervals(comparison: Comparison, bars: Sequence[Bar], draws: int = 2000,
+                        seed: int = 0, level: float = 0.95) -> dict[str, tuple[float, float]]:
+    """Bar label → (low, high) central ``level`` interval of its figure over ``draws``
+    bootstrap replicates (nan, nan when fewer than 3 buildings or no finite draw)."""
+    if len(comparison.rows) < 3 or draws < 1:
+        return {bar.label: (float("nan"), float("nan")) for bar in bars}
+    rng = np.random.default_rng(seed)
+    values = {bar.label: [] for bar in bars}
+    with warnings.catch_warnings():   # a replicate may repeat one building: ρ undefined (nan)
+        warnings.simplefilter("ignore", RuntimeWarning)
+        warnings.filterwarnings("ignore", message="An input array is constant")
+        for _ in range(draws):
+            replicate = resampled(comparison, rng)
+            for bar in bars:
+                values[bar.label].append(bar.value(replicate))
+    tail = (1.0 - level) / 2.0
+    out = {}
+    for bar in bars:
+        finite = np.array(values[bar.label], float)
+        finite = finite[np.isfinite(finite)]
+        out[bar.label] = ((float("nan"), float("nan")) if len(finite) == 0 else
+                          (float(np.quantile(finite, tail)), float(np.quantile(finite, 1 - tail))))
+    return out
