@@ -20,7 +20,6 @@ from pathlib import Path
 import numpy as np
 
 from slam_predict.collect.store import RunStore
-from slam_predict.collect.summary import building_row
 from slam_predict.errors import InputError
 
 THESIS_COLUMNS = {"trans_mean": "transError.mean.mean", "rot_mean": "rotError.mean.mean",
@@ -145,24 +144,28 @@ def compare_campaign(folder: Path, thesis: dict[str, dict[str, float]],
                    if float(r.get("coverage", 1.0)) >= min_coverage]
         if len(records) < min_runs or not records:
             continue
-        ours = building_row(world, records)
-        row = {"world": world, "runs": len(records), "free_area_m2": _free_area(records)}
-        for key in THESIS_COLUMNS:
-            row[f"{key}_ours"] = float(ours[key])
-            row[f"{key}_theirs"] = thesis[world][key]
-        comparison.per_run[world] = _per_run(records)
-        for key, of in SCATTER_OF.items():
-            row[f"{key}_ours"] = sample_std(comparison.per_run[world][of])
+        runs = comparison.per_run[world] = _per_run(records)
+        row = {"world": world, "runs": len(records), "free_area_m2": _free_area(records),
+               **our_figures(runs)}
+        for key in (*THESIS_COLUMNS, *SCATTER_OF):
             row[f"{key}_theirs"] = thesis[world][key]
         comparison.rows.append(row)
     return comparison
 
 
 def _per_run(records: list[dict]) -> dict[str, np.ndarray]:
-    """Each run's value of the compared figures (the terms of building_row's means)."""
+    """Each run's value of the compared figures."""
     return {"trans_mean": np.array([r["metric"]["trans_mean"] for r in records], float),
             "rot_mean": np.array([r["metric"]["rot_mean"] for r in records], float),
             "path_length_mean": np.array([r["distance_m"] for r in records], float)}
+
+
+def our_figures(runs: dict[str, np.ndarray]) -> dict[str, float]:
+    """Our per-building figures from its runs' values (:func:`_per_run`): the means (as the
+    campaign summary's ``building_row``) and the sample stds of the scatter columns."""
+    figures = {f"{key}_ours": float(np.mean(runs[key])) for key in THESIS_COLUMNS}
+    figures.update({f"{key}_ours": sample_std(runs[of]) for key, of in SCATTER_OF.items()})
+    return figures
 
 
 def sample_std(values: np.ndarray) -> float:
@@ -178,8 +181,7 @@ def _free_area(records: list[dict]) -> float:
 
 def acceptance_lines(comparison: Comparison, draws: int = 2000, seed: int = 0) -> list[str]:
     """One line per acceptance bar: the figure, its 95 % bootstrap interval
-    (:func:`bootstrap_intervals`) and whether the
-    figure holds the bar."""
+    (:func:`bootstrap_intervals`) and whether the figure holds the bar."""
     intervals = bootstrap_intervals(comparison, ACCEPTANCE, draws, seed)
     lines = []
     for bar in ACCEPTANCE:
@@ -246,10 +248,7 @@ def resampled(comparison: Comparison, rng: np.random.Generator) -> Comparison:
         if runs is not None:
             count = len(runs["trans_mean"])
             pick = rng.integers(0, count, count)
-            for key in THESIS_COLUMNS:
-                row[f"{key}_ours"] = float(np.mean(runs[key][pick]))
-            for key, of in SCATTER_OF.items():
-                row[f"{key}_ours"] = sample_std(runs[of][pick])
+            row.update(our_figures({key: values[pick] for key, values in runs.items()}))
         rows.append(row)
     return Comparison(comparison.name, rows, comparison.per_run)
 
@@ -262,9 +261,8 @@ def bootstrap_intervals(comparison: Comparison, bars: Sequence[Bar], draws: int 
         return {bar.label: (float("nan"), float("nan")) for bar in bars}
     rng = np.random.default_rng(seed)
     values = {bar.label: [] for bar in bars}
-    with warnings.catch_warnings():   # a replicate may repeat one building: ρ undefined (nan)
-        warnings.simplefilter("ignore", RuntimeWarning)
-        warnings.filterwarnings("ignore", message="An input array is constant")
+    with warnings.catch_warnings():   # a replicate may repeat one building: ρ undefined (nan,
+        warnings.simplefilter("ignore", RuntimeWarning)   # scipy's ConstantInputWarning)
         for _ in range(draws):
             replicate = resampled(comparison, rng)
             for bar in bars:
