@@ -73,3 +73,17 @@ def robot_models_dir(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("robot_models")
     syn.train_model(folder)
     return folder / "models"
+
+
+@pytest.fixture(scope="session")
+def load_bench(root):
+    """A loader of bench/ scripts by stem (bench/ is not a package): load_bench("bench_x")."""
+    import importlib.util
+
+    def load(stem: str):
+        spec = importlib.util.spec_from_file_location(stem, root / "bench" / f"{stem}.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+
+    return load

@@ -1,21 +1,13 @@
 """bench/bench_odometry_signature.py on synthetic tables and run records: D_odo, the CV of ε_r
 and how ε_r follows the per-run heading bias, checked against values worked out by hand."""
-import importlib.util
 import json
 from pathlib import Path
 
 import pytest
 
-BENCH = Path(__file__).resolve().parents[2] / "bench" / "bench_odometry_signature.py"
 COLUMNS = ("dataset, Voronoi distance, Voronoi rotation, totalLen, totalRot, transError.mean.mean, "
            "transError.mean.std, rotError.mean.mean, rotError.mean.std")
 
-
-def _bench():
-    spec = importlib.util.spec_from_file_location("bench_odometry_signature", BENCH)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def _table(path: Path, rows) -> Path:
@@ -34,8 +26,8 @@ def _run(folder: Path, building: str, index: int, rot_mean: float, bias_theta: f
     (run / "run.json").write_text(json.dumps(record), encoding="utf-8")
 
 
-def test_theirs_d_odo_and_cv(tmp_path):
-    bench = _bench()
+def test_theirs_d_odo_and_cv(load_bench, tmp_path):
+    bench = load_bench("bench_odometry_signature")
     # D_odo = (er_R^2 - er_O^2) / totalRot: (0.02^2 - 0.01^2) / 100 = 3e-6 and
     # (0.04^2 - 0.02^2) / 300 = 4e-6, median 3.5e-6
     realistic = bench.read_stats(_table(tmp_path / "r.csv", [("a", 100, 0.02, 0.002),
@@ -48,8 +40,8 @@ def test_theirs_d_odo_and_cv(tmp_path):
     assert "D_odo median 3.50e-06" in d_line
 
 
-def test_ours_cv_and_bias_following(tmp_path):
-    bench = _bench()
+def test_ours_cv_and_bias_following(load_bench, tmp_path):
+    bench = load_bench("bench_odometry_signature")
     campaign = tmp_path / "camp"
     for i, (rot, bias) in enumerate([(0.01, 0.005), (0.02, -0.010), (0.03, 0.015)]):
         _run(campaign, "a", i, rot, bias)
@@ -61,14 +53,14 @@ def test_ours_cv_and_bias_following(tmp_path):
     assert "Spearman(|b_θ|, ε_r / building mean) +1.00" in line
 
 
-def test_missing_tables_exit_2(tmp_path, capsys):
-    bench = _bench()
+def test_missing_tables_exit_2(load_bench, tmp_path, capsys):
+    bench = load_bench("bench_odometry_signature")
     assert bench.main(["--thesis-dir", str(tmp_path)]) == 2
     assert "thesis tables not found" in capsys.readouterr().err
 
 
-def test_real_tables_signature():
-    bench = _bench()
+def test_real_tables_signature(load_bench):
+    bench = load_bench("bench_odometry_signature")
     thesis = bench.SHARED_DATA / "thesis"
     if not (thesis / "stats_optimistic.csv").is_file():
         pytest.skip(f"seed-study tables not found in {thesis} (../shared/data absent)")
