@@ -31,3 +31,45 @@ def test_overrides_are_typed(load_bench):
     assert got == {"particles": 1, "delta": 0.025, "range_sensor_angles": False,
                    "random_stream": "numpy"}
     assert isinstance(got["particles"], int) and isinstance(got["delta"], float)
+
+
+def _walk():
+    # a closed-ish walk: 4 m east, 3 m north, 2 m west (poses every metre)
+    xs = [0, 1, 2, 3, 4, 4, 4, 4, 3, 2]
+    ys = [0, 0, 0, 0, 0, 1, 2, 3, 3, 3]
+    return np.column_stack([xs, ys, np.zeros(len(xs))]).astype(float)
+
+
+def test_shape_of_the_ground_truth_itself(load_bench):
+    bench = load_bench("bench_floor_replay")
+    walk = _walk()
+    pairs = np.array([[0, 4], [2, 9], [5, 8]])
+    assert np.allclose(bench.trajectory_shape(walk, walk, pairs), (1.0, 0.0, 0.0), atol=1e-12)
+
+
+def test_shape_sees_a_shrunk_and_turned_trajectory(load_bench):
+    bench = load_bench("bench_floor_replay")
+    walk = _walk()
+    # the estimate: the walk shrunk by 1 % about the start, then turned 0.01 rad about it
+    c, s = np.cos(0.01), np.sin(0.01)
+    shrunk = 0.99 * walk[:, :2]
+    estimate = np.column_stack([c * shrunk[:, 0] - s * shrunk[:, 1],
+                                s * shrunk[:, 0] + c * shrunk[:, 1], walk[:, 2]])
+    pairs = np.array([[0, 4], [2, 9], [5, 8], [1, 7]])
+    ratio, angle, residual = bench.trajectory_shape(estimate, walk, pairs)
+    assert abs(ratio - 0.99) < 1e-12          # every distance is 0.99 of the true one
+    assert abs(angle - 0.01) < 1e-12          # a similarity: least squares finds the turn exactly
+    # a rigid fit cannot undo the 1 % shrink: 1 % of the rms distance to the centroid is left
+    centred = walk[:, :2] - walk[:, :2].mean(axis=0)
+    assert abs(residual - 0.01 * np.sqrt(np.mean(np.sum(centred ** 2, axis=1)))) < 1e-12
+
+
+def test_turned_frame_keeps_relative_motion(load_bench):
+    bench = load_bench("bench_floor_replay")
+    walk = _walk()
+    moved = bench.in_turned_frame(walk, 0.3, 0.025)
+    assert np.allclose(moved[0], [0.025, 0.025, 0.3])
+    # distances between poses and heading changes are those of the walk
+    assert np.allclose(np.linalg.norm(np.diff(moved[:, :2], axis=0), axis=1),
+                       np.linalg.norm(np.diff(walk[:, :2], axis=0), axis=1))
+    assert np.allclose(np.diff(moved[:, 2]), np.diff(walk[:, 2]))
