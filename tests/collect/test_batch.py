@@ -108,3 +108,29 @@ def test_dask_local_cluster(tmp_path):
                              scheduler=cluster.scheduler_address)
         assert Batch(WORLDS, tmp_path, config).run() == 2
     assert len(snapshot(tmp_path)) == 2
+
+
+def test_second_batch_on_a_folder_in_use_is_refused_and_touches_nothing(tmp_path):
+    from slam_predict.errors import InputError
+
+    in_progress = tmp_path / "alpha" / ".run_001.abcd.tmp"
+    in_progress.mkdir(parents=True)
+    with RunStore(tmp_path).lock():  # a first batch holds the folder
+        batch = Batch(WORLDS, tmp_path, BatchConfig(runs=2, episode=FAKE, progress=False))
+        with pytest.raises(InputError) as caught:
+            batch.run()
+        assert str(tmp_path) in str(caught.value) and f"pid {os.getpid()}" in str(caught.value)
+        assert "\n" not in str(caught.value)
+        assert in_progress.is_dir()                      # its run in progress is left alone
+        assert RunStore(tmp_path).completed("alpha") == []
+    # once released, the folder is free again: the leftover goes and the runs are done
+    assert batch.run() == 4 and not in_progress.exists()
+
+
+def test_lock_of_a_killed_batch_does_not_block(tmp_path):
+    code = ("import os, sys; from slam_predict.collect.store import RunStore\n"
+            "with RunStore(sys.argv[1]).lock():\n    os.kill(os.getpid(), 9)\n")
+    subprocess.run([sys.executable, "-c", code, str(tmp_path)], check=False)
+    assert (tmp_path / ".collect.lock").exists()
+    with RunStore(tmp_path).lock():
+        pass

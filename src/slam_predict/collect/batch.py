@@ -222,8 +222,13 @@ class Batch:
 
         SIGINT/SIGTERM stop the batch within one control step: finished runs are kept, the runs
         in progress are discarded (their temporary folders removed) and :attr:`stopped_by` is
-        set to the signal number.
+        set to the signal number. Another batch already writing to the same folder is an
+        :class:`~slam_predict.errors.InputError` (its runs in progress would look like leftovers).
         """
+        with self.store.lock():
+            return self._run_locked()
+
+    def _run_locked(self) -> int:
         removed = self.store.remove_leftovers()
         if removed:
             LOG.info("removed %s", plural(removed, "interrupted run folder"))

@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from slam_predict.atomic import write_text
-from slam_predict.collect.store import RUN_JSON, RunStore, run_seed
+from slam_predict.collect.store import LOCK_FILE, RUN_JSON, RunStore, run_seed
 from slam_predict.errors import InputError
 
 LOG = logging.getLogger(__name__)
@@ -199,8 +199,10 @@ def check_out_folder(root: Path) -> None:
 
 
 def is_campaign(root: Path) -> bool:
-    """True when ``root`` holds campaign.json, summary.csv, run folders or their leftovers."""
+    """True when ``root`` holds campaign.json, summary.csv, run folders, their leftovers or a
+    batch's lock file."""
     return ((root / CAMPAIGN_JSON).exists() or (root / "summary.csv").exists()
+            or (root / LOCK_FILE).exists()
             or any(root.glob("*/run_[0-9][0-9][0-9]")) or any(root.glob("*/.run_*.tmp")))
 
 

@@ -6,17 +6,24 @@ renames it), so resuming a batch means: list complete runs, delete leftovers of 
 """
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import json
 import logging
+import os
 import shutil
 import zlib
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from slam_predict.errors import InputError
+
 LOG = logging.getLogger(__name__)
 RUN_JSON = "run.json"
+LOCK_FILE = ".collect.lock"
 
 
 def run_id(index: int) -> str:
@@ -54,6 +61,31 @@ class RunStore:
                 continue
             indices.append(int(path.name.split("_")[1]))
         return indices
+
+    @contextlib.contextmanager
+    def lock(self) -> Iterator[None]:
+        """Hold the store for one batch: a second batch on the same folder (which would delete
+        this one's runs in progress as leftovers) gets an :class:`InputError` instead. The lock
+        is the kernel's (``flock``), so a killed batch never leaves the folder locked."""
+        self.root.mkdir(parents=True, exist_ok=True)
+        path = self.root / LOCK_FILE
+        with open(path, "a+", encoding="utf-8") as handle:
+            try:
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                handle.seek(0)
+                holder = handle.read().strip() or "unknown"
+                raise InputError(f"another collect (pid {holder}) is writing to this campaign "
+                                 "folder; wait for it, or run in parallel with --jobs",
+                                 self.root) from None
+            handle.seek(0)
+            handle.truncate()
+            handle.write(f"{os.getpid()}\n")
+            handle.flush()
+            try:
+                yield
+            finally:
+                fcntl.flock(handle, fcntl.LOCK_UN)
 
     def remove_leftovers(self) -> int:
         """Delete temporary folders of interrupted runs (and world folders left empty); returns
