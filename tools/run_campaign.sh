@@ -4,7 +4,7 @@
 #   tools/run_campaign.sh NAME [--jobs K] [--runs N]
 #
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
-#       fidelity_sizes | fidelity_sizes_r2 | robots
+#       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | robots
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
@@ -14,6 +14,9 @@
 #              then run 2, ...) so that a campaign cut by the end of a working period is usable.
 #   fidelity_sizes_r2 (issue #16): the same buildings under config/fidelity/sizes_rebuild2.yaml
 #              (the map rebuild twice as dear per traced cell; docs/fidelity.md "Session 12").
+#   fidelity_seed_study (issue #16): the same buildings under config/fidelity/seed_study.yaml
+#              (Stage's fixed odometry biases, the calibrated compute delay): the fidelity
+#              campaign whose settings the robots campaign and own-realistic use.
 #   robots (issue #18): 21 seed-study buildings of <= 2,000 m2, each explored with 4 robot
 #              configurations of config/robot_campaign/design.yaml (28 configurations, a
 #              Latin hypercube over laser range, fov and odometry error), 2 runs each (168 runs),
@@ -24,7 +27,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 NAME="${1:?usage: tools/run_campaign.sh NAME [--jobs K] [--runs N]}"; shift
 JOBS=2; RUNS=5
-case "$NAME" in fidelity_sizes*) RUNS=3 ;; esac   # issue #16: >= 3 runs per building
+case "$NAME" in fidelity_sizes*|fidelity_seed_study) RUNS=3 ;; esac   # issue #16: >= 3 runs per building
 while [ $# -gt 0 ]; do
   case "$1" in
     --jobs) JOBS="$2"; shift 2 ;;
@@ -53,9 +56,10 @@ case "$NAME" in
   fidelity_fixed_60) SETTINGS="$ROOT/config/fidelity/fixed_60.yaml"; WITH_SHIPPED=0 ;;
   fidelity_sizes) SETTINGS="$ROOT/config/fidelity/sizes.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_sizes_r2) SETTINGS="$ROOT/config/fidelity/sizes_rebuild2.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  fidelity_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   robots) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, robots)" >&2; exit 2 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then

@@ -1,17 +1,18 @@
 #!/usr/bin/env bash
-# Train models/own-realistic from the project's own campaign data/campaigns/realistic
-# (collected by tools/run_campaign.sh realistic): its summary.csv joined with our features of the
-# campaign's worlds (the seed-study buildings rebuilt by `worlds import-thesis`, the shipped ones
-# from worlds/).
+# Train models/own-realistic from one of the project's own campaigns, by default the fidelity
+# campaign data/campaigns/fidelity_seed_study (tools/run_campaign.sh fidelity_seed_study; issue
+# #16): its summary.csv joined with our features of the campaign's worlds (the seed-study
+# buildings rebuilt by `worlds import-thesis`, the shipped ones from worlds/).
 # Usage: tools/train_own_model.sh [OUT]   (intermediate files in OUT, default out/own_model)
-# Environment: SLAM_PREDICT_DATA (default ../shared/data), MIN_RUNS (default 5), JOBS (default 2),
-# MODELS (default models/).
+# Environment: CAMPAIGN (default data/campaigns/fidelity_seed_study; the model until session 17
+# came from data/campaigns/realistic with MIN_RUNS=5), SLAM_PREDICT_DATA (default
+# ../shared/data), MIN_RUNS (default 3), JOBS (default 2), MODELS (default models/).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${1:-$ROOT/out/own_model}"
-CAMPAIGN="$ROOT/data/campaigns/realistic"
+CAMPAIGN="${CAMPAIGN:-$ROOT/data/campaigns/fidelity_seed_study}"
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
-MIN_RUNS="${MIN_RUNS:-5}"
+MIN_RUNS="${MIN_RUNS:-3}"
 JOBS="${JOBS:-2}"
 MODELS="${MODELS:-$ROOT/models}"
 set +u; source "$ROOT/setup.bash"; set -u
@@ -19,7 +20,8 @@ rm -rf "$OUT/worlds"; mkdir -p "$OUT/worlds"
 [ -f "$CAMPAIGN/summary.csv" ] || { echo "train_own_model: $CAMPAIGN/summary.csv not found" >&2; exit 2; }
 # buildings with at least MIN_RUNS finished runs (column 2 of summary.csv is runs)
 awk -F, -v m="$MIN_RUNS" 'NR == 1 || $2 >= m' "$CAMPAIGN/summary.csv" > "$OUT/summary.csv"
-echo "[own model] $(($(wc -l < "$OUT/summary.csv") - 1)) buildings with >= $MIN_RUNS runs"
+BUILDINGS=$(($(wc -l < "$OUT/summary.csv") - 1))
+echo "[own model] $BUILDINGS buildings with >= $MIN_RUNS runs"
 slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$OUT/thesis_worlds" \
   --force > /dev/null
 # one folder with the campaign's worlds (symlinks), named as in summary.csv
@@ -38,5 +40,5 @@ slam-predict learn dataset --errors "$OUT/summary.csv" --worlds "$OUT/worlds" --
   --out "$OUT/own-realistic.csv" --jobs "$JOBS" --force
 slam-predict learn train "$OUT/own-realistic.csv" --name own-realistic --models-dir "$MODELS" \
   --evaluation-out "$OUT/eval" --jobs "$JOBS" --force \
-  --description "GMapping errors collected by slam_predict itself (data/campaigns/realistic: in-process Stage-like simulator + our GMapping + move_base-like navigation + nearest-frontier exploration, realistic setting, >= $MIN_RUNS runs per building) on seed-study buildings <= 1,000 m2 and shipped generated worlds"
+  --description "${DESCRIPTION:-GMapping errors collected by slam_predict itself (data/campaigns/fidelity_seed_study, issue #16: in-process Stage-like simulator with Stage-style fixed odometry biases + our GMapping with the calibrated compute delay + move_base-like navigation + nearest-frontier exploration, realistic setting, >= $MIN_RUNS runs per building) on $BUILDINGS seed-study buildings of every size}"
 echo "[own model] models/own-realistic written; evaluation in $OUT/eval"

@@ -205,3 +205,14 @@ def test_scatter_of_a_single_run_is_left_out(tmp_path):
     c = compare_campaign(camp, read_thesis_table(thesis))
     assert np.isnan(c.rows[0]["trans_std_ours"])
     assert c.median_ratio("trans_std") == pytest.approx(np.std([0.1, 0.14], ddof=1) / 0.02)
+
+
+def test_area_ticks_stay_within_the_plotted_areas():
+    """Fixed ticks widened a small campaign's axis to 5,000 m²; a campaign's own range only."""
+    import numpy as np
+
+    from slam_predict.collect.fidelity_plot import _area_ticks
+
+    assert _area_ticks(np.array([333.0, 878.0])) == [300, 500, 1000]   # at most 15 % wider
+    assert _area_ticks(np.array([333.0, 6222.0])) == [300, 500, 1000, 2000, 3000, 5000]
+    assert _area_ticks(np.array([np.nan])) == []
