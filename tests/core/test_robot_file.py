@@ -19,8 +19,8 @@ from slam_predict.world.load import load_plan
 
 ROOT = Path(__file__).resolve().parents[2]
 ROBOTS = ROOT / "config" / "robots"
-EXAMPLES = ("seed_realistic", "seed_optimistic", "lds_360_3p5", "urg_240_5p6",
-            "utm_270_30_poor_odom")
+EXAMPLES = ("seed_realistic", "seed_realistic_fixed", "seed_optimistic", "lds_360_3p5",
+            "urg_240_5p6", "utm_270_30_poor_odom")
 
 VALID = """\
 name: test_robot
@@ -45,7 +45,7 @@ def robot_file(tmp_path: Path, text: str = VALID, name: str = "robot.yaml") -> P
 
 # -- shipped examples ---------------------------------------------------------------------------
 
-def test_the_five_examples_are_shipped():
+def test_the_examples_are_shipped():
     assert sorted(p.stem for p in ROBOTS.glob("*.yaml")) == sorted(EXAMPLES)
 
 
@@ -65,18 +65,39 @@ def test_dict_round_trip(name):
     assert from_dict(RobotDescription, to_dict(robot)) == robot
 
 
-@pytest.mark.parametrize("name, fov, samples, range_min, range_max, rate, odom", [
-    ("seed_realistic", 270.0, 541, 0.0, 80.0, 10.0, (0.01, 0.01, 2.0)),
-    ("seed_optimistic", 270.0, 541, 0.0, 80.0, 10.0, (0.01, 0.01, 0.0)),
-    ("lds_360_3p5", 360.0, 360, 0.12, 3.5, 5.0, (0.01, 0.01, 2.0)),
-    ("urg_240_5p6", 240.0, 683, 0.02, 5.6, 10.0, (0.01, 0.01, 2.0)),
-    ("utm_270_30_poor_odom", 270.0, 1081, 0.1, 30.0, 40.0, (0.02, 0.02, 4.0)),
+UNIFORM, FIXED = "uniform_per_run", "fixed"
+
+
+@pytest.mark.parametrize("name, fov, samples, range_min, range_max, rate, odom, model", [
+    ("seed_realistic", 270.0, 541, 0.0, 80.0, 10.0, (0.01, 0.01, 2.0), UNIFORM),
+    ("seed_realistic_fixed", 270.0, 541, 0.0, 80.0, 10.0, (0.01, 0.01, 2.0), FIXED),
+    ("seed_optimistic", 270.0, 541, 0.0, 80.0, 10.0, (0.01, 0.01, 0.0), UNIFORM),
+    ("lds_360_3p5", 360.0, 360, 0.12, 3.5, 5.0, (0.01, 0.01, 2.0), UNIFORM),
+    ("urg_240_5p6", 240.0, 683, 0.02, 5.6, 10.0, (0.01, 0.01, 2.0), UNIFORM),
+    ("utm_270_30_poor_odom", 270.0, 1081, 0.1, 30.0, 40.0, (0.02, 0.02, 4.0), UNIFORM),
 ])
-def test_examples_hold_their_spec_values(name, fov, samples, range_min, range_max, rate, odom):
+def test_examples_hold_their_spec_values(name, fov, samples, range_min, range_max, rate, odom,
+                                         model):
     robot = load_robot(ROBOTS / f"{name}.yaml")
     assert robot.laser == RobotLaser(range_max=range_max, fov=fov, samples=samples,
                                      range_min=range_min, rate_hz=rate)
-    assert robot.odom_error == odom and robot.odom_model == "uniform_per_run"
+    assert robot.odom_error == odom and robot.odom_model == model
+
+
+def test_seed_realistic_fixed_is_the_fidelity_campaigns_sensor():
+    """The fidelity campaign's settings (config/fidelity/seed_study.yaml) and the robot file the
+    robots campaign starts from describe the same sensor (to robot.yaml's printed digits)."""
+    from slam_predict.collect.settings import load_settings
+
+    sim = load_settings(ROOT / "config" / "fidelity" / "seed_study.yaml").sim
+    theirs = resolve_sensor(load_plan(ROOT / "worlds" / "tiny.world"), sim)
+    ours = load_robot(ROBOTS / "seed_realistic_fixed.yaml").to_sensor_config()
+    assert theirs.odom.model == ours.odom.model == FIXED
+    assert math.isclose(ours.laser.fov, theirs.laser.fov, rel_tol=0, abs_tol=5e-7)
+    assert math.isclose(ours.odom.error[2], theirs.odom.error[2], rel_tol=0, abs_tol=5e-8)
+    same_fov = dataclasses.replace(ours.laser, fov=theirs.laser.fov)
+    same_yaw = dataclasses.replace(ours.odom, error=ours.odom.error[:2] + theirs.odom.error[2:])
+    assert dataclasses.replace(ours, laser=same_fov, odom=same_yaw) == theirs
 
 
 def test_seed_realistic_is_config_robot_yaml_sensor():

@@ -132,7 +132,7 @@ def test_feature_version_of_the_shipped_models_is_kept():
     from slam_predict.learn.config import yaml_section
     from slam_predict.learn.featurize import full_feature_config, version_of
 
-    card = json.loads((ROOT / "models" / "own-realistic" / "card.json").read_text())
+    card = json.loads((ROOT / "models" / "thesis-realistic" / "card.json").read_text())
     assert card["feature_config"]["traversal"]["laser_fov_deg"] == 270.0
     assert version_of(card["feature_config"]) == card["feature_version"]
     shipped = full_feature_config(yaml_section(ROOT / "config" / "features.yaml", "features"))

@@ -119,6 +119,8 @@ def edit(path, change):
      "settings file config/nope.yaml of the run not found"),
     (lambda r: r.update(slam={"type": "karto"}), "SLAM back-end 'karto'"),
     (lambda r: r["design"].update(point="w01/c00"), "point 'w01/c00' is w0. × c00 here but"),
+    (lambda r: r["sensor"]["odom"].update(model="fixed"),
+     "runs mix odometry models .*uniform_per_run in .*: their error numbers describe"),
 ])
 def test_bad_records_are_one_line_errors_naming_the_file(tmp_path, change, message):
     rng = np.random.default_rng(1)
@@ -161,3 +163,18 @@ def test_feature_table_needs_a_version(tmp_path, campaign):
     with pytest.raises(InputError, match="needs one feature_version"):
         plan_features(sorted(worlds), tmp_path / "g.csv")
     assert plan_features(sorted(worlds), tmp_path / "g.csv", feature_version="v9")[1] == "v9"
+
+
+def test_a_fixed_bias_campaign_is_learned_and_its_model_recorded(tmp_path):
+    """Stage's fixed biases (the fidelity campaign's odometry) are robot inputs like bounds,
+    with the same numbers; the dataset reports the model (the card records it)."""
+    rng = np.random.default_rng(2)
+    worlds = syn.buildings(2, rng)
+    records = syn.write_campaign(tmp_path, worlds, syn.robot_configs(2, rng), 2, rng)
+    bounds = syn.load(tmp_path, worlds)
+    assert bounds.odom_model == "uniform_per_run"
+    for item in records:
+        edit(item["path"], lambda r: r["sensor"]["odom"].update(model="fixed"))
+    biases = syn.load(tmp_path, worlds)
+    assert {r.odom_model for r in biases.runs} == {"fixed"} and biases.odom_model == "fixed"
+    assert [r.robot for r in biases.runs] == [r.robot for r in bounds.runs]

@@ -64,7 +64,8 @@ def test_robot_files_and_their_recorded_sensor_agree(root):
 
 @pytest.mark.parametrize("change, message", [
     (lambda s: s["laser"].pop("fov"), "sensor has no 'laser.fov'"),
-    (lambda s: s["odom"].update(model="fixed"), "odometry model 'fixed' is not a robot input"),
+    (lambda s: s["odom"].update(model="gaussian_per_step"),
+     "odometry model 'gaussian_per_step' is not a robot input"),
     (lambda s: s["odom"].update(error=[0.01, 0.01]), "must be [x, y, yaw]"),
     (lambda s: s["odom"].update(error=[0.01, -0.01, 0.0]), "'odom.error[1]' must be a number"),
     (lambda s: s["laser"].update(range_max="far"), "'laser.range_max' must be a finite number"),

@@ -57,6 +57,7 @@ def test_card_says_what_the_models_were_trained_on(trained):
     assert card["feature_version"] == "synthetic-v1"
     assert card["slam_config_hash"].split(",") == data.config_hashes()["gmapping"]
     assert card["max_urange_m"] == 30.0 and card["design"]["bounds"] is None
+    assert card["odom_model"] == "uniform_per_run"
     components = ("trans_mean", "trans_std", "rot_mean", "rot_std")
     assert set(card["files"]) == {"training_points.csv", *(f"{c}.joblib" for c in components),
                                   *(f"{c}.plain.json" for c in components)}
@@ -130,6 +131,20 @@ def test_domain_warnings(trained):
     note = model.odom_gap_warning(corner)
     assert note is not None and "lie far from every design configuration" in note
     assert model.odom_gap_warning(dict(ROBOT, odom_xy_error=0.008, odom_yaw_error=0.028)) is None
+
+
+def test_a_robot_with_another_odometry_model_is_warned_about(trained):
+    """Bounds drawn per run and Stage's fixed biases share numbers, not meaning."""
+    model = RobotModel.load(trained[0])
+    assert model.odom_model_warning("uniform_per_run") is None
+    assert model.odom_model_warning("none") is None
+    note = model.odom_model_warning("fixed")
+    assert note is not None and "odometry model is fixed" in note and "uniform_per_run" in note
+    model.card["odom_model"] = "fixed"
+    assert model.odom_model_warning("fixed") is None
+    assert "training runs used fixed" in model.odom_model_warning("uniform_per_run")
+    del model.card["odom_model"]                      # cards before the field: bounds
+    assert model.odom_model_warning("fixed") is not None
 
 
 def test_partial_dependence_is_monotone_in_range(trained):

@@ -103,8 +103,10 @@ def predict(world, model, robot, robot_path: str, component: str = "all") -> dic
     for comp in components_of(component):
         result[comp] = _entry(raw[comp])
     result["free_space"], unreachable = free_space(world)
+    odom_note = model.odom_model_warning(robot.odom_model)
     result["warnings"] = unreachable + list(model.store.notes) + \
-        model.domain_warnings(features, inputs, summary["angular_resolution_deg"])
+        model.domain_warnings(features, inputs, summary["angular_resolution_deg"]) + \
+        ([odom_note] if odom_note else [])
     result["features"] = features
     return result
 

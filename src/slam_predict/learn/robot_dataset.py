@@ -116,6 +116,13 @@ class RobotDataset:
         return self.runs[0].max_urange_m if self.runs else None
 
     @property
+    def odom_model(self) -> str:
+        """The runs' odometry model (one, checked by :func:`read_runs`; 'none' if all none)."""
+        from slam_predict.learn.robot_records import common_odom_model
+
+        return common_odom_model(self.runs) if self.runs else "none"
+
+    @property
     def resolutions_deg(self) -> list[float]:
         """The distinct laser angular resolutions of the runs, deg, rounded to 0.01 deg
         (fov/0.5 + 1 beams, the count rounded, give 0.4997–0.5003 deg: all 0.5)."""

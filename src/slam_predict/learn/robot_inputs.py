@@ -9,11 +9,13 @@
 - ``odom_xy_error`` — the mean of the x and y odometry error bounds, m/m;
 - ``odom_yaw_error`` — the yaw odometry error bound, rad/rad (2 °/rad = 0.0349 rad/rad).
 
-The odometry numbers are the bounds of the ``uniform_per_run`` model (each run draws its
-biases uniformly within ± the bound, :class:`slam_predict.sensor.OdomConfig`); the ``none``
-model is the same robot with bounds 0. The ``fixed`` and ``gaussian_per_step`` models describe
-odometry differently (signed biases, noise densities) and are refused: their numbers are not
-comparable with the design's bounds.
+The odometry numbers are the error magnitudes of the sensor's model
+(:class:`slam_predict.sensor.OdomConfig`): the bounds of ``uniform_per_run`` (each run draws its
+biases uniformly within ± the bound) or the constant biases of ``fixed`` (Stage's code; here
+>= 0); ``none`` is either robot with 0. The two describe different robots with the same units,
+so a campaign is learned from one of them (:func:`odom_model_of`; a campaign mixing them is
+refused) and a model card records which (``odom_model``). ``gaussian_per_step`` (noise
+densities) is refused.
 
 Two sources give the same numbers: a run record's ``sensor`` dict (:func:`inputs_from_sensor`)
 and a robot description file (:func:`inputs_from_robot`, through its ``to_sensor_config()``),
@@ -35,7 +37,7 @@ ROBOT_INPUTS = ("laser_range_max_m", "laser_fov_deg", "odom_xy_error", "odom_yaw
 ROBOT_UNITS = {"laser_range_max_m": "m", "laser_fov_deg": "deg", "odom_xy_error": "m/m",
                "odom_yaw_error": "rad/rad"}
 DESIGN_RESOLUTION_DEG = 0.5   # the design's laser angular resolution (samples = fov/0.5 + 1)
-BOUND_MODELS = ("uniform_per_run", "none")   # odometry models whose inputs are error bounds
+ODOM_INPUT_MODELS = ("uniform_per_run", "fixed", "none")   # odometry models with error magnitudes
 
 
 def _value(tree: Mapping[str, Any], path: str, source: os.PathLike | str | None) -> Any:
@@ -56,12 +58,19 @@ def _number(tree: Mapping[str, Any], path: str, source) -> float:
     return float(value)
 
 
-def _odom_bounds(sensor: Mapping[str, Any], source) -> tuple[float, float, float]:
-    """(x m/m, y m/m, yaw rad/rad) error bounds of the sensor's odometry model."""
+def odom_model_of(sensor: Mapping[str, Any], source=None) -> str:
+    """The sensor's odometry model, one of :data:`ODOM_INPUT_MODELS`; InputError otherwise."""
     model = _value(sensor, "odom.model", source)
-    if model not in BOUND_MODELS:
+    if model not in ODOM_INPUT_MODELS:
         raise InputError(f"odometry model '{model}' is not a robot input (only "
-                         f"{' and '.join(BOUND_MODELS)} give error bounds)", source)
+                         f"{', '.join(ODOM_INPUT_MODELS)} give error magnitudes)", source)
+    return str(model)
+
+
+def _odom_bounds(sensor: Mapping[str, Any], source) -> tuple[float, float, float]:
+    """(x m/m, y m/m, yaw rad/rad) error magnitudes (bounds or biases) of the sensor's odometry
+    model."""
+    model = odom_model_of(sensor, source)
     error = _value(sensor, "odom.error", source)
     if not isinstance(error, (list, tuple)) or len(error) != 3:
         raise InputError(f"sensor 'odom.error' must be [x, y, yaw], got {error!r}", source)

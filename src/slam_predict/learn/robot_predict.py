@@ -161,6 +161,15 @@ class RobotModel:
         note = self.odom_gap_warning(robot)
         return out + ([note] if note else [])
 
+    def odom_model_warning(self, odom_model: str) -> str | None:
+        """A warning when the robot's odometry model is not the training runs' (cards
+        before the field: ``uniform_per_run``); None when they agree or either is 'none'."""
+        trained = str(self.card.get("odom_model", "uniform_per_run"))
+        if "none" in (odom_model, trained) or odom_model == trained:
+            return None
+        return (f"the robot's odometry model is {odom_model}, the model's training runs used "
+                f"{trained}: the same error numbers describe a different robot")
+
     def odom_gap_warning(self, robot: Mapping[str, float]) -> str | None:
         """A warning when (odom_xy_error, odom_yaw_error), scaled by the design's spans, lies
         farther from every design configuration than ``joint_factor`` × the design's widest

@@ -36,6 +36,7 @@ from slam_predict.learn.robot_inputs import (
     ROBOT_INPUTS,
     angular_resolution_deg,
     inputs_from_sensor,
+    odom_model_of,
 )
 from slam_predict.words import plural
 
@@ -65,6 +66,7 @@ class RunRow:
     config_hashes: dict[str, str] = field(default_factory=dict)
     source: str = ""
     max_urange_m: float | None = None    # GMapping's maxUrange of the run's settings, m
+    odom_model: str = ""                 # the sensor's odometry model (robot_inputs.odom_model_of)
 
 
 @dataclass
@@ -164,6 +166,7 @@ def run_row(record: Mapping[str, Any], path, max_urange_m: float | None = None) 
     if not isinstance(world, str) or not world:
         raise InputError(f"'world' must be a non-empty string, got {world!r}", path)
     robot = inputs_from_sensor(record["sensor"], path, max_urange_m)
+    odom_model = odom_model_of(record["sensor"], path)
     config, point, replicate = _design(record, world, sensor_hash(record["sensor"]), path)
     hashes = record.get("config_hashes") if isinstance(record.get("config_hashes"), dict) else {}
     return RunRow(world=world, run_index=_integer(record, "run_index", path),
@@ -173,7 +176,7 @@ def run_row(record: Mapping[str, Any], path, max_urange_m: float | None = None) 
                   rot_mean=float(record["metric"]["rot_mean"]),
                   resolution_deg=angular_resolution_deg(record["sensor"], path),
                   config_hashes={str(k): str(v) for k, v in hashes.items()}, source=str(path),
-                  max_urange_m=max_urange_m)
+                  max_urange_m=max_urange_m, odom_model=odom_model)
 
 
 def read_runs(folders: Sequence[os.PathLike | str], min_coverage: float = 0.9,
@@ -202,10 +205,24 @@ def read_runs(folders: Sequence[os.PathLike | str], min_coverage: float = 0.9,
                          + ", ".join(f"{n} {r}" for r, n in sorted(skipped.items())) + ")",
                          os.fspath(folders[0]))
     common_max_urange({r.source: r.max_urange_m for r in rows})
+    common_odom_model(rows)
     _check_consistency(rows)
     _assign_replicates(rows)
     rows.sort(key=lambda r: (r.world, r.config, r.replicate, r.run_index, r.seed))
     return rows, skipped
+
+
+def common_odom_model(rows: Sequence[RunRow]) -> str:
+    """The runs' odometry model ('none' only when every run has none); InputError when runs
+    mix ``uniform_per_run`` and ``fixed``, whose error numbers mean different robots."""
+    models = {r.odom_model for r in rows if r.odom_model and r.odom_model != "none"}
+    if len(models) > 1:
+        first = {m: next(r.source for r in rows if r.odom_model == m) for m in sorted(models)}
+        raise InputError("runs mix odometry models ("
+                         + ", ".join(f"{m} in {src}" for m, src in first.items())
+                         + "): their error numbers describe different robots; learn each "
+                         "campaign on its own", rows[-1].source)
+    return models.pop() if models else "none"
 
 
 def _check_consistency(rows: Sequence[RunRow]) -> None:

@@ -120,7 +120,7 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
         "feature_version": data.feature_version,
         "feature_config": dict(meta.get("feature_config") or {}), "features": plan,
         "robot_inputs": list(ROBOT_INPUTS), "robot_units": dict(ROBOT_UNITS),
-        "max_urange_m": data.max_urange_m,
+        "max_urange_m": data.max_urange_m, "odom_model": data.odom_model,
         "input_ranges": input_ranges(tables, bounds), "design": design,
         "training_buildings": data.worlds, "skipped_runs": dict(data.skipped),
         "confidence": config.confidence,
