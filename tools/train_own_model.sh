@@ -10,6 +10,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${1:-$ROOT/out/own_model}"
+mkdir -p "$OUT"; OUT="$(cd "$OUT" && pwd)"   # absolute: the world links below must resolve
 CAMPAIGN="${CAMPAIGN:-$ROOT/data/campaigns/fidelity_seed_study}"
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 MIN_RUNS="${MIN_RUNS:-3}"
