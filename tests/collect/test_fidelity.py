@@ -216,3 +216,28 @@ def test_area_ticks_stay_within_the_plotted_areas():
     assert _area_ticks(np.array([333.0, 878.0])) == [300, 500, 1000]   # at most 15 % wider
     assert _area_ticks(np.array([333.0, 6222.0])) == [300, 500, 1000, 2000, 3000, 5000]
     assert _area_ticks(np.array([np.nan])) == []
+
+
+def test_the_committed_fidelity_campaign_meets_issue_16s_bars(root, shared_data, capsys):
+    """data/campaigns/fidelity_seed_study (17 buildings x 3 runs) against the seed study's
+    table: the five bars, as `slam-predict fidelity` prints them (docs/fidelity.md)."""
+    campaign = root / "data" / "campaigns" / "fidelity_seed_study"
+    thesis = shared_data / "thesis" / "stats_realistic.csv"
+    assert main(["fidelity", str(campaign), "--thesis", str(thesis),
+                 "--min-coverage", "0.5"]) == 0
+    out = capsys.readouterr().out
+    assert "Issue #16's bars (17 buildings, 51 runs" in out
+    bars = [line for line in out.splitlines()
+            if line.startswith("- ") and ("(pass)" in line or "(fail)" in line)]
+    assert len(bars) == 5 and all(line.endswith("(pass)") for line in bars), bars
+
+
+def test_the_campaign_bench_refuses_missing_data(root, tmp_path):
+    import subprocess
+
+    env = {"PATH": "/usr/bin:/bin", "SLAM_PREDICT_DATA": str(tmp_path / "none")}
+    done = subprocess.run(["bash", str(root / "bench" / "bench_fidelity_campaign.sh")],
+                          env=env, capture_output=True, text=True)
+    assert done.returncode == 2
+    assert done.stderr.strip().endswith("not found (set SLAM_PREDICT_DATA)")
+    assert len(done.stderr.strip().splitlines()) == 1
