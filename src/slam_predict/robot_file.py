@@ -187,19 +187,20 @@ class RobotDescription:
 
 
 def gmapping_caps(params: P, range_max: float) -> P:
-    """A copy of GMapping parameters ``params`` with maxRange = min(theirs, range_max − 0.01)
-    and maxUrange = min(theirs, maxRange), in m, for a laser of ``range_max`` m. An unset (None)
-    value stays unset: slam_gmapping then derives it from the laser itself (range_max − 0.01,
-    then maxRange)."""
+    """A copy of GMapping parameters ``params`` for a laser of ``range_max`` m, set up as the
+    gmapping wiki asks for open space to be mapped free: maxUrange < the sensor's range <=
+    maxRange. maxUrange = min(theirs, range_max − 0.01, maxRange), so a no-hit beam (reported
+    at range_max, as Stage does) is cropped: free space up to maxUrange, no endpoint. maxRange
+    stays theirs: >= range_max keeps those beams; below it (the seed study's 60 m with its 80 m
+    laser) skips them, as it did there. Unset values stay unset (slam_gmapping then derives
+    maxRange = range_max − 0.01 and maxUrange = maxRange from the laser), and a set maxUrange
+    with an unset maxRange is capped at that derived maxRange."""
     limit = range_max - GMAPPING_MARGIN
     max_range = params.maxRange  # type: ignore[attr-defined]
     max_urange = params.maxUrange  # type: ignore[attr-defined]
-    if max_range is not None:
-        max_range = min(max_range, limit)
     if max_urange is not None:
-        max_urange = min(max_urange, limit if max_range is None else max_range)
-    return dataclasses.replace(params, maxRange=max_range,  # type: ignore[type-var]
-                               maxUrange=max_urange)
+        max_urange = min(max_urange, limit, limit if max_range is None else max_range)
+    return dataclasses.replace(params, maxUrange=max_urange)  # type: ignore[type-var]
 
 
 def _require_finite(section: str, values: Mapping[str, Any]) -> None:

@@ -24,8 +24,8 @@ def test_collect_with_the_lds_robot_records_its_sensor(tmp_path, capsys):
     assert record["config_hashes"] == robot
     assert [k for k in plain if plain[k] != robot[k]] == ["sim", "gmapping"]
     campaign = json.loads((out / "campaign.json").read_text())
-    assert campaign["settings"]["gmapping"]["maxRange"] == campaign["settings"]["gmapping"][
-        "maxUrange"] == 3.49
+    assert campaign["settings"]["gmapping"]["maxRange"] == 60.0
+    assert campaign["settings"]["gmapping"]["maxUrange"] == 3.49
     # resuming without --robot is another configuration: refused
     assert main(["collect", str(TINY), "--runs", "1", "--out", str(out), "--settings",
                  str(settings), "--no-progress"]) == 2

@@ -51,8 +51,8 @@ def test_lds_robot_sets_laser_gmapping_caps_and_keeps_the_rest():
     laser = lds.sim.laser
     assert (laser.fov, laser.samples, laser.range_max, laser.range_min, laser.rate_hz) == \
         (2 * 3.141592653589793, 360, 3.5, 0.12, 5.0)
-    assert lds.slam.params.maxRange == pytest.approx(3.49) and \
-        lds.slam.params.maxUrange == lds.slam.params.maxRange
+    assert lds.slam.params.maxRange == base.slam.params.maxRange == 60.0
+    assert lds.slam.params.maxUrange == pytest.approx(3.49)
     for name in ("sim", "gmapping"):
         assert lds.hashes()[name] != base.hashes()[name]
     assert lds.hashes()["nav"] == base.hashes()["nav"]

@@ -7,6 +7,7 @@ import dataclasses
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from slam_predict.config import from_dict, load_config, to_dict
@@ -243,31 +244,65 @@ def gmapping_yaml() -> GMappingParams:
 
 
 def test_gmapping_caps_of_a_3p5_m_laser():
-    """config/gmapping.yaml's 60 / 30 m become the laser's 3.49 / 3.49 m: what slam_gmapping
-    itself derives for a 3.5 m laser when the file leaves them out."""
+    """config/gmapping.yaml's 60 / 30 m become 60 / 3.49 m: maxUrange below the sensor's range
+    <= maxRange, the gmapping wiki's setting for open space to be mapped free."""
     robot = load_robot(ROBOTS / "lds_360_3p5.yaml")
     params = gmapping_yaml()
     assert (params.maxRange, params.maxUrange) == (60.0, 30.0)
     capped = robot.gmapping_caps(params)
-    assert capped.maxRange == pytest.approx(3.49, abs=1e-12)
-    assert capped.maxUrange == capped.maxRange
-    node_default = with_ranges(dataclasses.replace(params, maxRange=None, maxUrange=None), 3.5)
-    assert (capped.maxRange, capped.maxUrange) == (node_default.maxRange, node_default.maxUrange)
-    assert dataclasses.replace(capped, maxRange=60.0, maxUrange=30.0) == params
+    assert capped.maxRange == 60.0 and capped.maxUrange == pytest.approx(3.49, abs=1e-12)
+    assert dataclasses.replace(capped, maxUrange=30.0) == params
+    # unset stays unset: the node derives 3.49 / 3.49 from the laser, a set maxUrange is capped
+    unset = dataclasses.replace(params, maxRange=None, maxUrange=None)
+    assert robot.gmapping_caps(unset) == unset
+    only_urange = robot.gmapping_caps(dataclasses.replace(params, maxRange=None))
+    assert only_urange.maxRange is None and only_urange.maxUrange == pytest.approx(3.49)
+
+
+@pytest.mark.parametrize("name", ["lds_360_3p5", "urg_240_5p6"])
+def test_a_short_lasers_no_hit_beams_map_free_space_and_no_walls(name):
+    """In a space wider than its range a short laser reports range_max on every beam (Stage's
+    no-hit). With the capped parameters GMapping marks the disc free and no cell occupied;
+    with maxRange below range_max (the capping before session 17) it marked nothing, and the
+    explorer found its only frontier under the robot."""
+    from slam_predict.slam.gmapping.filter import GMapping
+    from slam_predict.slam import LaserGeometry
+
+    robot = load_robot(ROBOTS / f"{name}.yaml")
+    sensor = robot.to_sensor_config().laser
+    angles = (np.arange(sensor.samples) - 0.5 * (sensor.samples - 1)) * (
+        sensor.fov / (sensor.samples - 1))
+    laser = LaserGeometry(angles, (0.0, 0.0, 0.0), sensor.range_max)
+
+    def free_and_occupied(params):
+        slam = GMapping(dataclasses.replace(params, particles=1), laser,
+                        np.random.default_rng(0))
+        slam.update(np.zeros(3), np.full(sensor.samples, sensor.range_max), 0.0)
+        data = slam.map().data
+        return int((data == 0).sum()), int((data == 100).sum())
+
+    params = gmapping_yaml()
+    free, occupied = free_and_occupied(robot.gmapping_caps(params))
+    disc = sensor.fov / 2 * (sensor.range_max - 0.01) ** 2 / params.delta ** 2   # cells
+    assert occupied == 0 and free > 0.8 * disc
+    old = dataclasses.replace(params, maxRange=sensor.range_max - 0.01,
+                              maxUrange=sensor.range_max - 0.01)
+    assert free_and_occupied(old) == (0, 0)
 
 
 def test_gmapping_caps_keep_the_thesis_values_with_the_80_m_laser():
     params = gmapping_yaml()
     assert load_robot(ROBOTS / "seed_realistic.yaml").gmapping_caps(params) == params
     capped = load_robot(ROBOTS / "utm_270_30_poor_odom.yaml").gmapping_caps(params)
-    assert (capped.maxRange, capped.maxUrange) == (29.99, 29.99)
+    assert (capped.maxRange, capped.maxUrange) == (60.0, 29.99)
 
 
 @pytest.mark.parametrize("theirs, expected", [
     ((None, None), (None, None)),          # unset: slam_gmapping derives them from the laser
     ((None, 30.0), (None, 3.49)),
     ((2.0, 30.0), (2.0, 2.0)),             # below the laser: kept; maxUrange ≤ maxRange
-    ((60.0, 1.0), (3.49, 1.0)),
+    ((60.0, 1.0), (60.0, 1.0)),            # maxRange is never lowered
+    ((60.0, 30.0), (60.0, 3.49)),
 ])
 def test_gmapping_caps_table(theirs, expected):
     robot = load_robot(ROBOTS / "lds_360_3p5.yaml")
