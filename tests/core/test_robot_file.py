@@ -15,7 +15,7 @@ from slam_predict.errors import InputError
 from slam_predict.robot_file import RobotDescription, RobotLaser, load_robot
 from slam_predict.sim import SimConfig
 from slam_predict.sim.simulator import resolve_sensor
-from slam_predict.slam.gmapping.params import GMappingParams, load_params, with_ranges
+from slam_predict.slam.gmapping.params import GMappingParams, load_params
 from slam_predict.world.load import load_plan
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -265,8 +265,8 @@ def test_a_short_lasers_no_hit_beams_map_free_space_and_no_walls(name):
     no-hit). With the capped parameters GMapping marks the disc free and no cell occupied;
     with maxRange below range_max (the capping before session 17) it marked nothing, and the
     explorer found its only frontier under the robot."""
-    from slam_predict.slam.gmapping.filter import GMapping
     from slam_predict.slam import LaserGeometry
+    from slam_predict.slam.gmapping.filter import GMapping
 
     robot = load_robot(ROBOTS / f"{name}.yaml")
     sensor = robot.to_sensor_config().laser
