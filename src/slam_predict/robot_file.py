@@ -199,7 +199,7 @@ def gmapping_caps(params: P, range_max: float) -> P:
     max_range = params.maxRange  # type: ignore[attr-defined]
     max_urange = params.maxUrange  # type: ignore[attr-defined]
     if max_urange is not None:
-        max_urange = min(max_urange, limit, limit if max_range is None else max_range)
+        max_urange = min(max_urange, limit if max_range is None else min(limit, max_range))
     return dataclasses.replace(params, maxUrange=max_urange)  # type: ignore[type-var]
 
 

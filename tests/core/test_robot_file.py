@@ -85,6 +85,16 @@ def test_examples_hold_their_spec_values(name, fov, samples, range_min, range_ma
     assert robot.odom_error == odom and robot.odom_model == model
 
 
+def assert_same_sensor(ours, theirs):
+    """Equal field by field; fov and the yaw error only to robot.yaml's printed digits (it
+    writes 4.712389 rad and 0.0349066 rad/rad, the robot files 270 deg and 2 deg/rad exactly)."""
+    assert math.isclose(ours.laser.fov, theirs.laser.fov, rel_tol=0, abs_tol=5e-7)
+    assert math.isclose(ours.odom.error[2], theirs.odom.error[2], rel_tol=0, abs_tol=5e-8)
+    same_fov = dataclasses.replace(ours.laser, fov=theirs.laser.fov)
+    same_yaw = dataclasses.replace(ours.odom, error=ours.odom.error[:2] + theirs.odom.error[2:])
+    assert dataclasses.replace(ours, laser=same_fov, odom=same_yaw) == theirs
+
+
 def test_seed_realistic_fixed_is_the_fidelity_campaigns_sensor():
     """The fidelity campaign's settings (config/fidelity/seed_study.yaml) and the robot file the
     robots campaign starts from describe the same sensor (to robot.yaml's printed digits)."""
@@ -94,25 +104,16 @@ def test_seed_realistic_fixed_is_the_fidelity_campaigns_sensor():
     theirs = resolve_sensor(load_plan(ROOT / "worlds" / "tiny.world"), sim)
     ours = load_robot(ROBOTS / "seed_realistic_fixed.yaml").to_sensor_config()
     assert theirs.odom.model == ours.odom.model == FIXED
-    assert math.isclose(ours.laser.fov, theirs.laser.fov, rel_tol=0, abs_tol=5e-7)
-    assert math.isclose(ours.odom.error[2], theirs.odom.error[2], rel_tol=0, abs_tol=5e-8)
-    same_fov = dataclasses.replace(ours.laser, fov=theirs.laser.fov)
-    same_yaw = dataclasses.replace(ours.odom, error=ours.odom.error[:2] + theirs.odom.error[2:])
-    assert dataclasses.replace(ours, laser=same_fov, odom=same_yaw) == theirs
+    assert_same_sensor(ours, theirs)
 
 
 def test_seed_realistic_is_config_robot_yaml_sensor():
-    """The simulator's sensor with config/robot.yaml (over the tiny world) and the seed robot's:
-    equal field by field; fov and the yaw error only to robot.yaml's printed digits (it writes
-    4.712389 rad and 0.0349066 rad/rad, the file 270 deg and 2 deg/rad exactly)."""
+    """The simulator's sensor with config/robot.yaml (over the tiny world) and the seed
+    robot's are the same sensor."""
     sim = load_config(SimConfig, ROOT / "config" / "robot.yaml", "sim")
     theirs = resolve_sensor(load_plan(ROOT / "worlds" / "tiny.world"), sim)
     ours = load_robot(ROBOTS / "seed_realistic.yaml").to_sensor_config()
-    assert math.isclose(ours.laser.fov, theirs.laser.fov, rel_tol=0, abs_tol=5e-7)
-    assert math.isclose(ours.odom.error[2], theirs.odom.error[2], rel_tol=0, abs_tol=5e-8)
-    same_fov = dataclasses.replace(ours.laser, fov=theirs.laser.fov)
-    same_yaw = dataclasses.replace(ours.odom, error=ours.odom.error[:2] + theirs.odom.error[2:])
-    assert dataclasses.replace(ours, laser=same_fov, odom=same_yaw) == theirs
+    assert_same_sensor(ours, theirs)
 
 
 # -- unit conversions ---------------------------------------------------------------------------
