@@ -13,6 +13,7 @@ import sys
 import pytest
 
 from slam_predict.cli.main import main
+from slam_predict.features.sightline import blind_fraction
 from slam_predict.learn.featurize import compute
 from slam_predict.learn.robot_predict import RobotModel
 from slam_predict.robot_file import load_robot
@@ -47,7 +48,8 @@ def test_json_has_the_four_components_of_the_robot_aware_model(lds, root, robot_
                              "confidence"]
     model = RobotModel.load(robot_models_dir / "own-robots")
     robot = load_robot(root / ROBOTS / "lds_360_3p5.yaml")
-    features = compute(load_plan(root / WORLD), model.feature_config)
+    plan = load_plan(root / WORLD)
+    features = dict(compute(plan, model.feature_config), **model.sightline_features(plan))
     expected = model.predict(features, model.inputs(robot))
     for comp in COMPONENTS:
         entry = lds[comp]
@@ -61,7 +63,10 @@ def test_json_has_the_four_components_of_the_robot_aware_model(lds, root, robot_
     assert lds["robot"] == {
         "file": f"{root / ROBOTS}/lds_360_3p5.yaml", "name": "lds_360_3p5",
         "inputs": model.inputs(robot), "laser_range_max_m": 3.5, "max_urange_m": 30.0,
-        "angular_resolution_deg": pytest.approx(360.0 / 359.0)}
+        "angular_resolution_deg": pytest.approx(360.0 / 359.0),
+        "derived": {"laser_blind_fraction": pytest.approx(
+            blind_fraction(features, 3.5), rel=1e-12)}}
+    assert 0.001 <= lds["robot"]["derived"]["laser_blind_fraction"] < 1.0
 
 
 def test_domain_warnings_name_the_resolution(lds):

@@ -54,8 +54,18 @@ def buildings(n: int, rng: np.random.Generator, prefix: str = "w") -> dict[str, 
             "building_perimeter": 4.0 * math.sqrt(area) * rng.uniform(1.0, 1.6),
             "voronoi_traversal_distance": 0.4 * area * rng.uniform(0.8, 1.2),
             "voronoi_traversal_rotation": 0.05 * area * rng.uniform(0.8, 1.2),
-            "junk": float(rng.normal())}
+            "junk": float(rng.normal()), **sightline_curve(area)}
     return out
+
+
+def sightline_curve(area: float) -> dict[str, float]:
+    """A plan's sight-line curve columns (features/sightline.py): the blind fraction at range
+    r is exp(−(r / L)^1.5) with L = √area / 4 m (larger buildings, longer sight lines)."""
+    from slam_predict.features.sightline import CURVE_RANGES_M, curve_columns
+
+    scale = math.sqrt(area) / 4.0
+    return {name: math.exp(-(r / scale) ** 1.5)
+            for name, r in zip(curve_columns(), CURVE_RANGES_M, strict=True)}
 
 
 def sigma(robot: dict) -> float:
@@ -144,12 +154,15 @@ def write_campaign(folder: Path, worlds: dict[str, dict], robots: list[dict], re
 
 
 def write_features(path: Path, worlds: dict[str, dict], version: str = "synthetic-v1") -> Path:
-    """The feature table (world, feature_version, features)."""
+    """The feature table (world, feature_version, features, sight-line curve)."""
+    from slam_predict.features.sightline import curve_columns
+
     with open(path, "w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow(["world", "feature_version", *FEATURES])
+        columns = [*FEATURES, *curve_columns()]
+        writer.writerow(["world", "feature_version", *columns])
         for world, values in worlds.items():
-            writer.writerow([world, version, *(repr(values[f]) for f in FEATURES)])
+            writer.writerow([world, version, *(repr(values[f]) for f in columns)])
     return path
 
 

@@ -86,8 +86,10 @@ import sys
 from slam_predict.learn.robot_predict import RobotModel
 from slam_predict.learn.robot_plain import PlainComponentModel
 model = RobotModel.load({str(robot_models_dir / 'own-robots')!r})
+from slam_predict.features.sightline import CURVE_RANGES_M, curve_columns
 plan = {{"building_area": 800.0, "building_perimeter": 130.0,
         "voronoi_traversal_distance": 320.0, "voronoi_traversal_rotation": 40.0}}
+plan.update({{c: 0.5 ** r for c, r in zip(curve_columns(), CURVE_RANGES_M)}})
 robot = {{"laser_range_max_m": 12.0, "laser_fov_deg": 270.0, "odom_xy_error": 0.01,
          "odom_yaw_error": 0.035}}
 result = model.predict(plan, robot)

@@ -109,7 +109,9 @@ def _header(data, config, plan: list[str]) -> list[str]:
             f"- plan features ({data.feature_version}): {', '.join(plan)}; robot inputs: "
             "laser_range_max_m (capped at GMapping's maxUrange "
             + (f"{data.max_urange_m:g} m" if data.max_urange_m is not None else "(unset)")
-            + "), laser_fov_deg, odom_xy_error, odom_yaw_error",
+            + "), laser_fov_deg, odom_xy_error, odom_yaw_error"
+            + ("; plan × robot: laser_blind_fraction (sight lines without a wall within the "
+               "laser's range)" if config.sightline_input else ""),
             f"- models: {', '.join(config.models)}; {config.folds} folds per protocol; "
             f"seed {config.seed}; intervals: CV+ grouped by building, "
             f"{config.conformal_folds} folds, {100 * config.confidence:g} %",
@@ -161,7 +163,7 @@ def run(args: argparse.Namespace) -> int:
         from slam_predict.learn.robot_domain import design_ranges
 
         bounds = design_ranges(args.design, data.max_urange_m, data.configs)
-    tables = data.tables(config.plan_features)
+    tables = data.tables(config.plan_features, config.sightline_input)
     rows = evaluate(tables, config, n_jobs=args.jobs)
     summary = summarize(rows)
     best = best_models(summary, config)

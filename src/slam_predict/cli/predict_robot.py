@@ -93,10 +93,15 @@ def predict(world, model, robot, robot_path: str, component: str = "all") -> dic
     from slam_predict.learn.predict import components_of, free_space, predictable_features
 
     features = predictable_features(world, model.feature_config)
+    features.update(model.sightline_features(world))
     inputs = model.inputs(robot)
     confidence = float(model.card.get("confidence", 0.9))
     raw = model.predict(features, inputs, confidence)
     summary = robot_summary(robot, robot_path, model, inputs)
+    if model.derived:
+        from slam_predict.learn.robot_inputs import derived_inputs
+
+        summary["derived"] = derived_inputs(features, inputs)
     result: dict[str, Any] = {"world": world.name, "setting": model.card.get("setting"),
                               "model_store": model.name, "model_takes_robot": True,
                               "robot": summary, "confidence": confidence}
@@ -121,5 +126,8 @@ def robot_text(result: dict[str, Any]) -> str:
     laser = (f"laser range {used:g} m used (laser {robot['laser_range_max_m']:g} m, GMapping "
              f"maxUrange {cap:g} m)" if cap is not None and not math.isclose(
                  used, robot["laser_range_max_m"]) else f"laser range {used:g} m")
+    blind = robot.get("derived", {}).get("laser_blind_fraction")
     return (f"{laser}, fov {inputs['laser_fov_deg']:g}°, odometry {inputs['odom_xy_error']:.4g}"
-            f" m/m and {inputs['odom_yaw_error']:.4g} rad/rad")
+            f" m/m and {inputs['odom_yaw_error']:.4g} rad/rad"
+            + (f"; {100 * blind:.3g} % of the plan's sight lines reach no wall within that "
+               "range" if blind is not None else ""))

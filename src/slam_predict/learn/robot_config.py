@@ -70,6 +70,8 @@ class RobotLearningConfig:
         max_urange_m: GMapping's maxUrange the runs were collected with, m (the range input is
             min(range_max, maxUrange)); None = read from each run's settings file, checked
             against its recorded GMapping config hash (learn/robot_domain.py).
+        sightline_input: also take the plan's blind fraction at the laser's range
+            (``laser_blind_fraction``, features/sightline.py) as an input.
     """
 
     plan_features: tuple[str, ...] = DEFAULT_PLAN_FEATURES
@@ -84,6 +86,7 @@ class RobotLearningConfig:
     select_protocol: str = "both"
     joint_factor: float = 2.0
     max_urange_m: float | None = None
+    sightline_input: bool = True
     elasticnet: ElasticNetConfig = field(default_factory=ElasticNetConfig)
     gradient_boosting: RobotBoostingConfig = field(default_factory=RobotBoostingConfig)
     gaussian_process: GaussianProcessConfig = field(default_factory=GaussianProcessConfig)

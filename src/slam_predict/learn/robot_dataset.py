@@ -18,8 +18,9 @@ from typing import Any
 import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
+from slam_predict.features.sightline import COLUMN_PREFIX, curve_columns
 from slam_predict.learn.dataset import COMPONENTS
-from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+from slam_predict.learn.robot_inputs import DERIVED_INPUTS, ROBOT_INPUTS, derived_inputs
 from slam_predict.learn.robot_records import (  # noqa: F401  (re-exported)
     POINT_COLUMNS,
     RUN_COLUMNS,
@@ -42,7 +43,8 @@ LOG = logging.getLogger(__name__)
 
 @dataclass
 class RobotTables:
-    """Numeric RUN and POINT tables over ``names`` = plan features + ROBOT_INPUTS.
+    """Numeric RUN and POINT tables over ``names`` = plan features [+ DERIVED_INPUTS] +
+    ROBOT_INPUTS.
 
     Attributes:
         names: input column names.
@@ -129,9 +131,29 @@ class RobotDataset:
         return sorted({round(r.resolution_deg, 2) for r in self.runs})
 
     def feature_names(self) -> list[str]:
-        """Every plan feature name of the table (its order)."""
+        """Every plan feature name of the table (its order), without the sight-line curve."""
         first = self.features[self.worlds[0]]
-        return [k for k in first if k != "feature_version"]
+        return [k for k in first if k != "feature_version" and not k.startswith(COLUMN_PREFIX)]
+
+    def sightline_curves(self) -> dict[str, list[float]]:
+        """Building → its sight-line curve (features/sightline.py); InputError naming a
+        building whose features lack it."""
+        columns = curve_columns()
+        for world in self.worlds:
+            missing = [c for c in columns if c not in self.features[world]]
+            if missing:
+                raise InputError(f"the plan features of building '{world}' have no sight-line "
+                                 f"curve ({missing[0]}...): compute the features with "
+                                 "--worlds, or set sightline_input: false")
+        return {w: [float(self.features[w][c]) for c in columns] for w in self.worlds}
+
+    def input_value(self, world: str, robot: Mapping[str, float], name: str) -> float:
+        """Input ``name`` of a point: a robot input, a derived input or a plan feature."""
+        if name in ROBOT_INPUTS:
+            return float(robot[name])
+        if name in DERIVED_INPUTS:
+            return derived_inputs(self.features[world], robot)[name]
+        return float(self.features[world][name])
 
     def check_features(self, names: Sequence[str]) -> list[str]:
         """``names`` (all features when empty), checked: known and finite for every building."""
@@ -146,15 +168,17 @@ class RobotDataset:
                     raise InputError(f"plan feature '{name}' is missing for building '{world}'")
         return names
 
-    def tables(self, plan_features: Sequence[str]) -> RobotTables:
-        """The numeric tables over ``plan_features`` (checked) + ROBOT_INPUTS."""
+    def tables(self, plan_features: Sequence[str], derived: bool = False) -> RobotTables:
+        """The numeric tables over ``plan_features`` (checked) [+ DERIVED_INPUTS when
+        ``derived``: the sight-line curves are checked] + ROBOT_INPUTS."""
         plan = self.check_features(plan_features)
-        names = plan + list(ROBOT_INPUTS)
+        if derived:
+            self.sightline_curves()
+        names = plan + (list(DERIVED_INPUTS) if derived else []) + list(ROBOT_INPUTS)
         index = {p.point: i for i, p in enumerate(self.points)}
 
         def row(world: str, robot: Mapping[str, float]) -> list[float]:
-            return [float(self.features[world][n]) for n in plan] + [robot[k] for k in
-                                                                     ROBOT_INPUTS]
+            return [self.input_value(world, robot, n) for n in names]
         return RobotTables(
             names=names,
             run_X=np.array([row(r.world, r.robot) for r in self.runs], dtype=float),
@@ -223,12 +247,13 @@ def runs_csv(data: RobotDataset) -> str:
 
 
 def points_csv(data: RobotDataset, plan_features: Sequence[str] = ()) -> str:
-    """The POINT table as CSV (POINT_COLUMNS, then the plan features)."""
+    """The POINT table as CSV (POINT_COLUMNS, then the plan features and derived inputs)."""
     names = list(plan_features)
     return _csv((*POINT_COLUMNS, *names),
                 [[p.world, p.config, p.point, p.runs, *(p.robot[k] for k in ROBOT_INPUTS),
                   *(p.targets[c] for c in COMPONENTS),
-                  *(float(data.features[p.world][n]) for n in names)] for p in data.points])
+                  *(data.input_value(p.world, p.robot, n) for n in names)]
+                 for p in data.points])
 
 
 # ----------------------------------------------------------------------------- plan features
@@ -248,6 +273,8 @@ def plan_features(worlds: Sequence[str], features_csv: os.PathLike | str | None 
 
         config = full_feature_config(feature_config)
         features, version = features_from_worlds(worlds_dir, worlds, config, n_jobs)
+        for world, curve in sightlines_from_worlds(worlds_dir, list(features), n_jobs).items():
+            features[world].update(curve)
         return features, version, config
     if features_csv is None:
         raise InputError("give a feature table or a worlds folder")
@@ -262,3 +289,25 @@ def plan_features(worlds: Sequence[str], features_csv: os.PathLike | str | None 
     clean = {w: {k: v for k, v in vec.items() if k != "feature_version"}
              for w, vec in table.items()}
     return clean, versions.pop(), config
+
+
+def sightlines_from_worlds(worlds_dir: os.PathLike | str, worlds: Sequence[str],
+                           n_jobs: int = 1) -> dict[str, dict[str, float]]:
+    """Building → its sight-line curve columns (features/sightline.py, default sampling),
+    computed on the plans in ``worlds_dir``."""
+    from pathlib import Path
+
+    from joblib import Parallel, delayed
+
+    from slam_predict.learn.featurize import find_plan
+
+    paths = {w: find_plan(Path(worlds_dir), w) for w in worlds}
+    values = Parallel(n_jobs=n_jobs)(delayed(_sightlines)(str(p)) for p in paths.values())
+    return dict(zip(paths, values, strict=True))
+
+
+def _sightlines(path: str) -> dict[str, float]:
+    from slam_predict.features.sightline import sightline_features
+    from slam_predict.world.load import load_plan
+
+    return sightline_features(load_plan(path))

@@ -23,6 +23,11 @@ both with the maxUrange of the GMapping settings the runs were collected with
 (:mod:`slam_predict.learn.robot_domain`; a model folder's card records it).
 The laser's angular resolution is not a model input: the design keeps it at
 :data:`DESIGN_RESOLUTION_DEG` (:func:`angular_resolution_deg`).
+
+One input depends on the plan AND the robot (:data:`DERIVED_INPUTS`, :func:`derived_inputs`):
+``laser_blind_fraction``, the fraction of sight lines from the plan's floor that reach no wall
+within the laser's range (:mod:`slam_predict.features.sightline`), read from the plan's curve
+at ``laser_range_max_m``.
 """
 from __future__ import annotations
 
@@ -38,6 +43,8 @@ ROBOT_UNITS = {"laser_range_max_m": "m", "laser_fov_deg": "deg", "odom_xy_error"
                "odom_yaw_error": "rad/rad"}
 DESIGN_RESOLUTION_DEG = 0.5   # the design's laser angular resolution (samples = fov/0.5 + 1)
 ODOM_INPUT_MODELS = ("uniform_per_run", "fixed", "none")   # odometry models with error magnitudes
+DERIVED_INPUTS = ("laser_blind_fraction",)    # plan × robot inputs
+DERIVED_UNITS = {"laser_blind_fraction": "fraction"}
 
 
 def _value(tree: Mapping[str, Any], path: str, source: os.PathLike | str | None) -> Any:
@@ -137,3 +144,11 @@ def angular_resolution_deg(sensor: Mapping[str, Any],
     if samples < 1:
         raise InputError(f"sensor 'laser.samples' must be >= 1, got {samples:g}", source)
     return fov if samples == 1 else fov / (samples - 1)
+
+
+def derived_inputs(curve: Mapping[str, float], robot: Mapping[str, float]) -> dict[str, float]:
+    """The plan × robot inputs of :data:`DERIVED_INPUTS` from a plan's sight-line curve
+    (columns of :func:`slam_predict.features.sightline.curve_columns`) and robot inputs."""
+    from slam_predict.features.sightline import blind_fraction
+
+    return {"laser_blind_fraction": blind_fraction(curve, robot["laser_range_max_m"])}

@@ -24,7 +24,14 @@ import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.dataset import COMPONENTS, UNITS
-from slam_predict.learn.robot_inputs import DESIGN_RESOLUTION_DEG, ROBOT_INPUTS, ROBOT_UNITS
+from slam_predict.learn.robot_inputs import (
+    DERIVED_INPUTS,
+    DERIVED_UNITS,
+    DESIGN_RESOLUTION_DEG,
+    ROBOT_INPUTS,
+    ROBOT_UNITS,
+    derived_inputs,
+)
 from slam_predict.learn.robot_plain import (
     KIND,
     POINTS_FILE,
@@ -39,12 +46,14 @@ class RobotModel:
     """A loaded robot-aware model folder (see the module doc); use :meth:`load`."""
 
     def __init__(self, store: ModelStore, models: dict[str, LogScaleModel],
-                 points: np.ndarray):
+                 points: np.ndarray, point_worlds: list[str] | None = None):
         self.store = store
         self.card = store.card
         self.models = models
         self.points = points                       # training POINT inputs (n, d)
-        self.names = list(self.card["features"]) + list(ROBOT_INPUTS)
+        self.point_worlds = list(point_worlds or [])   # their buildings
+        self.derived = list(self.card.get("derived_inputs") or [])
+        self.names = input_names(self.card)
 
     @classmethod
     def load(cls, path: os.PathLike | str) -> RobotModel:
@@ -61,8 +70,8 @@ class RobotModel:
                                  "'slam-predict learn robots'", card_path)
         models = {component: _component_model(store, component, entry.get("best"))
                   for component, entry in store.card["components"].items()}
-        return cls(store, models, _read_points(Path(path) / POINTS_FILE,
-                                               list(store.card["features"]) + list(ROBOT_INPUTS)))
+        points, worlds = _read_points(Path(path) / POINTS_FILE, input_names(store.card))
+        return cls(store, models, points, worlds)
 
     @property
     def name(self) -> str:
@@ -97,11 +106,31 @@ class RobotModel:
 
         check_feature_version(self.store, retrain="slam-predict learn robots")
 
+    def sightline_features(self, world) -> dict[str, float]:
+        """The plan's sight-line curve columns when the model takes a derived input (add them
+        to the plan features given to :meth:`predict`), else {}."""
+        if not self.derived:
+            return {}
+        from slam_predict.features.sightline import SightlineConfig, sightline_features
+
+        stored = dict(self.card.get("sightline") or {})
+        stored.pop("ranges_m", None)
+        return sightline_features(world, SightlineConfig(**stored))
+
     def row(self, plan_features: Mapping[str, float], robot: Mapping[str, float]) -> np.ndarray:
         """The (1, d) raw input row; InputError naming a missing or non-finite input."""
         values = []
+        derived: Mapping[str, float] = {}
+        if self.derived:
+            try:
+                derived = derived_inputs(plan_features, robot)
+            except KeyError as exc:
+                raise InputError(f"model {self.name} needs the plan's sight-line curve and "
+                                 f"the laser range (missing {exc.args[0]}): add "
+                                 "RobotModel.sightline_features(world)") from None
         for name in self.names:
-            source = robot if name in ROBOT_INPUTS else plan_features
+            source = (robot if name in ROBOT_INPUTS else derived if name in DERIVED_INPUTS
+                      else plan_features)
             if name not in source:
                 what = "robot input" if name in ROBOT_INPUTS else "plan feature"
                 raise InputError(f"{what} '{name}' needed by model {self.name} is missing"
@@ -148,7 +177,8 @@ class RobotModel:
         for name, value in zip(self.names, x, strict=True):
             low, high = self.card["input_ranges"][name]
             if not low <= value <= high:
-                unit = f" {ROBOT_UNITS[name]}" if name in ROBOT_UNITS else ""
+                units = {**ROBOT_UNITS, **DERIVED_UNITS}
+                unit = f" {units[name]}" if name in units else ""
                 out.append(f"{name} = {value:.4g}{unit} is outside the training range "
                            f"[{low:.4g}, {high:.4g}]{unit}")
         if angular_resolution_deg is not None:
@@ -212,8 +242,30 @@ class RobotModel:
         grid = np.linspace(*(span or self.card["input_ranges"][robot_input]), grid_points)
         X = np.repeat(self.points[None], grid_points, axis=0)     # (G, n, d)
         X[:, :, j] = grid[:, None]
+        if robot_input == "laser_range_max_m" and "laser_blind_fraction" in self.derived:
+            X[:, :, self.names.index("laser_blind_fraction")] = self._blind_grid(grid)
         values = self.models[component].predict(X.reshape(-1, X.shape[2]))
         return grid, values.reshape(grid_points, -1).mean(axis=1)
+
+
+    def _blind_grid(self, ranges_m: np.ndarray) -> np.ndarray:
+        """(G, n) blind fraction of each training point's building at each laser range."""
+        from slam_predict.features.sightline import blind_fraction
+
+        curves = self.card.get("sightline_curves") or {}
+        missing = sorted(set(self.point_worlds) - set(curves))
+        if missing or len(self.point_worlds) != len(self.points):
+            raise InputError(f"corrupt model card (no sight-line curve of "
+                             f"{missing[0] if missing else 'the training points'})",
+                             self.store.path / CARD)
+        return np.array([[blind_fraction(curves[w], r) for w in self.point_worlds]
+                         for r in ranges_m])
+
+
+def input_names(card: Mapping[str, Any]) -> list[str]:
+    """The model's input columns: plan features, derived inputs, robot inputs."""
+    return (list(card["features"]) + list(card.get("derived_inputs") or [])
+            + list(ROBOT_INPUTS))
 
 
 def _component_model(store: ModelStore, component: str, kind: str | None) -> LogScaleModel:
@@ -233,10 +285,11 @@ def _component_model(store: ModelStore, component: str, kind: str | None) -> Log
     return model
 
 
-def _read_points(path: Path, names: list[str]) -> np.ndarray:
-    """The (n, d) input columns ``names`` of ``training_points.csv``."""
+def _read_points(path: Path, names: list[str]) -> tuple[np.ndarray, list[str]]:
+    """The (n, d) input columns ``names`` of ``training_points.csv`` and each row's building."""
     try:
         rows = list(csv.DictReader(io.StringIO(path.read_text(encoding="utf-8"))))
-        return np.array([[float(r[n]) for n in names] for r in rows], dtype=float)
+        return (np.array([[float(r[n]) for n in names] for r in rows], dtype=float),
+                [str(r["world"]) for r in rows])
     except (OSError, KeyError, ValueError, TypeError) as exc:
         raise InputError(f"corrupt training points ({exc.__class__.__name__})", path) from None

@@ -31,7 +31,12 @@ from slam_predict.errors import InputError
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.robot_config import RobotLearningConfig
 from slam_predict.learn.robot_dataset import RobotDataset, RobotTables, points_csv
-from slam_predict.learn.robot_inputs import DESIGN_RESOLUTION_DEG, ROBOT_INPUTS, ROBOT_UNITS
+from slam_predict.learn.robot_inputs import (
+    DERIVED_INPUTS,
+    DESIGN_RESOLUTION_DEG,
+    ROBOT_INPUTS,
+    ROBOT_UNITS,
+)
 from slam_predict.learn.robot_models import fit_component
 from slam_predict.learn.robot_plain import KIND, POINTS_FILE, plain_component
 from slam_predict.learn.store import save_store
@@ -99,7 +104,8 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
     """The card of a robot-aware model folder (without files and versions); ``meta``:
     ``name``, ``description``, ``feature_config``, ``sources``, ``design_bounds`` (robot
     input → [low, high] of the design file, optional)."""
-    plan = [n for n in tables.names if n not in ROBOT_INPUTS]
+    plan = [n for n in tables.names if n not in ROBOT_INPUTS and n not in DERIVED_INPUTS]
+    derived = [n for n in tables.names if n in DERIVED_INPUTS]
     hashes = data.config_hashes()
     bounds = meta.get("design_bounds")
     design = design_summary(data, bounds)
@@ -120,6 +126,7 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
         "feature_version": data.feature_version,
         "feature_config": dict(meta.get("feature_config") or {}), "features": plan,
         "robot_inputs": list(ROBOT_INPUTS), "robot_units": dict(ROBOT_UNITS),
+        "derived_inputs": derived, **(_sightline_entries(data) if derived else {}),
         "max_urange_m": data.max_urange_m, "odom_model": data.odom_model,
         "input_ranges": input_ranges(tables, bounds), "design": design,
         "training_buildings": data.worlds, "skipped_runs": dict(data.skipped),
@@ -127,6 +134,15 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
         "interval_runs": int(round(design["runs_per_point"]["median"])),
         "sources": dict(meta.get("sources") or {}),
         "robot_learning_config": to_dict(config), "components": components}
+
+
+def _sightline_entries(data: RobotDataset) -> dict[str, Any]:
+    """The card's sight-line sampling and the training buildings' curves (for the
+    partial-dependence plots, which move the laser range and so the blind fraction)."""
+    from slam_predict.features.sightline import CURVE_RANGES_M, SightlineConfig
+
+    return {"sightline": dict(SightlineConfig().to_dict(), ranges_m=list(CURVE_RANGES_M)),
+            "sightline_curves": data.sightline_curves()}
 
 
 def plain_forms(fitted: Mapping[str, Mapping[str, Any]],
@@ -174,7 +190,7 @@ def train_robot_store(data: RobotDataset, config: RobotLearningConfig,
     if not data.feature_version or data.feature_version == "reference-table":
         raise InputError(f"feature version '{data.feature_version}' cannot be shipped: use "
                          "features computed by slam_predict")
-    tables = data.tables(config.plan_features)
+    tables = data.tables(config.plan_features, config.sightline_input)
     fitted = fit_all(tables, config, n_jobs)
     if not fitted:
         raise InputError("no component could be trained: nothing to store")
