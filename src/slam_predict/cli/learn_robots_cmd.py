@@ -99,7 +99,19 @@ def _feature_config(path: str | None) -> dict:
     return {} if path is None else yaml_section(path, "features")
 
 
-def _header(data, config, plan: list[str]) -> list[str]:
+def _failures(outcomes: dict | None) -> list[str]:
+    """The header line on failed explorations (none when every run explored enough)."""
+    failed = {c: e for c, e in ((outcomes or {}).get("by_config") or {}).items() if e["failed"]}
+    if not failed:
+        return []
+    total = sum(e["runs"] for e in outcomes["by_config"].values())
+    return [f"- failed explorations (coverage < {outcomes['min_coverage']:g}, not learned "
+            f"from): {sum(e['failed'] for e in failed.values())} of {total} runs; "
+            + ", ".join(f"{c} ({e['range_m']:.3g} m laser) {e['failed']}/{e['runs']}"
+                        for c, e in sorted(failed.items(), key=lambda kv: kv[1]["range_m"]))]
+
+
+def _header(data, config, plan: list[str], outcomes: dict | None = None) -> list[str]:
     from slam_predict.words import plural
 
     skipped = ", ".join(f"{n} {reason}" for reason, n in sorted(data.skipped.items()))
@@ -115,11 +127,12 @@ def _header(data, config, plan: list[str]) -> list[str]:
             f"- models: {', '.join(config.models)}; {config.folds} folds per protocol; "
             f"seed {config.seed}; intervals: CV+ grouped by building, "
             f"{config.conformal_folds} folds, {100 * config.confidence:g} %",
-            f"- best per component: lowest median % error under '{config.select_protocol}'"]
+            f"- best per component: lowest median % error under '{config.select_protocol}'",
+            *_failures(outcomes)]
 
 
 def write_evaluation(out: str, data, tables, config, rows, summary, best,
-                     feature_meta: dict) -> None:
+                     feature_meta: dict, outcomes: dict | None = None) -> None:
     """The evaluation folder, atomically; its features.csv (+ .json sidecar with the feature
     configuration) is reusable as ``--features``."""
     from slam_predict.atomic import atomic_dir
@@ -132,7 +145,8 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
     plan = [n for n in tables.names if n not in ROBOT_INPUTS]
     with atomic_dir(out) as tmp:
         (tmp / "robots_eval.md").write_text(
-            report_markdown(summary, best, _header(data, config, plan), config.confidence))
+            report_markdown(summary, best, _header(data, config, plan, outcomes),
+                            config.confidence))
         (tmp / "robots_eval.csv").write_text(csv_text(summary))
         (tmp / "robots_predictions.csv").write_text(csv_text(rows))
         (tmp / "runs.csv").write_text(runs_csv(data))
@@ -145,6 +159,7 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
 def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.robot_dataset import build_dataset, plan_features, read_runs
     from slam_predict.learn.robot_evaluate import best_models, evaluate, summarize
+    from slam_predict.learn.robot_outcomes import exploration_outcomes
 
     target = _check_outputs(args)
     config = load_config(args)
@@ -158,6 +173,7 @@ def run(args: argparse.Namespace) -> int:
         sorted({r.world for r in runs}), args.features, args.worlds, feature_config,
         args.feature_version, args.jobs)
     data = build_dataset(runs, skipped, features, version)
+    outcomes = exploration_outcomes(args.data, config.min_coverage)
     bounds = None
     if args.design:
         from slam_predict.learn.robot_domain import design_ranges
@@ -170,7 +186,8 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         write_evaluation(args.out, data, tables, config, rows, summary, best,
                          {"feature_config": full_config,
-                          "features_from": os.path.abspath(args.worlds or args.features)})
+                          "features_from": os.path.abspath(args.worlds or args.features)},
+                         outcomes)
     print(f"{len(data.runs)} runs, {len(data.points)} points, {len(data.worlds)} buildings, "
           f"{len(data.configs)} configurations; best: "
           + ", ".join(f"{c} {m}" for c, m in best.items()))
@@ -185,6 +202,6 @@ def run(args: argparse.Namespace) -> int:
         train_robot_store(data, config, summary, best, target,
                           {"name": args.name, "description": args.description,
                            "feature_config": full_config, "sources": sources,
-                           "design_bounds": bounds}, args.jobs)
+                           "design_bounds": bounds, "exploration": outcomes}, args.jobs)
         print(f"model written to {target}")
     return 0

@@ -188,8 +188,15 @@ class RobotModel:
                 out.append(f"laser angular resolution {angular_resolution_deg:.4g} deg differs "
                            f"from the design's {', '.join(f'{r:g}' for r in trained)} deg "
                            "(not a model input: the models never saw it)")
-        note = self.odom_gap_warning(robot)
-        return out + ([note] if note else [])
+        notes = [self.odom_gap_warning(robot), self.exploration_warning(robot)]
+        return out + [note for note in notes if note]
+
+    def exploration_warning(self, robot: Mapping[str, float]) -> str | None:
+        """A line when training runs with a laser range near the robot's failed to explore
+        (card ``exploration``, :mod:`~slam_predict.learn.robot_outcomes`), else None."""
+        from slam_predict.learn.robot_outcomes import failure_warning
+
+        return failure_warning(self.card.get("exploration"), float(robot["laser_range_max_m"]))
 
     def odom_model_warning(self, odom_model: str) -> str | None:
         """A warning when the robot's odometry model is not the training runs' (cards

@@ -103,7 +103,8 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
                meta: Mapping[str, Any]) -> dict[str, Any]:
     """The card of a robot-aware model folder (without files and versions); ``meta``:
     ``name``, ``description``, ``feature_config``, ``sources``, ``design_bounds`` (robot
-    input → [low, high] of the design file, optional)."""
+    input → [low, high] of the design file, optional), ``exploration`` (failed explorations
+    per configuration, :func:`slam_predict.learn.robot_outcomes.exploration_outcomes`)."""
     plan = [n for n in tables.names if n not in ROBOT_INPUTS and n not in DERIVED_INPUTS]
     derived = [n for n in tables.names if n in DERIVED_INPUTS]
     hashes = data.config_hashes()
@@ -132,7 +133,7 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
         "training_buildings": data.worlds, "skipped_runs": dict(data.skipped),
         "confidence": config.confidence,
         "interval_runs": int(round(design["runs_per_point"]["median"])),
-        "sources": dict(meta.get("sources") or {}),
+        "sources": dict(meta.get("sources") or {}), "exploration": meta.get("exploration"),
         "robot_learning_config": to_dict(config), "components": components}
 
 
