@@ -1,8 +1,9 @@
 """How often a campaign's explorations failed, per robot configuration (issue #18).
 
 The robot-aware models learn from runs that mapped at least ``min_coverage`` of the floor; a
-run below it is an exploration that failed (with a short laser: GMapping lost track and the
-seed study's stopping rule ended a run whose map no longer grew). Those runs carry no usable
+run below it is an exploration that failed (in the robot campaign: lasers of 3.8–4.5 m whose
+map stopped growing, so that the seed study's stopping rule ended the run, with errors of a
+failed map, 1.5–14 m). Those runs carry no usable
 error, but how often they happen is part of the answer for a robot like theirs:
 :func:`exploration_outcomes` counts them per configuration, the model card keeps the counts
 (``exploration``), and :func:`failure_warning` turns them into a line for ``predict --robot``.
@@ -69,5 +70,5 @@ def failure_warning(outcomes: Mapping[str, Any] | None, range_m: float,
     span = f"{low:.3g} m" if math.isclose(low, high) else f"{low:.3g}–{high:.3g} m"
     return (f"{failed} of {plural(runs, 'training run')} with lasers of {span} (near this "
             f"robot's {range_m:.3g} m) mapped less than {100 * outcomes['min_coverage']:g} % of "
-            "the floor (GMapping lost track); the prediction describes explorations that "
-            "succeed")
+            "the floor before their exploration stopped; the prediction describes explorations "
+            "that succeed")
