@@ -10,9 +10,10 @@
    nothing for a real plan; the timing is what counts. ``--models-dir DIR`` reuses a folder.
 2. Runs ``slam-predict predict PLAN --robot ROBOT --models-dir TMP --json`` in fresh
    processes (one untimed warm-up, then ``--repeat`` timed runs: best and worst).
-3. Splits a warm run in a fresh process: loading the plan, computing the features, loading
-   the model folder, predicting (with domain warnings), and whether scikit-learn or joblib
-   got imported (they should not: the models are read from their plain-array forms).
+3. Splits a warm run in a fresh process: loading the plan, computing the features and the
+   sight-line curve (features/sightline.py), loading the model folder, predicting (with
+   domain warnings), and whether scikit-learn or joblib got imported (they should not: the
+   models are read from their plain-array forms).
 
 Usage: ``bench/bench_predict_robot.py [PLAN] [--robot FILE] [--repeat N] [--models-dir DIR]``.
 """
@@ -46,6 +47,8 @@ model.check_feature_version()
 t2 = time.perf_counter()
 from slam_predict.learn.featurize import compute
 features = compute(world, model.feature_config)
+t3a = time.perf_counter()
+features.update(model.sightline_features(world))
 t3 = time.perf_counter()
 from slam_predict.learn.robot_inputs import angular_resolution_deg, sensor_dict
 from slam_predict.robot_file import load_robot
@@ -54,7 +57,8 @@ inputs = model.inputs(robot)
 model.predict(features, inputs)
 model.domain_warnings(features, inputs, angular_resolution_deg(sensor_dict(robot)))
 t4 = time.perf_counter()
-print(json.dumps({"load": t1 - t0, "model_load": t2 - t1, "features": t3 - t2,
+print(json.dumps({"load": t1 - t0, "model_load": t2 - t1, "features": t3a - t2,
+                  "sightlines": t3 - t3a,
                   "predict": t4 - t3, "free_area_m2": world.free_area_m2,
                   "sklearn": sorted(m for m in sys.modules
                                     if m.split(".")[0] in ("sklearn", "joblib"))[:3]}))
@@ -113,7 +117,8 @@ def report(args, models: Path, trained: float | None) -> None:
     print(f"end to end, warm numba cache: best {min(walls):.2f} s, worst {max(walls):.2f} s "
           f"of {args.repeat} (target ≤ 3 s)")
     print(f"in-process split (warm, fresh process): load {parts['load']:.2f} s, model folder "
-          f"{parts['model_load']:.2f} s, features {parts['features']:.2f} s, predict "
+          f"{parts['model_load']:.2f} s, features {parts['features']:.2f} s, sight lines "
+          f"{parts['sightlines']:.2f} s, predict "
           f"{1000 * parts['predict']:.1f} ms; scikit-learn/joblib imported: "
           f"{parts['sklearn'] or 'no'}")
     print(f"load average (1 min) at the end: {os.getloadavg()[0]:.1f}")

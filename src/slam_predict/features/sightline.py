@@ -49,13 +49,14 @@ def curve_columns() -> list[str]:
 def sample_points(occupied: np.ndarray, resolution: float,
                   config: SightlineConfig) -> tuple[np.ndarray, np.ndarray]:
     """(rows, cols) of the grid points inside the building with the configured clearance:
-    one per ``spacing_m`` square, at its centre pixel."""
-    from scipy import ndimage
-
+    one per ``spacing_m`` square, at its centre pixel. The clearance is the distance between
+    cell centres to the nearest obstacle, read from the ray caster's cached jump table
+    (:func:`slam_predict.sim.raycast.jump_table`: that distance − √2 − 1e-6 cells)."""
     from slam_predict.features.voronoi import building_interior
+    from slam_predict.sim.raycast import cached_jump_table
 
     interior = building_interior(~occupied)
-    clearance = ndimage.distance_transform_edt(interior) * resolution
+    clearance = (cached_jump_table(occupied) + (math.sqrt(2.0) + 1e-6)) * resolution
     standable = interior & (clearance >= config.clearance_m)
     step = max(1, int(round(config.spacing_m / resolution)))
     rows, cols = np.nonzero(standable[step // 2::step, step // 2::step])
