@@ -66,6 +66,27 @@ def test_evaluate_and_train(inputs, tmp_path, capsys):
     assert ranges["laser_range_max_m"] == [3.5, 30.0] and ranges["laser_fov_deg"] == [180, 360]
     assert model.card["design"]["bounds"]["odom_xy_error"] == pytest.approx([0.0, 0.02])
     assert card["sources"]["design"] == str(folder / "design.yaml")
+    assert model.derived == ["laser_blind_fraction"] and "laser_blind_fraction" in page
+    assert card["exploration"]["min_coverage"] == 0.5
+    assert [e["runs"] for e in card["exploration"]["by_config"].values()] == [16] * 4
+    assert "failed explorations" not in page          # every synthetic run explored 0.99
+
+
+def test_failed_explorations_are_listed(inputs, tmp_path):
+    folder, records = inputs
+    record = dict(records[0])
+    path = record.pop("path")
+    try:
+        with open(path, "w") as handle:
+            json.dump(dict(record, coverage=0.2), handle)
+        assert main(args(folder, "--out", str(tmp_path / "ev"))) == 0
+    finally:
+        with open(path, "w") as handle:
+            json.dump(record, handle)
+    page = (tmp_path / "ev" / "robots_eval.md").read_text()
+    config = record["design"]["config"]
+    assert f"- failed explorations (coverage < 0.5, not learned from): 1 of 64 runs; {config} (" \
+        in page and ") 1/16" in page
 
 
 def test_features_of_the_evaluation_folder_are_reusable(inputs, tmp_path):
