@@ -139,13 +139,14 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
     from slam_predict.learn import dataset as ds
     from slam_predict.learn.robot_dataset import points_csv, runs_csv
     from slam_predict.learn.robot_evaluate import report_markdown
-    from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+    from slam_predict.learn.robot_inputs import DERIVED_INPUTS, ROBOT_INPUTS
     from slam_predict.learn.tables import csv_text
 
     plan = [n for n in tables.names if n not in ROBOT_INPUTS]
+    features_only = [n for n in plan if n not in DERIVED_INPUTS]
     with atomic_dir(out) as tmp:
         (tmp / "robots_eval.md").write_text(
-            report_markdown(summary, best, _header(data, config, plan, outcomes),
+            report_markdown(summary, best, _header(data, config, features_only, outcomes),
                             config.confidence))
         (tmp / "robots_eval.csv").write_text(csv_text(summary))
         (tmp / "robots_predictions.csv").write_text(csv_text(rows))
