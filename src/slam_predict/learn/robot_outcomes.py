@@ -21,35 +21,29 @@ from slam_predict.words import plural
 NEAR_FACTOR = 1.25   # configurations within this factor of the robot's range are "near"
 
 
-def _config_of(record: Mapping[str, Any]) -> str:
-    """The record's design configuration, else the hash of its sensor (as robot_records)."""
-    design = record.get("design")
-    if isinstance(design, Mapping) and design.get("config"):
-        return str(design["config"])
-    from slam_predict.sensor import sensor_hash
-
-    return sensor_hash(record["sensor"])
-
-
 def exploration_outcomes(folders: Sequence[os.PathLike | str],
                          min_coverage: float) -> dict[str, Any]:
     """{"min_coverage", "by_config": {config: {"range_m", "runs", "failed"}}} over every run
     record of the campaign folders (range_m: the laser's range_max, m; failed: runs whose
     coverage is below ``min_coverage``)."""
-    from slam_predict.learn.robot_records import find_records, read_record
+    from slam_predict.learn.robot_records import (
+        design_entry,
+        find_records,
+        read_record,
+        skip_reason,
+    )
 
     by_config: dict[str, dict[str, Any]] = {}
     for path in find_records(folders):
         record = read_record(path)
         try:
             range_m = float(record["sensor"]["laser"]["range_max"])
-            coverage = float(record["coverage"])
         except (KeyError, TypeError, ValueError):
-            raise InputError("run record without a laser range_max or coverage", path) from None
-        entry = by_config.setdefault(_config_of(record),
+            raise InputError("run record without a laser range_max", path) from None
+        entry = by_config.setdefault(design_entry(record, path)[0],
                                      {"range_m": range_m, "runs": 0, "failed": 0})
         entry["runs"] += 1
-        entry["failed"] += int(not coverage >= min_coverage)
+        entry["failed"] += int(skip_reason(record, min_coverage, path) == "low coverage")
     return {"min_coverage": float(min_coverage), "by_config": dict(sorted(by_config.items()))}
 
 

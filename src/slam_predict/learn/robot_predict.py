@@ -174,10 +174,10 @@ class RobotModel:
         far from every design configuration (see :meth:`odom_gap_warning`)."""
         x = self.row(plan_features, robot)[0]
         out = []
+        units = {**ROBOT_UNITS, **DERIVED_UNITS}
         for name, value in zip(self.names, x, strict=True):
             low, high = self.card["input_ranges"][name]
             if not low <= value <= high:
-                units = {**ROBOT_UNITS, **DERIVED_UNITS}
                 unit = f" {units[name]}" if name in units else ""
                 out.append(f"{name} = {value:.4g}{unit} is outside the training range "
                            f"[{low:.4g}, {high:.4g}]{unit}")
@@ -253,7 +253,6 @@ class RobotModel:
             X[:, :, self.names.index("laser_blind_fraction")] = self._blind_grid(grid)
         values = self.models[component].predict(X.reshape(-1, X.shape[2]))
         return grid, values.reshape(grid_points, -1).mean(axis=1)
-
 
     def _blind_grid(self, ranges_m: np.ndarray) -> np.ndarray:
         """(G, n) blind fraction of each training point's building at each laser range."""

@@ -140,6 +140,14 @@ def _design(record: Mapping[str, Any], world: str, config: str, path):
     return design["config"], design["point"], _integer(design, "replicate", path)
 
 
+def design_entry(record: Mapping[str, Any], path) -> tuple[str, str, int | None]:
+    """(config, point, replicate) of a record: its ``design`` entry, else (the hash of its
+    ``sensor``, world/hash, None)."""
+    from slam_predict.sensor import sensor_hash
+
+    return _design(record, str(record["world"]), sensor_hash(record["sensor"]), path)
+
+
 def skip_reason(record: Mapping[str, Any], min_coverage: float, path) -> str | None:
     """Why a complete record is not used ('low coverage', 'no metric', 'error <= 0'), or None."""
     coverage = _finite(record["coverage"])
@@ -160,14 +168,12 @@ def skip_reason(record: Mapping[str, Any], min_coverage: float, path) -> str | N
 
 def run_row(record: Mapping[str, Any], path, max_urange_m: float | None = None) -> RunRow:
     """The RUN row of a complete, usable record (range capped at ``max_urange_m`` m)."""
-    from slam_predict.sensor import sensor_hash
-
     world = record["world"]
     if not isinstance(world, str) or not world:
         raise InputError(f"'world' must be a non-empty string, got {world!r}", path)
     robot = inputs_from_sensor(record["sensor"], path, max_urange_m)
     odom_model = odom_model_of(record["sensor"], path)
-    config, point, replicate = _design(record, world, sensor_hash(record["sensor"]), path)
+    config, point, replicate = design_entry(record, path)
     hashes = record.get("config_hashes") if isinstance(record.get("config_hashes"), dict) else {}
     return RunRow(world=world, run_index=_integer(record, "run_index", path),
                   seed=_integer(record, "seed", path), config=config, point=point,
