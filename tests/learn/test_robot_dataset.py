@@ -178,3 +178,23 @@ def test_a_fixed_bias_campaign_is_learned_and_its_model_recorded(tmp_path):
     biases = syn.load(tmp_path, worlds)
     assert {r.odom_model for r in biases.runs} == {"fixed"} and biases.odom_model == "fixed"
     assert [r.robot for r in biases.runs] == [r.robot for r in bounds.runs]
+
+
+def test_plan_features_from_worlds_add_the_sightline_curve(tmp_path):
+    """--worlds: each plan's features and its sight-line curve, from one load of the plan."""
+    from pathlib import Path
+
+    from slam_predict.features.sightline import curve_columns, sightline_features
+    from slam_predict.learn.featurize import compute, full_feature_config
+    from slam_predict.world.load import load_plan
+
+    shipped = Path(__file__).resolve().parents[2] / "worlds"
+    for suffix in (".world", ".png", ".json"):
+        (tmp_path / f"office_150{suffix}").write_bytes(
+            (shipped / f"office_150{suffix}").read_bytes())
+    features, version, config = plan_features(["office_150"], worlds_dir=tmp_path)
+    plan = load_plan(tmp_path / "office_150.world")
+    expected = dict(compute(plan, full_feature_config(None)), **sightline_features(plan))
+    assert features["office_150"] == pytest.approx(expected, rel=1e-12)
+    assert set(curve_columns()) <= set(features["office_150"])
+    assert version.startswith("2+") and config == full_feature_config(None)

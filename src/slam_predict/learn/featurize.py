@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import logging
 import os
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -72,16 +72,24 @@ def compute(world, config_dict: Mapping[str, Any]) -> dict[str, float]:
     return {k: float(v) for k, v in values.items()}
 
 
-def _one(path: str, config_dict: Mapping[str, Any]) -> dict[str, float]:
+def _one(path: str, config_dict: Mapping[str, Any],
+         also: Callable[[Any], dict[str, float]] | None = None) -> dict[str, float]:
     from slam_predict.world.load import load_plan
 
-    return compute(load_plan(path), config_dict)
+    world = load_plan(path)
+    values = compute(world, config_dict)
+    if also is not None:
+        values.update(also(world))
+    return values
 
 
 def features_from_worlds(folder: os.PathLike | str, names: Iterable[str],
                          feature_config: Mapping[str, Any] | None = None,
-                         n_jobs: int = 1) -> tuple[dict[str, dict[str, float]], str]:
-    """({building: {feature: value}}, feature version) for the buildings that have a plan."""
+                         n_jobs: int = 1, also: Callable[[Any], dict[str, float]] | None = None
+                         ) -> tuple[dict[str, dict[str, float]], str]:
+    """({building: {feature: value}}, feature version) for the buildings that have a plan;
+    ``also`` (a module-level function of the loaded World, e.g. the sight-line curve) adds
+    its columns to each building's features, computed on the same load."""
     folder = Path(folder)
     if not folder.is_dir():
         raise InputError("worlds folder not found", folder)
@@ -98,5 +106,5 @@ def features_from_worlds(folder: os.PathLike | str, names: Iterable[str],
     from joblib import Parallel, delayed
 
     config = full_feature_config(feature_config)
-    values = Parallel(n_jobs=n_jobs)(delayed(_one)(p, config) for p in plans.values())
+    values = Parallel(n_jobs=n_jobs)(delayed(_one)(p, config, also) for p in plans.values())
     return dict(zip(plans, values, strict=False)), version_of(config)

@@ -265,16 +265,18 @@ def plan_features(worlds: Sequence[str], features_csv: os.PathLike | str | None 
                   n_jobs: int = 1) -> tuple[dict[str, dict[str, float]], str, dict[str, Any]]:
     """(building → features, feature version, full feature configuration) from a feature
     table (``learn dataset``'s format; version from its column or ``feature_version``) or
-    computed on the plans in ``worlds_dir`` with ``feature_config``."""
+    computed on the plans in ``worlds_dir`` with ``feature_config`` (each plan loaded once; its
+    sight-line curve columns, features/sightline.py, added)."""
     from slam_predict.learn import dataset as ds
 
     if worlds_dir is not None:
         from slam_predict.learn.featurize import features_from_worlds, full_feature_config
 
         config = full_feature_config(feature_config)
-        features, version = features_from_worlds(worlds_dir, worlds, config, n_jobs)
-        for world, curve in sightlines_from_worlds(worlds_dir, list(features), n_jobs).items():
-            features[world].update(curve)
+        from slam_predict.features.sightline import sightline_features
+
+        features, version = features_from_worlds(worlds_dir, worlds, config, n_jobs,
+                                                 also=sightline_features)
         return features, version, config
     if features_csv is None:
         raise InputError("give a feature table or a worlds folder")
@@ -289,25 +291,3 @@ def plan_features(worlds: Sequence[str], features_csv: os.PathLike | str | None 
     clean = {w: {k: v for k, v in vec.items() if k != "feature_version"}
              for w, vec in table.items()}
     return clean, versions.pop(), config
-
-
-def sightlines_from_worlds(worlds_dir: os.PathLike | str, worlds: Sequence[str],
-                           n_jobs: int = 1) -> dict[str, dict[str, float]]:
-    """Building → its sight-line curve columns (features/sightline.py, default sampling),
-    computed on the plans in ``worlds_dir``."""
-    from pathlib import Path
-
-    from joblib import Parallel, delayed
-
-    from slam_predict.learn.featurize import find_plan
-
-    paths = {w: find_plan(Path(worlds_dir), w) for w in worlds}
-    values = Parallel(n_jobs=n_jobs)(delayed(_sightlines)(str(p)) for p in paths.values())
-    return dict(zip(paths, values, strict=True))
-
-
-def _sightlines(path: str) -> dict[str, float]:
-    from slam_predict.features.sightline import sightline_features
-    from slam_predict.world.load import load_plan
-
-    return sightline_features(load_plan(path))
