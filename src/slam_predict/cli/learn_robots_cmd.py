@@ -161,6 +161,7 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.robot_dataset import build_dataset, plan_features, read_runs
     from slam_predict.learn.robot_evaluate import best_models, evaluate, summarize
     from slam_predict.learn.robot_outcomes import exploration_outcomes
+    from slam_predict.paths import portable_path
 
     target = _check_outputs(args)
     config = load_config(args)
@@ -187,7 +188,7 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         write_evaluation(args.out, data, tables, config, rows, summary, best,
                          {"feature_config": full_config,
-                          "features_from": os.path.abspath(args.worlds or args.features)},
+                          "features_from": portable_path(args.worlds or args.features)},
                          outcomes)
     print(f"{len(data.runs)} runs, {len(data.points)} points, {len(data.worlds)} buildings, "
           f"{len(data.configs)} configurations; best: "
@@ -197,9 +198,9 @@ def run(args: argparse.Namespace) -> int:
     if target is not None:
         from slam_predict.learn.robot_train import train_robot_store
 
-        sources = {"data": [os.path.abspath(d) for d in args.data],
-                   "features_from": os.path.abspath(args.worlds or args.features),
-                   "design": os.path.abspath(args.design) if args.design else None}
+        sources = {"data": [portable_path(d) for d in args.data],
+                   "features_from": portable_path(args.worlds or args.features),
+                   "design": portable_path(args.design) if args.design else None}
         train_robot_store(data, config, summary, best, target,
                           {"name": args.name, "description": args.description,
                            "feature_config": full_config, "sources": sources,
