@@ -1,0 +1,80 @@
+"""The shipped robot-aware model ``models/own-robots``: its folder, the trends a robotics engineer
+expects of it, and issue #18's seed-robot check against issue #16's fidelity campaign."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from slam_predict.learn.predict import predictable_features
+from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.robot_file import load_robot
+from slam_predict.world.load import load_plan
+
+SEED_ROBOT = "config/robots/seed_realistic_fixed.yaml"
+
+
+@pytest.fixture(scope="module")
+def model(root) -> RobotModel:
+    model = RobotModel.load(root / "models" / "own-robots")   # checks every file's checksum
+    model.check_feature_version()
+    return model
+
+
+def plan_inputs(model: RobotModel, plan) -> dict[str, float]:
+    return dict(predictable_features(plan, model.feature_config), **model.sightline_features(plan))
+
+
+def test_card_describes_the_complete_campaign(model):
+    card = model.card
+    assert card["kind"] == "robots" and card["odom_model"] == "fixed"
+    assert len(card["training_buildings"]) == 21 and card["derived_inputs"] == [
+        "laser_blind_fraction"]
+    by_config = card["exploration"]["by_config"].values()
+    assert sum(e["runs"] for e in by_config) == 168 and len(by_config) == 28
+    sources = card["sources"]
+    assert sources["data"] == ["data/campaigns/robots"]
+    assert not any(str(v).startswith("/") for v in (sources["features_from"], sources["design"]))
+
+
+def test_shorter_laser_and_larger_building_predict_larger_error(model, root):
+    robot = model.inputs(load_robot(root / SEED_ROBOT))
+    means = {}
+    for name in ("office_500", "office_1500"):
+        features = plan_inputs(model, load_plan(root / "worlds" / f"{name}.world"))
+        for range_m in (3.5, 10.0, 30.0):
+            result = model.predict(features, dict(robot, laser_range_max_m=range_m))
+            entry = result["trans_mean"]
+            assert entry["low"] <= entry["value"] <= entry["high"]
+            means[name, range_m] = entry["value"]
+    for name in ("office_500", "office_1500"):
+        assert means[name, 3.5] > means[name, 10.0] > means[name, 30.0]
+    assert all(means["office_1500", r] > means["office_500", r] for r in (3.5, 10.0, 30.0))
+
+
+def test_seed_robot_agrees_with_the_fidelity_campaign(model, root, shared_data):
+    """Issue #18: with the seed study's robot, the model against the campaign's measured means
+    (data/campaigns/fidelity_seed_study, plans rebuilt from ../shared/data) within issue #16's
+    bars (all but path length)."""
+    from slam_predict.collect.fidelity import ACCEPTANCE, Comparison
+    from slam_predict.collect.store import RunStore
+    from slam_predict.world.thesis import read_environments, thesis_world
+
+    envs = {e.env: e for e in read_environments(shared_data / "thesis" / "environments.csv")}
+    robot = model.inputs(load_robot(root / SEED_ROBOT))
+    store = RunStore(root / "data" / "campaigns" / "fidelity_seed_study")
+    rows = []
+    for world in store.worlds():
+        records = [r for r in store.records(world) if float(r["coverage"]) >= 0.5]
+        plan = thesis_world(envs[world])[0]
+        predicted = model.predict(plan_inputs(model, plan), robot)
+        row = {"world": world, "free_area_m2": float(np.mean([r["free_area_m2"]
+                                                              for r in records]))}
+        for key in ("trans_mean", "rot_mean"):
+            row[f"{key}_ours"] = float(predicted[key]["value"])
+            row[f"{key}_theirs"] = float(np.mean([r["metric"][key] for r in records]))
+        rows.append(row)
+    assert len(rows) == 17
+    comparison = Comparison(model.name, rows, {})
+    failed = [f"{bar.label}: {bar.value(comparison):.3f}" for bar in ACCEPTANCE
+              if "path_length" not in bar.figure and not bar.holds(comparison)]
+    assert not failed, failed
