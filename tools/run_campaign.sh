@@ -4,7 +4,7 @@
 #   tools/run_campaign.sh NAME [--jobs K] [--runs N]
 #
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
-#       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | robots
+#       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | robots | robots_rep3
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
@@ -21,6 +21,9 @@
 #              configurations of config/robot_campaign/design.yaml (28 configurations, a
 #              Latin hypercube over laser range, fov and odometry error), 2 runs each (168 runs),
 #              settings config/robot_campaign/settings.yaml.
+#   robots_rep3 (issue #18): a third replicate of every robots design point (the design's first
+#              4 runs per building, --seed 3: new seeds), in its own folder; `learn robots
+#              data/campaigns/robots data/campaigns/robots_rep3` pools the two.
 # Records go to data/campaigns/NAME/ (run.json and summary.csv are committed, the rest is not);
 # finished runs are never redone, so the command can be repeated in every working period.
 set -euo pipefail
@@ -59,7 +62,9 @@ case "$NAME" in
   fidelity_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   robots) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots)" >&2; exit 2 ;;
+  robots_rep3) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
+          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml" --runs 4 --seed 3) ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
@@ -70,7 +75,7 @@ set +u; source "$ROOT/setup.bash"; set -u
 WORLDS_DIR="$ROOT/out/thesis_worlds"
 BUILDINGS="$THESIS_BUILDINGS"
 [ "$WITH_LARGE" = 1 ] && BUILDINGS="$THESIS_BUILDINGS $LARGE_BUILDINGS"
-[ "$NAME" = robots ] && BUILDINGS="$ROBOT_BUILDINGS"
+case "$NAME" in robots*) BUILDINGS="$ROBOT_BUILDINGS" ;; esac
 # shellcheck disable=SC2086
 slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$WORLDS_DIR" \
   --force --only $BUILDINGS > /dev/null
@@ -85,7 +90,7 @@ if [ "$WITH_LARGE" = 1 ]; then   # breadth-first: every building's run k before 
       --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
   done
 fi
-if [ "$NAME" = robots ]; then   # the design sets the runs (4 points x 2 replicates)
+if [ "${#DESIGN_ARGS[@]}" -gt 0 ]; then   # the design sets the runs (4 points x 2 replicates)
   exec slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --jobs "$JOBS" \
     --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
 fi

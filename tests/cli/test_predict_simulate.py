@@ -28,11 +28,16 @@ def run_jsons(out: Path) -> dict[Path, bytes]:
 
 
 @pytest.fixture(scope="module")
-def simulated(tmp_path_factory):
-    """Two short runs of the tiny world with the LDS robot: (argv, folder, JSON result)."""
+def simulated(tmp_path_factory, root):
+    """Two short runs of the tiny world with the LDS robot: (argv, folder, JSON result). The
+    models folder holds only the shipped plan-only thesis-realistic: no robot-aware model."""
+    import shutil
+
     folder = tmp_path_factory.mktemp("simulate")
+    shutil.copytree(root / "models" / "thesis-realistic", folder / "models" / "thesis-realistic")
     argv = [str(TINY), "--simulate", "2", "--out", str(folder / "out"), "--settings",
-            str(short_settings(folder)), "--robot", str(LDS), "--no-progress", "--json"]
+            str(short_settings(folder)), "--robot", str(LDS), "--no-progress", "--json",
+            "--models-dir", str(folder / "models")]
     code, out, err = call(argv)
     assert code == 0, err
     return argv, folder / "out", json.loads(out)
