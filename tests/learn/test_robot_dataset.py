@@ -54,6 +54,30 @@ def test_tables_match_a_hand_computation(campaign):
     assert {r.replicate for r in data.runs} == {0, 1}
 
 
+def test_pooled_campaigns_of_one_design_get_unique_replicates(campaign, tmp_path):
+    """A second campaign of the same design (another --seed: here a copy, reseeded) repeats the
+    design's replicate numbers; pooled, each point's runs are numbered 0..n-1, and the runs of
+    the first folder (by path) keep theirs."""
+    import shutil
+
+    folder = campaign[0]
+    shutil.copytree(folder / "data", tmp_path / "more")
+    for path in (tmp_path / "more").rglob("run.json"):       # the other campaign's seeds
+        record = json.loads(path.read_text())
+        record["seed"] += 1000
+        path.write_text(json.dumps(record))
+    first, _ = read_runs([folder / "data"])
+    pooled, _ = read_runs([folder / "data", tmp_path / "more"])
+    assert len(pooled) == 2 * len(first)
+    by_point: dict[str, list] = defaultdict(list)
+    for row in pooled:
+        by_point[row.point].append(row)
+    assert all(sorted(r.replicate for r in rows) == [0, 1, 2, 3] for rows in by_point.values())
+    kept = {(r.source, r.replicate) for r in first}
+    assert kept == {(r.source, r.replicate) for r in pooled if r.source.startswith(
+        str(folder / "data"))}
+
+
 def test_numeric_tables_and_subsets(campaign):
     folder, worlds, _, _ = campaign
     data = syn.load(folder / "data", worlds)

@@ -254,17 +254,24 @@ def _check_consistency(rows: Sequence[RunRow]) -> None:
 
 
 def _assign_replicates(rows: Sequence[RunRow]) -> None:
-    """Runs without a design replicate: their rank by run_index within the point."""
+    """Replicate numbers unique within each point: a run keeps its design replicate unless an
+    earlier record of the point (by file path) holds it — a campaign pooled with another
+    collected from the same design under another seed repeats the numbers —; runs without one
+    or with a taken one get the lowest free numbers, by run_index."""
     by_point: dict[str, list[RunRow]] = {}
     for row in rows:
         by_point.setdefault(row.point, []).append(row)
     for members in by_point.values():
-        given = {r.replicate for r in members if r.replicate is not None}
-        for rank, row in enumerate(sorted(members, key=lambda r: (r.run_index, r.seed))):
+        given: set[int] = set()
+        for row in sorted((r for r in members if r.replicate is not None),
+                          key=lambda r: r.source):
+            if row.replicate in given:
+                row.replicate = None
+            else:
+                given.add(row.replicate)
+        for row in sorted(members, key=lambda r: (r.run_index, r.seed, r.source)):
             if row.replicate is None:
-                row.replicate = rank
-                while row.replicate in given:
-                    row.replicate += 1
+                row.replicate = min(set(range(len(members) + 1)) - given)
                 given.add(row.replicate)
 
 
