@@ -43,7 +43,6 @@ def comparison_rows(args: argparse.Namespace) -> tuple[list[dict], str]:
     """Per building: runs, free area, model prediction (ours) and campaign mean (theirs)."""
     from slam_predict.collect.store import RunStore
     from slam_predict.learn.featurize import find_plan
-    from slam_predict.learn.predict import predictable_features
     from slam_predict.learn.robot_predict import RobotModel
     from slam_predict.robot_file import load_robot
     from slam_predict.world.load import load_plan
@@ -60,9 +59,7 @@ def comparison_rows(args: argparse.Namespace) -> tuple[list[dict], str]:
         if not records or path is None or (args.unseen and world in trained):
             continue
         plan = load_plan(path)
-        features = dict(predictable_features(plan, model.feature_config),
-                        **model.sightline_features(plan))
-        predicted = model.predict(features, robot)
+        predicted = model.predict(model.plan_features(plan), robot)
         row = {"world": world, "runs": len(records), "trained_on": world in trained,
                "free_area_m2": float(np.mean([r["free_area_m2"] for r in records]))}
         for key in ("trans_mean", "rot_mean"):

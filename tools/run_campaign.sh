@@ -90,7 +90,7 @@ if [ "$WITH_LARGE" = 1 ]; then   # breadth-first: every building's run k before 
       --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
   done
 fi
-if [ "${#DESIGN_ARGS[@]}" -gt 0 ]; then   # the design sets the runs (4 points x 2 replicates)
+if [ "${#DESIGN_ARGS[@]}" -gt 0 ]; then   # the design sets the runs (all, or --runs in DESIGN_ARGS)
   exec slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --jobs "$JOBS" \
     --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
 fi

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from slam_predict.learn.predict import predictable_features
 from slam_predict.learn.robot_predict import RobotModel
 from slam_predict.robot_file import load_robot
 from slam_predict.world.load import load_plan
@@ -18,10 +17,6 @@ def model(root) -> RobotModel:
     model = RobotModel.load(root / "models" / "own-robots")   # checks every file's checksum
     model.check_feature_version()
     return model
-
-
-def plan_inputs(model: RobotModel, plan) -> dict[str, float]:
-    return dict(predictable_features(plan, model.feature_config), **model.sightline_features(plan))
 
 
 def test_card_describes_the_complete_campaign(model):
@@ -40,7 +35,7 @@ def test_shorter_laser_and_larger_building_predict_larger_error(model, root):
     robot = model.inputs(load_robot(root / SEED_ROBOT))
     means = {}
     for name in ("office_500", "office_1500"):
-        features = plan_inputs(model, load_plan(root / "worlds" / f"{name}.world"))
+        features = model.plan_features(load_plan(root / "worlds" / f"{name}.world"))
         for range_m in (3.5, 10.0, 30.0):
             result = model.predict(features, dict(robot, laser_range_max_m=range_m))
             entry = result["trans_mean"]
@@ -66,7 +61,7 @@ def test_seed_robot_agrees_with_the_fidelity_campaign(model, root, shared_data):
     for world in store.worlds():
         records = [r for r in store.records(world) if float(r["coverage"]) >= 0.5]
         plan = thesis_world(envs[world])[0]
-        predicted = model.predict(plan_inputs(model, plan), robot)
+        predicted = model.predict(model.plan_features(plan), robot)
         row = {"world": world, "free_area_m2": float(np.mean([r["free_area_m2"]
                                                               for r in records]))}
         for key in ("trans_mean", "rot_mean"):

@@ -90,10 +90,9 @@ def robot_summary(robot, robot_path: str, model, inputs: dict[str, float]) -> di
 def predict(world, model, robot, robot_path: str, component: str = "all") -> dict[str, Any]:
     """The robot-aware prediction for ``world`` (a loaded, checked plan) and ``robot`` (a
     :class:`~slam_predict.robot_file.RobotDescription` read from ``robot_path``)."""
-    from slam_predict.learn.predict import components_of, free_space, predictable_features
+    from slam_predict.learn.predict import components_of, free_space
 
-    features = predictable_features(world, model.feature_config)
-    features.update(model.sightline_features(world))
+    features = model.plan_features(world)
     inputs = model.inputs(robot)
     confidence = float(model.card.get("confidence", 0.9))
     raw = model.predict(features, inputs, confidence)

@@ -117,6 +117,15 @@ class RobotModel:
         stored.pop("ranges_m", None)
         return sightline_features(world, SightlineConfig(**stored))
 
+    def plan_features(self, world) -> dict[str, float]:
+        """Everything :meth:`predict` needs of a loaded plan: its features with the card's
+        feature configuration (InputError when degenerate) and :meth:`sightline_features`."""
+        from slam_predict.learn.predict import predictable_features
+
+        features = predictable_features(world, self.feature_config)
+        features.update(self.sightline_features(world))
+        return features
+
     def row(self, plan_features: Mapping[str, float], robot: Mapping[str, float]) -> np.ndarray:
         """The (1, d) raw input row; InputError naming a missing or non-finite input."""
         values = []
