@@ -19,8 +19,6 @@ import argparse
 import sys
 from pathlib import Path
 
-import numpy as np
-
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -41,36 +39,26 @@ def parse_args(argv=None) -> argparse.Namespace:
 
 def comparison_rows(args: argparse.Namespace) -> tuple[list[dict], str]:
     """Per building: runs, free area, model prediction (ours) and campaign mean (theirs)."""
-    from slam_predict.collect.store import RunStore
     from slam_predict.learn.featurize import find_plan
+    from slam_predict.learn.robot_agreement import agreement_rows
     from slam_predict.learn.robot_predict import RobotModel
     from slam_predict.robot_file import load_robot
     from slam_predict.world.load import load_plan
 
     model = RobotModel.load(args.model)
     model.check_feature_version()
-    robot = model.inputs(load_robot(args.robot))
-    trained = set(model.card["training_buildings"])
-    store = RunStore(Path(args.campaign))
-    rows = []
-    for world in store.worlds():
-        records = [r for r in store.records(world) if float(r["coverage"]) >= args.min_coverage]
+
+    def plan_of(world: str):
         path = find_plan(Path(args.worlds), world)
-        if not records or path is None or (args.unseen and world in trained):
-            continue
-        plan = load_plan(path)
-        predicted = model.predict(model.plan_features(plan), robot)
-        row = {"world": world, "runs": len(records), "trained_on": world in trained,
-               "free_area_m2": float(np.mean([r["free_area_m2"] for r in records]))}
-        for key in ("trans_mean", "rot_mean"):
-            row[f"{key}_ours"] = float(predicted[key]["value"])
-            row[f"{key}_theirs"] = float(np.mean([r["metric"][key] for r in records]))
-        rows.append(row)
+        return None if path is None else load_plan(path)
+    rows = agreement_rows(model, model.inputs(load_robot(args.robot)), args.campaign, plan_of,
+                          args.min_coverage, args.unseen)
     return rows, model.name
 
 
 def main(argv=None) -> int:
-    from slam_predict.collect.fidelity import ACCEPTANCE, Comparison, bootstrap_intervals
+    from slam_predict.collect.fidelity import Comparison, bootstrap_intervals
+    from slam_predict.learn.robot_agreement import error_bars
 
     args = parse_args(argv)
     rows, name = comparison_rows(args)
@@ -90,7 +78,7 @@ def main(argv=None) -> int:
               f"{r['rot_mean_ours']:.4f} | {r['rot_mean_theirs']:.4f} | "
               f"{r['rot_mean_ours'] / r['rot_mean_theirs']:.2f} |")
     comparison = Comparison(name, rows, {})
-    bars = [bar for bar in ACCEPTANCE if "path_length" not in bar.figure]
+    bars = error_bars()
     intervals = bootstrap_intervals(comparison, bars)
     print()
     for bar in bars:

@@ -2,7 +2,6 @@
 expects of it, and issue #18's seed-robot check against issue #16's fidelity campaign."""
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 from slam_predict.learn.robot_predict import RobotModel
@@ -50,26 +49,16 @@ def test_seed_robot_agrees_with_the_fidelity_campaign(model, root, shared_data):
     """Issue #18: with the seed study's robot, the model against the campaign's measured means
     (data/campaigns/fidelity_seed_study, plans rebuilt from ../shared/data) within issue #16's
     bars (all but path length)."""
-    from slam_predict.collect.fidelity import ACCEPTANCE, Comparison
-    from slam_predict.collect.store import RunStore
+    from slam_predict.collect.fidelity import Comparison
+    from slam_predict.learn.robot_agreement import agreement_rows, error_bars
     from slam_predict.world.thesis import read_environments, thesis_world
 
     envs = {e.env: e for e in read_environments(shared_data / "thesis" / "environments.csv")}
     robot = model.inputs(load_robot(root / SEED_ROBOT))
-    store = RunStore(root / "data" / "campaigns" / "fidelity_seed_study")
-    rows = []
-    for world in store.worlds():
-        records = [r for r in store.records(world) if float(r["coverage"]) >= 0.5]
-        plan = thesis_world(envs[world])[0]
-        predicted = model.predict(model.plan_features(plan), robot)
-        row = {"world": world, "free_area_m2": float(np.mean([r["free_area_m2"]
-                                                              for r in records]))}
-        for key in ("trans_mean", "rot_mean"):
-            row[f"{key}_ours"] = float(predicted[key]["value"])
-            row[f"{key}_theirs"] = float(np.mean([r["metric"][key] for r in records]))
-        rows.append(row)
+    rows = agreement_rows(model, robot, root / "data" / "campaigns" / "fidelity_seed_study",
+                          lambda world: thesis_world(envs[world])[0])
     assert len(rows) == 17
     comparison = Comparison(model.name, rows, {})
-    failed = [f"{bar.label}: {bar.value(comparison):.3f}" for bar in ACCEPTANCE
-              if "path_length" not in bar.figure and not bar.holds(comparison)]
+    failed = [f"{bar.label}: {bar.value(comparison):.3f}" for bar in error_bars()
+              if not bar.holds(comparison)]
     assert not failed, failed
