@@ -53,6 +53,8 @@ def test_evaluate_and_train(inputs, tmp_path, capsys):
     assert "## Held-out buildings × held-out configurations" in page
     assert "| mean ε_t | elasticnet **(best)** | 32 |" in page
     assert page.count("| ≤ 20 % |") == 3 and "| pass |" in page  # one header per protocol
+    assert "- R² ceiling from run-to-run noise (what exact true means would score against " \
+        "these measured point means): mean ε_t 0." in page and "(32 points)" in page
     header = (out / "robots_eval.csv").read_text().splitlines()[0]
     assert header.startswith("protocol,component,model,n_points,median_pct_error,r2,coverage")
     card = json.loads((models / "own-robots" / "card.json").read_text())

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 from pathlib import Path
 
@@ -111,7 +112,7 @@ def _failures(outcomes: dict | None) -> list[str]:
                         for c, e in sorted(failed.items(), key=lambda kv: kv[1]["range_m"]))]
 
 
-def _header(data, config, plan: list[str], outcomes: dict | None = None) -> list[str]:
+def _header(data, tables, config, plan: list[str], outcomes: dict | None = None) -> list[str]:
     from slam_predict.words import plural
 
     skipped = ", ".join(f"{n} {reason}" for reason, n in sorted(data.skipped.items()))
@@ -128,7 +129,23 @@ def _header(data, config, plan: list[str], outcomes: dict | None = None) -> list
             f"seed {config.seed}; intervals: CV+ grouped by building, "
             f"{config.conformal_folds} folds, {100 * config.confidence:g} %",
             f"- best per component: lowest median % error under '{config.select_protocol}'",
-            *_failures(outcomes)]
+            *_failures(outcomes), *_ceilings(tables)]
+
+
+def _ceilings(tables) -> list[str]:
+    """The header line on the R² that run-to-run noise leaves reachable (means only)."""
+    from slam_predict.learn.robot_evaluate import replicate_r2_ceiling
+    from slam_predict.learn.tables import SYMBOLS
+
+    parts = []
+    for component in ("trans_mean", "rot_mean"):
+        ceiling, n = replicate_r2_ceiling(tables, component)
+        if math.isfinite(ceiling):
+            parts.append(f"{SYMBOLS[component]} {ceiling:.2f} ({n} points)")
+    if not parts:
+        return []
+    return ["- R² ceiling from run-to-run noise (what exact true means would score against "
+            "these measured point means): " + ", ".join(parts)]
 
 
 def write_evaluation(out: str, data, tables, config, rows, summary, best,
@@ -146,7 +163,8 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
     features_only = [n for n in plan if n not in DERIVED_INPUTS]
     with atomic_dir(out) as tmp:
         (tmp / "robots_eval.md").write_text(
-            report_markdown(summary, best, _header(data, config, features_only, outcomes),
+            report_markdown(summary, best,
+                            _header(data, tables, config, features_only, outcomes),
                             config.confidence))
         (tmp / "robots_eval.csv").write_text(csv_text(summary))
         (tmp / "robots_predictions.csv").write_text(csv_text(rows))

@@ -127,6 +127,29 @@ def evaluate(tables: RobotTables, config: RobotLearningConfig,
     return [row for chunk in chunks for row in chunk]
 
 
+def replicate_r2_ceiling(tables: RobotTables, component: str) -> tuple[float, int]:
+    """(R² a perfect model of the true point means would score against the measured point
+    means, points used) for a mean component, over the points with 2 or more runs.
+
+    A point mean over n runs misses the true mean by noise of variance σ²/n; with the
+    unbiased within-point variance s² for σ², the expected R² of the exact means is
+    1 − Σ s²_i/n_i / Σ (ȳ_i − ȳ)². It bounds what any model can score on these truths (the
+    acceptance bar of R² ≥ 0.8 is reachable only when this is well above 0.8).
+    (NaN, n) with fewer than 3 such points."""
+    values = tables.run_y[component]
+    counts = np.bincount(tables.run_point, minlength=len(tables.point_runs))
+    keep = np.flatnonzero(counts >= 2)
+    if len(keep) < 3:
+        return math.nan, int(len(keep))
+    noise, means = [], []
+    for point in keep:
+        runs = values[tables.run_point == point]
+        means.append(runs.mean())
+        noise.append(runs.var(ddof=1) / len(runs))
+    spread = np.sum((np.array(means) - np.mean(means)) ** 2)
+    return float(1.0 - np.sum(noise) / spread), int(len(keep))
+
+
 def passes(metric: str, value: float) -> bool:
     """True when ``value`` meets the acceptance bar of ``metric`` (NaN fails)."""
     bar, sense = BARS[metric]
