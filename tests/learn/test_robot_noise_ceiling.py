@@ -14,11 +14,13 @@ def tables_of(runs_per_point: list[list[float]]) -> RobotTables:
     run_point = np.repeat(np.arange(len(runs_per_point)), [len(r) for r in runs_per_point])
     n = len(runs_per_point)
     means = np.array([np.mean(r) for r in runs_per_point])
+    stds = np.array([np.std(r, ddof=1) if len(r) > 1 else np.nan for r in runs_per_point])
     return RobotTables(
         names=["x"], run_X=np.zeros((len(values), 1)), run_y={"trans_mean": values,
                                                              "rot_mean": values / 10},
         run_point=run_point, point_X=np.zeros((n, 1)),
-        point_y={"trans_mean": means, "rot_mean": means / 10},
+        point_y={"trans_mean": means, "rot_mean": means / 10, "trans_std": stds,
+                 "rot_std": stds / 10},
         point_runs=np.array([len(r) for r in runs_per_point]),
         point_world=np.array([f"w{i}" for i in range(n)]),
         point_config=np.array(["c"] * n))

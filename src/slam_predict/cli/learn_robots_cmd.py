@@ -135,10 +135,11 @@ def _header(data, tables, config, plan: list[str], outcomes: dict | None = None)
 def _ceilings(tables) -> list[str]:
     """The header line on the R² that run-to-run noise leaves reachable (means only)."""
     from slam_predict.learn.robot_evaluate import replicate_r2_ceiling
+    from slam_predict.learn.robot_plain import MEANS
     from slam_predict.learn.tables import SYMBOLS
 
     parts = []
-    for component in ("trans_mean", "rot_mean"):
+    for component in MEANS:
         ceiling, n = replicate_r2_ceiling(tables, component)
         if math.isfinite(ceiling):
             parts.append(f"{SYMBOLS[component]} {ceiling:.2f} ({n} points)")

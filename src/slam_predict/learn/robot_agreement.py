@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-METRICS = ("trans_mean", "rot_mean")
+from slam_predict.learn.robot_plain import MEANS
 
 
 def agreement_rows(model, robot: Mapping[str, float], campaign: os.PathLike | str,
@@ -22,7 +22,7 @@ def agreement_rows(model, robot: Mapping[str, float], campaign: os.PathLike | st
                    unseen: bool = False) -> list[dict]:
     """One row per building of ``campaign`` with runs of coverage ≥ ``min_coverage`` and a
     plan (``plan_of(world)`` → World, or None to leave the building out): runs, mean free area
-    (m²), whether the model was trained on it, and per metric of :data:`METRICS` the model's
+    (m²), whether the model was trained on it, and per mean component (``MEANS``) the model's
     prediction for ``robot`` (model inputs, :meth:`RobotModel.inputs`) and the runs' mean
     (m, rad). ``unseen`` leaves out the buildings the model was trained on."""
     from slam_predict.collect.store import RunStore
@@ -40,7 +40,7 @@ def agreement_rows(model, robot: Mapping[str, float], campaign: os.PathLike | st
         predicted = model.predict(model.plan_features(plan), robot)
         row = {"world": world, "runs": len(records), "trained_on": world in trained,
                "free_area_m2": float(np.mean([r["free_area_m2"] for r in records]))}
-        for key in METRICS:
+        for key in MEANS:
             row[f"{key}_ours"] = float(predicted[key]["value"])
             row[f"{key}_theirs"] = float(np.mean([r["metric"][key] for r in records]))
         rows.append(row)

@@ -136,18 +136,14 @@ def replicate_r2_ceiling(tables: RobotTables, component: str) -> tuple[float, in
     1 − Σ s²_i/n_i / Σ (ȳ_i − ȳ)². It bounds what any model can score on these truths (the
     acceptance bar of R² ≥ 0.8 is reachable only when this is well above 0.8).
     (NaN, n) with fewer than 3 such points."""
-    values = tables.run_y[component]
-    counts = np.bincount(tables.run_point, minlength=len(tables.point_runs))
-    keep = np.flatnonzero(counts >= 2)
-    if len(keep) < 3:
-        return math.nan, int(len(keep))
-    noise, means = [], []
-    for point in keep:
-        runs = values[tables.run_point == point]
-        means.append(runs.mean())
-        noise.append(runs.var(ddof=1) / len(runs))
-    spread = np.sum((np.array(means) - np.mean(means)) ** 2)
-    return float(1.0 - np.sum(noise) / spread), int(len(keep))
+    keep = tables.point_runs >= 2
+    n = int(np.count_nonzero(keep))
+    if n < 3:
+        return math.nan, n
+    means = tables.point_y[component][keep]
+    stds = tables.point_y[component.replace("_mean", "_std")][keep]   # ddof 1 over the runs
+    noise = np.sum(stds ** 2 / tables.point_runs[keep])
+    return float(1.0 - noise / np.sum((means - means.mean()) ** 2)), n
 
 
 def passes(metric: str, value: float) -> bool:
