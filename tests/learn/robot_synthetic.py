@@ -180,7 +180,8 @@ FAST_FEATURES = ("building_area", "building_perimeter", "voronoi_traversal_dista
                  "voronoi_traversal_rotation")   # the configuration's default plan features
 FAST = {"conformal_folds": 3, "folds": 3,
         "elasticnet": {"alphas": [0.001, 0.01, 0.1], "l1_ratios": [0.5, 1.0], "cv": 3},
-        "gradient_boosting": {"n_estimators": 60, "learning_rate": 0.1, "max_depth": 2}}
+        "gradient_boosting": {"n_estimators": 60, "learning_rate": 0.1, "max_depth": 2},
+        "trend_boosting": {"n_estimators": 60, "learning_rate": 0.1, "max_depth": 2}}
 
 
 def fast_config(**changes):

@@ -132,3 +132,35 @@ def test_gaussian_process_has_one_length_scale_per_input(synthetic):
     assert np.median(np.abs(pred - truth[rest]) / truth[rest]) < 0.2
     bounds = model.interval(tables.point_X[rest])
     assert np.all(np.isfinite(bounds)) and np.all(bounds[:, 0] < bounds[:, 1])
+
+
+def test_trend_boosting_extrapolates_the_size_trend_where_trees_stay_flat(synthetic):
+    """Trained on the buildings under 800 m², tested on the larger ones (truth ∝ √area): trees
+    alone predict about the largest training building's error (slope ~0 in log area), the
+    trees on a linear first stage follow the trend and stay close to the noise-free truth."""
+    data, worlds, robots = synthetic
+    config = syn.fast_config(plan_features=["building_area"], conformal_folds=2)
+    tables = data.tables(config.plan_features)
+    truth = syn.true_point_values(data, worlds, robots)["trans_mean"]
+    area = tables.point_X[:, 0]
+    small, large = np.flatnonzero(area < 800), np.flatnonzero(area > 1200)
+    assert len(np.unique(tables.point_world[large])) >= 3
+    slopes, errors = {}, {}
+    for kind in ("gradient_boosting", "trend_boosting"):
+        model = fit_component(tables.subset(small), "trans_mean", kind, config)
+        pred = model.predict(tables.point_X[large])
+        slope = np.polyfit(np.log(area[large]), np.log(pred / truth[large]), 1)[0]
+        slopes[kind] = slope + 0.5                     # the model's own size exponent
+        errors[kind] = np.median(np.abs(pred - truth[large]) / truth[large])
+    assert slopes["gradient_boosting"] < 0.25 and errors["gradient_boosting"] > 0.2, slopes
+    assert abs(slopes["trend_boosting"] - 0.5) < 0.15, slopes
+    assert errors["trend_boosting"] < 0.12, errors
+
+
+def test_trend_input_missing_from_the_model_inputs_is_an_input_error(synthetic):
+    from slam_predict.errors import InputError
+
+    config = syn.fast_config(plan_features=["building_perimeter"], conformal_folds=2)
+    tables = synthetic[0].tables(config.plan_features)
+    with pytest.raises(InputError, match="trend_inputs: building_area not among"):
+        fit_component(tables, "trans_mean", "trend_boosting", config)

@@ -38,6 +38,7 @@ def random_rows(tables, n: int = 200, seed: int = 7) -> np.ndarray:
 
 
 CASES = [("elasticnet", "trans_mean", {}), ("gradient_boosting", "rot_mean", {}),
+         ("trend_boosting", "trans_mean", {}),
          (GP, "trans_mean", {}), (GP, "trans_std", {"nu": 0.5}), (GP, "rot_mean", {"nu": 1.5}),
          (GP, "rot_std", {"nu": math.inf}), (GP, "trans_mean", {"nu": 1.0})]
 

@@ -44,7 +44,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="robot learning configuration (default: "
                              "config/robot_learning.yaml)")
     parser.add_argument("--models", nargs="+", metavar="KIND",
-                        help="model kinds (elasticnet gradient_boosting gaussian_process)")
+                        help="model kinds (elasticnet gradient_boosting trend_boosting "
+                             "gaussian_process)")
     parser.add_argument("--folds", type=int, metavar="N", help="folds of each protocol")
     parser.add_argument("--seed", type=int, help="seed of folds, trees and the GP optimiser")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")

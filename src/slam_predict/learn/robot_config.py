@@ -16,7 +16,10 @@ from slam_predict.config import (
 )
 from slam_predict.learn.config import BoostingConfig, ElasticNetConfig
 
-ROBOT_MODEL_KINDS = ("elasticnet", "gradient_boosting", "gaussian_process")
+ROBOT_MODEL_KINDS = ("elasticnet", "gradient_boosting", "trend_boosting", "gaussian_process")
+# trend_boosting, not gradient_boosting: the same trees inside the training sizes, and not flat
+# past them (bench/bench_size_extrapolation.py)
+DEFAULT_MODELS = ("elasticnet", "trend_boosting", "gaussian_process")
 PROTOCOLS = ("buildings", "configs", "both")
 # Plan features by default: the building's size (area, perimeter: the best single features of
 # the shipped plan-only models) and the thesis' traversal length and rotation (what the
@@ -50,6 +53,14 @@ class RobotBoostingConfig(BoostingConfig):
 
 
 @dataclass
+class TrendBoostingConfig(RobotBoostingConfig):
+    """``trend_boosting``: the boosting settings, and the inputs of its linear first stage
+    (model side: log of a size or of the range, so the stage is a power law)."""
+
+    trend_inputs: tuple[str, ...] = ("building_area",)
+
+
+@dataclass
 class RobotLearningConfig:
     """Everything ``slam-predict learn robots`` needs (units in the field comments).
 
@@ -77,7 +88,7 @@ class RobotLearningConfig:
     plan_features: tuple[str, ...] = DEFAULT_PLAN_FEATURES
     log_plan_features: bool = True
     log_robot_inputs: tuple[str, ...] = ("laser_range_max_m",)
-    models: tuple[str, ...] = ROBOT_MODEL_KINDS
+    models: tuple[str, ...] = DEFAULT_MODELS
     seed: int = 0
     min_coverage: float = 0.5
     folds: int = 5
@@ -89,6 +100,7 @@ class RobotLearningConfig:
     sightline_input: bool = True
     elasticnet: ElasticNetConfig = field(default_factory=ElasticNetConfig)
     gradient_boosting: RobotBoostingConfig = field(default_factory=RobotBoostingConfig)
+    trend_boosting: TrendBoostingConfig = field(default_factory=TrendBoostingConfig)
     gaussian_process: GaussianProcessConfig = field(default_factory=GaussianProcessConfig)
     RANGES: ClassVar[dict[str, Range]] = {
         "seed": NON_NEGATIVE, "min_coverage": Range(0.0, 1.0), "folds": TWO_OR_MORE,

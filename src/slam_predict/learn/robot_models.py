@@ -10,6 +10,10 @@ Model kinds (all fitted on the LOG of the target):
 - ``elasticnet`` — the linear baseline: :class:`~slam_predict.learn.estimators.ElasticNetGridCV`
   (standardised inputs, l1_ratio/alpha by CV);
 - ``gradient_boosting`` — scikit-learn GradientBoostingRegressor;
+- ``trend_boosting`` — the same trees inside the training range of the
+  ``trend_boosting.trend_inputs`` (default: the building area), and beyond it their fitted
+  power law (:class:`~slam_predict.learn.robot_trend.TrendTailBoosting`): trees alone stay
+  flat past their largest training building;
 - ``gaussian_process`` — GaussianProcessRegressor on standardised inputs, kernel
   C · Matern(anisotropic length scales, ν 2.5) + WhiteKernel, normalised target.
 
@@ -97,28 +101,48 @@ def log_columns(names: list[str], X: np.ndarray, config: RobotLearningConfig) ->
     return tuple(sorted(cols))
 
 
-def make_estimator(kind: str, n_features: int, columns: tuple, config: RobotLearningConfig):
-    """The unfitted pipeline of a model kind (log columns → [scaling →] regressor)."""
-    seed = config.seed
+def make_estimator(kind: str, names: list[str], columns: tuple, config: RobotLearningConfig):
+    """The unfitted pipeline of a model kind over the inputs ``names`` (log ``columns`` →
+    [scaling →] regressor)."""
     steps: list = [("log", PositiveLog(columns))]
     if kind == "elasticnet":
-        from slam_predict.learn.estimators import ElasticNetGridCV
-
-        c = config.elasticnet
-        steps.append(("model", ElasticNetGridCV(l1_ratios=c.l1_ratios, alphas=c.alphas, cv=c.cv,
-                                                scale_target=c.scale_target, random_state=seed)))
-    elif kind == "gradient_boosting":
-        from sklearn.ensemble import GradientBoostingRegressor
-
-        c = config.gradient_boosting
-        steps.append(("model", GradientBoostingRegressor(
-            n_estimators=c.n_estimators, learning_rate=c.learning_rate, max_depth=c.max_depth,
-            subsample=c.subsample, random_state=seed)))
+        steps.append(("model", _elasticnet(config)))
+    elif kind in ("gradient_boosting", "trend_boosting"):
+        steps.append(("model", _boosting(kind, names, config)))
     elif kind == "gaussian_process":
-        steps += [("scale", StandardScaler()), ("model", _gaussian_process(n_features, config))]
+        steps += [("scale", StandardScaler()), ("model", _gaussian_process(len(names), config))]
     else:
         raise ValueError(f"unknown robot model kind {kind!r}")
     return Pipeline(steps)
+
+
+def _elasticnet(config: RobotLearningConfig):
+    from slam_predict.learn.estimators import ElasticNetGridCV
+
+    c = config.elasticnet
+    return ElasticNetGridCV(l1_ratios=c.l1_ratios, alphas=c.alphas, cv=c.cv,
+                            scale_target=c.scale_target, random_state=config.seed)
+
+
+def _boosting(kind: str, names: list[str], config: RobotLearningConfig):
+    """Gradient boosting; ``trend_boosting`` with power-law tails on its trend inputs."""
+    if kind == "trend_boosting":
+        from slam_predict.learn.robot_trend import TrendTailBoosting
+
+        c = config.trend_boosting
+        missing = [n for n in c.trend_inputs if n not in names]
+        if missing:
+            raise InputError(f"trend_boosting.trend_inputs: {', '.join(missing)} not among "
+                             f"the model inputs ({', '.join(names)})")
+        columns = tuple(names.index(n) for n in c.trend_inputs)
+        return TrendTailBoosting(columns, c.n_estimators, c.learning_rate, c.max_depth,
+                                 c.subsample, config.seed)
+    from sklearn.ensemble import GradientBoostingRegressor
+
+    c = config.gradient_boosting
+    return GradientBoostingRegressor(
+        n_estimators=c.n_estimators, learning_rate=c.learning_rate, max_depth=c.max_depth,
+        subsample=c.subsample, random_state=config.seed)
 
 
 def _gaussian_process(n_features: int, config: RobotLearningConfig):
@@ -246,7 +270,7 @@ def fit_component(tables: RobotTables, component: str, kind: str,
     train_fold, cal_fold = folds[:len(data.groups)], folds[len(data.groups):]
     residuals = np.empty(len(data.y_cal))
     for k in range(int(folds.max()) + 1):
-        fitted = _quiet_fit(make_estimator(kind, data.X.shape[1], columns, config),
+        fitted = _quiet_fit(make_estimator(kind, tables.names, columns, config),
                             data.X[train_fold != k], data.y[train_fold != k])
         held = cal_fold == k
         if held.any():
@@ -254,6 +278,6 @@ def fit_component(tables: RobotTables, component: str, kind: str,
             residuals[held] = np.abs(data.y_cal[held] - pred)
         model.fold_estimators.append(fitted)
     model.calibration_fold, model.residuals = cal_fold, residuals
-    model.estimator = _quiet_fit(make_estimator(kind, data.X.shape[1], columns, config),
+    model.estimator = _quiet_fit(make_estimator(kind, tables.names, columns, config),
                                  data.X, data.y)
     return model

@@ -10,10 +10,12 @@ residuals) and, for the model fitted on every row and each fold model, the pipel
   floor first), as :class:`~slam_predict.learn.robot_models.PositiveLog`;
 - ``scale``: StandardScaler's ``mean`` and ``scale`` (Gaussian process only), or None;
 - ``model``: a linear form (elasticnet: coefficients and intercept over its inputs), trees
-  (gradient boosting: :mod:`slam_predict.learn.plain`) or a Gaussian process: kernel
-  C · Matern(ν, one length scale per input) + White with a normalised target, whose mean at x
-  is ``y_std · Σ_i C·k(x, x_i)·α_i + y_mean`` (x_i the training inputs, α the dual
-  coefficients; the white noise does not enter a cross-covariance).
+  (gradient boosting: :mod:`slam_predict.learn.plain`; trend boosting adds ``tail``, its
+  power-law slopes past the training range: :mod:`slam_predict.learn.robot_trend`) or a
+  Gaussian process: kernel C · Matern(ν, one length scale per input) + White with a
+  normalised target, whose mean at x is ``y_std · Σ_i C·k(x, x_i)·α_i + y_mean`` (x_i the
+  training inputs, α the dual coefficients; the white noise does not enter a
+  cross-covariance).
 
 :func:`plain_component` checks each conversion against the fitted pipelines on the training
 rows, jittered copies and random rows around them (to 1e-9 on the log scale, i.e. relative
@@ -140,7 +142,13 @@ def evaluate_regressor(form: dict[str, Any], X: np.ndarray) -> np.ndarray:
         return _gaussian_process(form, X)
     from slam_predict.learn.plain import evaluate_model
 
-    return evaluate_model(form, X)
+    out = evaluate_model(form, X)
+    if form.get("tail"):
+        from slam_predict.learn.robot_trend import tail
+
+        t = form["tail"]
+        out = out + tail(X, np.asarray(t["columns"], dtype=int), t["slope"], t["low"], t["high"])
+    return out
 
 
 def evaluate_pipeline(form: dict[str, Any], X: np.ndarray) -> np.ndarray:
@@ -167,6 +175,8 @@ def _arrays(form: dict[str, Any]) -> dict[str, Any]:
     elif model["kind"] == "trees":
         model["trees"] = [{k: np.asarray(v) for k, v in tree.items()}
                           for tree in model["trees"]]
+        if model.get("tail"):
+            model["tail"] = {k: np.asarray(v) for k, v in model["tail"].items()}
     else:
         model["coef"] = np.asarray(model["coef"], dtype=float)
     out["model"] = model
@@ -225,6 +235,19 @@ def _gp_form(gp, n_features: int) -> dict[str, Any] | None:
             "y_std": float(np.ravel(gp._y_train_std)[0])}
 
 
+def _trend_form(regressor, X_model: np.ndarray,
+                rng: np.random.Generator) -> dict[str, Any] | None:
+    """The plain form of a fitted TrendTailBoosting: its trees' form and its ``tail``."""
+    from slam_predict.learn.plain import plain_model
+
+    trees = plain_model(regressor.booster_, X_model.shape[1], rng, X_model)
+    if trees is None:
+        return None
+    return dict(trees, tail={"columns": regressor.columns_.tolist(),
+                             "slope": regressor.slope_.tolist(),
+                             "low": regressor.low_.tolist(), "high": regressor.high_.tolist()})
+
+
 def plain_pipeline(pipeline, X_check: np.ndarray,
                    rng: np.random.Generator) -> dict[str, Any] | None:
     """The plain form of a fitted robot-model pipeline, or None when a step has none."""
@@ -243,6 +266,8 @@ def plain_pipeline(pipeline, X_check: np.ndarray,
     regressor = steps["model"]
     if type(regressor).__name__ == "GaussianProcessRegressor":
         form["model"] = _gp_form(regressor, X_model.shape[1])
+    elif type(regressor).__name__ == "TrendTailBoosting":
+        form["model"] = _trend_form(regressor, X_model, rng)
     else:
         form["model"] = plain_model(regressor, X_model.shape[1], rng, X_model)
     return form if form["model"] is not None else None

@@ -1,0 +1,90 @@
+"""Gradient boosting that keeps a fitted power-law trend beyond its training range.
+
+Regression trees are constant past the last split: a booster trained on buildings up to
+2,000 m² predicts a 6,000 m² building's error as that of its largest training building. Every
+size feature enters the robot models as its log, so a linear trend in those columns is a power
+law (ε ∝ area^b). :class:`TrendTailBoosting` predicts with the trees inside the training range
+of the trend columns and adds the trend's slope times the distance beyond that range:
+
+    f(x) = trees(x) + Σ_c b_c · (x_c − clip(x_c, min_c, max_c))
+
+with b the least-squares coefficients of y on the trend columns (:class:`TrendLinear`) and
+min_c, max_c the training range. Inside the range it equals plain gradient boosting.
+(Boosting the trees on the residuals of the trend instead — the trend as the booster's first
+stage — was measured in session 21: 31 % median error for buildings held out against 26 %.)
+"""
+from __future__ import annotations
+
+import numpy as np
+from sklearn.base import BaseEstimator, RegressorMixin
+from sklearn.utils.validation import check_is_fitted, validate_data
+
+
+class TrendLinear(RegressorMixin, BaseEstimator):
+    """Least squares of y on the input ``columns`` (indices); ``coef_`` spans every input,
+    0 outside ``columns`` (no columns: the mean of y)."""
+
+    def __init__(self, columns: tuple[int, ...] = ()):
+        self.columns = columns
+
+    def fit(self, X, y):
+        X, y = validate_data(self, X, y, y_numeric=True)
+        cols = np.asarray(self.columns, dtype=int)
+        design = np.column_stack([X[:, cols], np.ones(len(y))])
+        solution = np.linalg.lstsq(design, y, rcond=None)[0]
+        self.coef_ = np.zeros(X.shape[1])
+        self.coef_[cols] = solution[:-1]
+        self.intercept_ = float(solution[-1])
+        return self
+
+    def predict(self, X):
+        check_is_fitted(self)
+        return validate_data(self, X, reset=False) @ self.coef_ + self.intercept_
+
+
+class TrendTailBoosting(RegressorMixin, BaseEstimator):
+    """GradientBoostingRegressor inside the training range of ``trend_columns``, its linear
+    trend beyond (module doc). Boosting parameters as scikit-learn's.
+
+    Fitted: ``booster_`` (the trees), ``slope_`` (b per trend column), ``low_`` / ``high_``
+    (the training range of each trend column, model-side units, i.e. log m² for an area).
+    """
+
+    def __init__(self, trend_columns: tuple[int, ...] = (), n_estimators: int = 100,
+                 learning_rate: float = 0.1, max_depth: int = 3, subsample: float = 1.0,
+                 random_state=None):
+        self.trend_columns = trend_columns
+        self.n_estimators = n_estimators
+        self.learning_rate = learning_rate
+        self.max_depth = max_depth
+        self.subsample = subsample
+        self.random_state = random_state
+
+    def fit(self, X, y):
+        from sklearn.ensemble import GradientBoostingRegressor
+
+        X, y = validate_data(self, X, y, y_numeric=True)
+        self.booster_ = GradientBoostingRegressor(
+            n_estimators=self.n_estimators, learning_rate=self.learning_rate,
+            max_depth=self.max_depth, subsample=self.subsample,
+            random_state=self.random_state).fit(X, y)
+        cols = np.asarray(self.trend_columns, dtype=int)
+        self.columns_ = cols
+        self.slope_ = TrendLinear(tuple(cols)).fit(X, y).coef_[cols]
+        self.low_, self.high_ = X[:, cols].min(axis=0), X[:, cols].max(axis=0)
+        return self
+
+    def predict(self, X):
+        check_is_fitted(self)
+        X = validate_data(self, X, reset=False)
+        return self.booster_.predict(X) + tail(X, self.columns_, self.slope_, self.low_,
+                                               self.high_)
+
+
+def tail(X: np.ndarray, columns: np.ndarray, slope: np.ndarray, low: np.ndarray,
+         high: np.ndarray) -> np.ndarray:
+    """Σ_c slope_c · (x_c − clip(x_c, low_c, high_c)) per row of ``X``: 0 inside the range."""
+    if len(columns) == 0:
+        return np.zeros(len(X))
+    values = np.asarray(X, dtype=float)[:, columns]
+    return (values - np.clip(values, low, high)) @ np.asarray(slope, dtype=float)
