@@ -4,7 +4,8 @@
 #   tools/run_campaign.sh NAME [--jobs K] [--runs N]
 #
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
-#       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | robots | robots_rep3
+#       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | robots | robots_rep3 |
+#       robots_more
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
@@ -24,6 +25,9 @@
 #   robots_rep3 (issue #18): a third replicate of every robots design point (the design's first
 #              4 runs per building, --seed 3: new seeds), in its own folder; `learn robots
 #              data/campaigns/robots data/campaigns/robots_rep3` pools the two.
+#   robots_more (issue #18, session 21): the same 28 configurations on 4 more seed-study
+#              buildings of 2,083-2,208 m2 (config/robot_campaign/design_more.yaml), 4 points x
+#              2 runs each, breadth-first: every building's first replicate before any second.
 # Records go to data/campaigns/NAME/ (run.json and summary.csv are committed, the rest is not);
 # finished runs are never redone, so the command can be repeated in every working period.
 set -euo pipefail
@@ -50,6 +54,8 @@ ROBOT_BUILDINGS="324-Elm-Furn-Plan_updated Borchen4_updated Franch1_updated Lamu
   VarzeaPaulistaFDE1_updated Vipiteno2_updated battle_creekhs_2_updated floorplanMAIN_updated
   office_h scuola_sconosciuta_3_updated scuola_sconosciuta_updated
   scuola_secondaria_i_grado_mera__updated"
+MORE_ROBOT_BUILDINGS="130604-Plan_updated UMTD_School_Floorplan_updated VarzeaPaulistaFDE2_updated
+  executive-office-floor-plans-l-a622d60bb7a76a60_updated"
 DESIGN_ARGS=()
 WITH_LARGE=0
 case "$NAME" in
@@ -64,7 +70,9 @@ case "$NAME" in
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml") ;;
   robots_rep3) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml" --runs 4 --seed 3) ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3)" >&2; exit 2 ;;
+  robots_more) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
+          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design_more.yaml") ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
@@ -75,7 +83,10 @@ set +u; source "$ROOT/setup.bash"; set -u
 WORLDS_DIR="$ROOT/out/thesis_worlds"
 BUILDINGS="$THESIS_BUILDINGS"
 [ "$WITH_LARGE" = 1 ] && BUILDINGS="$THESIS_BUILDINGS $LARGE_BUILDINGS"
-case "$NAME" in robots*) BUILDINGS="$ROBOT_BUILDINGS" ;; esac
+case "$NAME" in
+  robots_more) BUILDINGS="$MORE_ROBOT_BUILDINGS" ;;
+  robots*) BUILDINGS="$ROBOT_BUILDINGS" ;;
+esac
 # shellcheck disable=SC2086
 slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$WORLDS_DIR" \
   --force --only $BUILDINGS > /dev/null
@@ -89,6 +100,10 @@ if [ "$WITH_LARGE" = 1 ]; then   # breadth-first: every building's run k before 
     slam-predict collect "${WORLDS[@]}" --runs "$k" --jobs "$JOBS" \
       --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
   done
+fi
+if [ "$NAME" = robots_more ]; then   # breadth-first: the first replicate of every building first
+  slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --runs 4 --jobs "$JOBS" \
+    --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
 fi
 if [ "${#DESIGN_ARGS[@]}" -gt 0 ]; then   # the design sets the runs (all, or --runs in DESIGN_ARGS)
   exec slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --jobs "$JOBS" \

@@ -138,3 +138,16 @@ def test_bad_design_files_are_one_line_errors(tmp_path, edit, message):
         rd.load_design(path)
     assert message in str(caught.value) and str(path) in str(caught.value)
     assert "\n" not in str(caught.value)
+
+
+def test_the_extension_design_reuses_the_campaign_configurations(root):
+    """design_more.yaml (campaign robots_more) deals design.yaml's own configurations to other
+    buildings: same robots, bounds and base, so the two campaigns pool as one design."""
+    from slam_predict.collect.robot_design import load_design
+
+    main = load_design(root / "config" / "robot_campaign" / "design.yaml")
+    more = load_design(root / "config" / "robot_campaign" / "design_more.yaml")
+    assert more.configs == main.configs and more.bounds == main.bounds
+    assert more.base == main.base and more.resolution_deg == main.resolution_deg
+    assert not set(more.worlds) & set(main.worlds) and len(more.worlds) == 4
+    assert all(len(set(c)) == main.points_per_world for c in more.worlds.values())
