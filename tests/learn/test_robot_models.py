@@ -136,8 +136,8 @@ def test_gaussian_process_has_one_length_scale_per_input(synthetic):
 
 def test_trend_boosting_extrapolates_the_size_trend_where_trees_stay_flat(synthetic):
     """Trained on the buildings under 800 m², tested on the larger ones (truth ∝ √area): trees
-    alone predict about the largest training building's error (slope ~0 in log area), the
-    trees on a linear first stage follow the trend and stay close to the noise-free truth."""
+    alone predict about the largest training building's error (slope ~0 in log area), trend
+    boosting continues the fitted power law and stays close to the noise-free truth."""
     data, worlds, robots = synthetic
     config = syn.fast_config(plan_features=["building_area"], conformal_folds=2)
     tables = data.tables(config.plan_features)

@@ -103,3 +103,30 @@ print(sorted(m for m in sys.modules if m.split(".")[0] in ("sklearn", "joblib"))
                           text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "[]"
+
+
+def test_trend_boosting_plain_form_predicts_without_scikit_learn(tables, tmp_path, root):
+    """The shipped mean ε_t model is trend boosting: its plain form, tail included, must
+    evaluate with numpy alone, like the other kinds."""
+    model = fit_component(tables, "trans_mean", "trend_boosting",
+                          syn.fast_config(conformal_folds=2))
+    form = plain_component(model, tables.point_X)
+    assert form is not None and form["estimator"]["model"]["tail"]["columns"]
+    (tmp_path / "form.json").write_text(json.dumps(form))
+    X = random_rows(tables, n=20)
+    np.save(tmp_path / "X.npy", X)
+    code = f"""
+import json, sys
+import numpy as np
+from slam_predict.learn.robot_plain import PlainComponentModel
+plain = PlainComponentModel.from_form(json.load(open({str(tmp_path / 'form.json')!r})))
+out = plain.predict(np.load({str(tmp_path / 'X.npy')!r}))
+print(json.dumps([out.tolist(),
+                  sorted(m for m in sys.modules if m.split(".")[0] in ("sklearn", "joblib"))]))
+"""
+    proc = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    values, imported = json.loads(proc.stdout)
+    assert imported == []
+    np.testing.assert_allclose(values, model.predict(X), rtol=1e-9)

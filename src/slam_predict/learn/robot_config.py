@@ -54,8 +54,9 @@ class RobotBoostingConfig(BoostingConfig):
 
 @dataclass
 class TrendBoostingConfig(RobotBoostingConfig):
-    """``trend_boosting``: the boosting settings, and the inputs of its linear first stage
-    (model side: log of a size or of the range, so the stage is a power law)."""
+    """``trend_boosting``: the boosting settings, and the inputs whose least-squares trend
+    continues past their training range (model side: log of a size or of the range, so the
+    trend is a power law)."""
 
     trend_inputs: tuple[str, ...] = ("building_area",)
 

@@ -136,6 +136,16 @@ def _gaussian_process(form: dict[str, Any], X: np.ndarray) -> np.ndarray:
     return form["y_std"] * mean + form["y_mean"]
 
 
+def tail(X: np.ndarray, columns: np.ndarray, slope: np.ndarray, low: np.ndarray,
+         high: np.ndarray) -> np.ndarray:
+    """Trend boosting's extrapolation (:mod:`slam_predict.learn.robot_trend`):
+    Σ_c slope_c · (x_c − clip(x_c, low_c, high_c)) per row of ``X``, 0 inside the range."""
+    if len(columns) == 0:
+        return np.zeros(len(X))
+    values = np.asarray(X, dtype=float)[:, columns]
+    return (values - np.clip(values, low, high)) @ np.asarray(slope, dtype=float)
+
+
 def evaluate_regressor(form: dict[str, Any], X: np.ndarray) -> np.ndarray:
     """Output of one plain regressor at its (transformed) inputs ``X``."""
     if form["kind"] == "gaussian_process":
@@ -144,8 +154,6 @@ def evaluate_regressor(form: dict[str, Any], X: np.ndarray) -> np.ndarray:
 
     out = evaluate_model(form, X)
     if form.get("tail"):
-        from slam_predict.learn.robot_trend import tail
-
         t = form["tail"]
         out = out + tail(X, np.asarray(t["columns"], dtype=int), t["slope"], t["low"], t["high"])
     return out
