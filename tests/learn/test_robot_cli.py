@@ -113,6 +113,7 @@ def run_error(argv, capsys) -> str:
 @pytest.mark.parametrize("extra, message", [
     ((), "nothing to write: give --out EVAL_DIR and/or --name NAME"),
     (("--out", "{tmp}/ev", "--folds", "1"), "--folds must be ≥ 2, got 1"),
+    (("--out", "{tmp}/ev", "--repeats", "0"), "--repeats must be ≥ 1, got 0"),
     (("--out", "{tmp}/ev", "--models", "svm"), "unknown model kind 'svm'"),
     (("--out", "{tmp}/ev", "--jobs", "0"), "--jobs must be ≥ 1, got 0"),
     (("--out", "{tmp}/full"), "--out folder exists and is not empty"),

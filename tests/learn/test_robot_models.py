@@ -117,6 +117,37 @@ def test_evaluation_summary_and_best_choice(synthetic):
                                             "trans_std": "elasticnet"}
 
 
+def test_repeated_evaluation_reshuffles_the_groups_and_averages_the_scores(synthetic):
+    """Repeat 0 is the single evaluation; each repeat tests every point once on its own
+    shuffling; the summary is the mean (and sd) of the per-repeat scores, as computed here
+    by hand."""
+    data = synthetic[0]
+    tables = data.tables(["building_area"])
+    first = protocol_splits(tables, "buildings", 3, 0)
+    again = protocol_splits(tables, "buildings", 3, 0, repeat=0)
+    other = protocol_splits(tables, "buildings", 3, 0, repeat=1)
+    assert [s.test.tolist() for s in first] == [s.test.tolist() for s in again]
+    assert [s.test.tolist() for s in first] != [s.test.tolist() for s in other]
+    assert sorted(np.concatenate([s.test for s in other])) == list(range(len(tables.point_X)))
+    config = syn.fast_config(plan_features=["building_area"], models=["elasticnet"], folds=2,
+                             conformal_folds=2, repeats=3)
+    rows = evaluate(tables, config, protocols=["buildings"], components=["trans_mean"])
+    assert sorted({r["repeat"] for r in rows}) == [0, 1, 2]
+    (entry,) = summarize(rows)
+    medians = [np.median([r["pct_error"] for r in rows if r["repeat"] == k]) for k in range(3)]
+    r2s = []
+    for k in range(3):
+        y = np.array([r["y"] for r in rows if r["repeat"] == k])
+        pred = np.array([r["prediction"] for r in rows if r["repeat"] == k])
+        r2s.append(1 - np.sum((y - pred) ** 2) / np.sum((y - y.mean()) ** 2))
+    assert entry["repeats"] == 3 and entry["n_points"] == 72
+    assert entry["median_pct_error"] == pytest.approx(np.mean(medians))
+    assert entry["median_pct_error_sd"] == pytest.approx(np.std(medians))
+    assert entry["r2"] == pytest.approx(np.mean(r2s)) and entry["r2_sd"] == pytest.approx(
+        np.std(r2s))
+    assert entry["median_pct_error_sd"] > 0
+
+
 def test_gaussian_process_has_one_length_scale_per_input(synthetic):
     data, worlds, robots = synthetic
     config = syn.fast_config(plan_features=["building_area"], conformal_folds=2)

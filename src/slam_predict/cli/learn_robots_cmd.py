@@ -47,6 +47,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="model kinds (elasticnet gradient_boosting trend_boosting "
                              "gaussian_process)")
     parser.add_argument("--folds", type=int, metavar="N", help="folds of each protocol")
+    parser.add_argument("--repeats", type=int, metavar="N",
+                        help="evaluate on N shufflings of the groups; scores are their mean")
     parser.add_argument("--seed", type=int, help="seed of folds, trees and the GP optimiser")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     add_force_argument(parser)
@@ -68,7 +70,8 @@ def load_config(args: argparse.Namespace):
     changes = to_dict(load_robot_learning_config(path))
     check_at_least(args.folds, 2, "--folds")
     check_at_least(args.seed, 0, "--seed")
-    for key in ("models", "folds", "seed"):
+    check_at_least(args.repeats, 1, "--repeats")
+    for key in ("models", "folds", "repeats", "seed"):
         if getattr(args, key) is not None:
             changes[key] = getattr(args, key)
     from slam_predict.learn.robot_config import RobotLearningConfig
@@ -126,7 +129,9 @@ def _header(data, tables, config, plan: list[str], outcomes: dict | None = None)
             + "), laser_fov_deg, odom_xy_error, odom_yaw_error"
             + ("; plan × robot: laser_blind_fraction (sight lines without a wall within the "
                "laser's range)" if config.sightline_input else ""),
-            f"- models: {', '.join(config.models)}; {config.folds} folds per protocol; "
+            f"- models: {', '.join(config.models)}; {config.folds} folds per protocol"
+            + (f" × {config.repeats} repeats (scores: mean ± sd)" if config.repeats > 1 else "")
+            + "; "
             f"seed {config.seed}; intervals: CV+ grouped by building, "
             f"{config.conformal_folds} folds, {100 * config.confidence:g} %",
             f"- best per component: lowest median % error under '{config.select_protocol}'",

@@ -3,10 +3,10 @@
 Importing scikit-learn costs 1–2 s per process, more than the whole feature extraction of a
 1,500 m² plan. So ``train`` also stores every conformal model whose point and fold models are
 linear (coefficients over the features) or tree ensembles (random forest, gradient boosting
-with squared loss) as plain data in ``<component>.plain.json``; ``predict`` evaluates those and
-unpickles only what has no plain form. Each conversion is checked numerically against the
-fitted model on random inputs (:func:`plain_model`), so a model that does not behave as its
-plain form claims is never converted.
+with squared loss, monotone boosting) as plain data in ``<component>.plain.json``;
+``predict`` evaluates those and unpickles only what has no plain form. Each conversion is
+checked numerically against the fitted model on random inputs (:func:`plain_model`), so a
+model that does not behave as its plain form claims is never converted.
 """
 from __future__ import annotations
 
@@ -51,6 +51,9 @@ def _ensemble(estimator) -> dict[str, Any] | None:
         base = float(np.ravel(getattr(estimator.init_, "constant_", [np.nan]))[0])
         return {"kind": "trees", "combine": "sum", "base": base,
                 "scale": float(estimator.learning_rate), "trees": [_tree(t) for t in trees[:, 0]]}
+    if name == "MonotoneBoosting":   # learn/robot_monotone.py: base + rate · Σ trees
+        return {"kind": "trees", "combine": "sum", "base": float(estimator.base_),
+                "scale": float(estimator.learning_rate), "trees": [_tree(t) for t in trees]}
     return None
 
 

@@ -26,6 +26,12 @@ PROTOCOLS = ("buildings", "configs", "both")
 # odometry error accumulates over). Few, because a campaign has a few dozen buildings.
 DEFAULT_PLAN_FEATURES = ("building_area", "building_perimeter", "voronoi_traversal_distance",
                          "voronoi_traversal_rotation")
+# Directions known before any data (trend_boosting's monotonic constraints): GMapping's error
+# does not fall as the building grows, the laser is blind in more directions or the odometry
+# gets worse, and does not rise with a longer or wider laser.
+MONOTONE_INCREASING = ("building_area", "laser_blind_fraction", "odom_xy_error",
+                       "odom_yaw_error")
+MONOTONE_DECREASING = ("laser_range_max_m", "laser_fov_deg")
 
 
 @dataclass
@@ -44,20 +50,40 @@ class GaussianProcessConfig:
 
 @dataclass
 class RobotBoostingConfig(BoostingConfig):
-    """GradientBoostingRegressor (squared loss on the log target); more, shallower-stepped
-    stages than the plan-only models' default: the robot inputs add interactions."""
+    """Boosted regression trees (squared loss on the log target); more, shallower-stepped
+    stages than the plan-only models' default: the robot inputs add interactions.
+
+    ``monotone``: the trees respect the directions known before any data
+    (:data:`MONOTONE_INCREASING`, :data:`MONOTONE_DECREASING`, for the inputs the model has;
+    :mod:`slam_predict.learn.robot_monotone`); without it the trees are scikit-learn's
+    GradientBoostingRegressor. ``min_samples_leaf``: rows per leaf at least.
+    """
 
     n_estimators: int = 200
     learning_rate: float = 0.05
     max_depth: int = 3
+    min_samples_leaf: int = 1
+    monotone: bool = False
+    RANGES: ClassVar[dict[str, Range]] = {**BoostingConfig.RANGES,
+                                          "min_samples_leaf": AT_LEAST_ONE}
 
 
 @dataclass
 class TrendBoostingConfig(RobotBoostingConfig):
     """``trend_boosting``: the boosting settings, and the inputs whose least-squares trend
     continues past their training range (model side: log of a size or of the range, so the
-    trend is a power law)."""
+    trend is a power law).
 
+    Defaults (session 22): shallower trees (depth 2, 300 stages, ≥ 5 rows per leaf), monotone
+    in the inputs whose direction is known — the error does not fall with the building's
+    area, the laser's blind fraction or the odometry error, and does not rise with the
+    laser's range or field of view.
+    """
+
+    n_estimators: int = 300
+    max_depth: int = 2
+    min_samples_leaf: int = 5
+    monotone: bool = True
     trend_inputs: tuple[str, ...] = ("building_area",)
 
 
@@ -74,6 +100,8 @@ class RobotLearningConfig:
         seed: random_state of folds, trees and the GP optimiser.
         min_coverage: runs whose explored share of the free area is below are skipped.
         folds: GroupKFold folds of each evaluation protocol (``both``: folds² cells).
+        repeats: evaluations on as many seeded shufflings of the groups (scores: their mean
+            and sd).
         conformal_folds: building-grouped folds of the CV+ intervals.
         confidence: interval coverage (evaluation and the card's default).
         select_protocol: the protocol whose median percentage error picks the best model.
@@ -93,6 +121,7 @@ class RobotLearningConfig:
     seed: int = 0
     min_coverage: float = 0.5
     folds: int = 5
+    repeats: int = 1
     conformal_folds: int = 5
     confidence: float = 0.9
     select_protocol: str = "both"
@@ -105,8 +134,8 @@ class RobotLearningConfig:
     gaussian_process: GaussianProcessConfig = field(default_factory=GaussianProcessConfig)
     RANGES: ClassVar[dict[str, Range]] = {
         "seed": NON_NEGATIVE, "min_coverage": Range(0.0, 1.0), "folds": TWO_OR_MORE,
-        "conformal_folds": TWO_OR_MORE, "confidence": FRACTION, "joint_factor": AT_LEAST_ONE,
-        "max_urange_m": POSITIVE}
+        "repeats": AT_LEAST_ONE, "conformal_folds": TWO_OR_MORE, "confidence": FRACTION,
+        "joint_factor": AT_LEAST_ONE, "max_urange_m": POSITIVE}
 
     def __post_init__(self) -> None:
         from slam_predict.learn.robot_inputs import ROBOT_INPUTS

@@ -9,11 +9,13 @@ Model kinds (all fitted on the LOG of the target):
 
 - ``elasticnet`` — the linear baseline: :class:`~slam_predict.learn.estimators.ElasticNetGridCV`
   (standardised inputs, l1_ratio/alpha by CV);
-- ``gradient_boosting`` — scikit-learn GradientBoostingRegressor;
-- ``trend_boosting`` — the same trees inside the training range of the
-  ``trend_boosting.trend_inputs`` (default: the building area), and beyond it their fitted
-  power law (:class:`~slam_predict.learn.robot_trend.TrendTailBoosting`): trees alone stay
-  flat past their largest training building;
+- ``gradient_boosting`` — scikit-learn GradientBoostingRegressor (with ``monotone``: the
+  same boosting of monotone trees, :mod:`~slam_predict.learn.robot_monotone`);
+- ``trend_boosting`` — boosted trees, by default monotone in the inputs whose direction is
+  known, inside the training range of the ``trend_boosting.trend_inputs`` (default: the
+  building area), and beyond it their fitted power law
+  (:class:`~slam_predict.learn.robot_trend.TrendTailBoosting`): trees alone stay flat past
+  their largest training building;
 - ``gaussian_process`` — GaussianProcessRegressor on standardised inputs, kernel
   C · Matern(anisotropic length scales, ν 2.5) + WhiteKernel, normalised target.
 
@@ -125,24 +127,35 @@ def _elasticnet(config: RobotLearningConfig):
 
 
 def _boosting(kind: str, names: list[str], config: RobotLearningConfig):
-    """Gradient boosting; ``trend_boosting`` with power-law tails on its trend inputs."""
+    """Boosted trees (monotone in the configured inputs, if any); ``trend_boosting`` with
+    power-law tails on its trend inputs."""
+    from slam_predict.learn.robot_config import MONOTONE_DECREASING, MONOTONE_INCREASING
+    from slam_predict.learn.robot_monotone import MonotoneBoosting, monotonic_vector
+
+    c = config.trend_boosting if kind == "trend_boosting" else config.gradient_boosting
+    # the known directions, for the inputs this model has (e.g. no blind fraction with
+    # sightline_input off)
+    cst = None if not c.monotone else monotonic_vector(
+        names, [n for n in MONOTONE_INCREASING if n in names],
+        [n for n in MONOTONE_DECREASING if n in names])
     if kind == "trend_boosting":
         from slam_predict.learn.robot_trend import TrendTailBoosting
 
-        c = config.trend_boosting
         missing = [n for n in c.trend_inputs if n not in names]
         if missing:
             raise InputError(f"trend_boosting.trend_inputs: {', '.join(missing)} not among "
                              f"the model inputs ({', '.join(names)})")
         columns = tuple(names.index(n) for n in c.trend_inputs)
         return TrendTailBoosting(columns, c.n_estimators, c.learning_rate, c.max_depth,
-                                 c.subsample, config.seed)
+                                 c.subsample, config.seed, c.min_samples_leaf, cst)
+    if cst is not None:
+        return MonotoneBoosting(cst, c.n_estimators, c.learning_rate, c.max_depth,
+                                c.min_samples_leaf, c.subsample, config.seed)
     from sklearn.ensemble import GradientBoostingRegressor
 
-    c = config.gradient_boosting
     return GradientBoostingRegressor(
         n_estimators=c.n_estimators, learning_rate=c.learning_rate, max_depth=c.max_depth,
-        subsample=c.subsample, random_state=config.seed)
+        min_samples_leaf=c.min_samples_leaf, subsample=c.subsample, random_state=config.seed)
 
 
 def _gaussian_process(n_features: int, config: RobotLearningConfig):
