@@ -82,3 +82,28 @@ def test_error_keeps_growing_past_the_largest_training_building(model, root):
     exponent = (math.log(value["school_6000"] / value["school_2500"])
                 / math.log(area["school_6000"] / area["school_2500"]))
     assert 0.3 < exponent < 1.2, exponent
+
+
+@pytest.mark.parametrize("name", ["office_500", "school_1000"])
+def test_mean_error_moves_with_each_robot_input_the_way_physics_says(model, root, name):
+    """Sweeping one input of the seed robot over the design's box (the others fixed, at 5 m
+    and 30 m range): mean ε_t never falls as the odometry gets worse and never rises as the
+    laser gets longer or wider (the blind fraction follows the range). Session 21's
+    unconstrained trees broke this 2-10 times per sweep, e.g. a 190° laser predicted lower
+    than a 180° one."""
+    import numpy as np
+
+    robot = model.inputs(load_robot(root / SEED_ROBOT))
+    features = model.plan_features(load_plan(root / "worlds" / f"{name}.world"))
+    sweeps = {"laser_range_max_m": (np.geomspace(3.5, 30.0, 25), -1),
+              "laser_fov_deg": (np.linspace(180.0, 360.0, 25), -1),
+              "odom_xy_error": (np.linspace(0.0, 0.02, 25), 1),
+              "odom_yaw_error": (np.linspace(0.0, 0.0698, 25), 1)}
+    for range_m in (5.0, 30.0):
+        for key, (values, sign) in sweeps.items():
+            means = [model.predict(features, {**robot, "laser_range_max_m": range_m,
+                                              key: v})["trans_mean"]["value"]
+                     for v in values]
+            steps = sign * np.diff(means)
+            assert (steps >= -1e-9).all(), (key, range_m, means)
+        assert means[-1] > means[0]   # the odometry's yaw bound matters at all
