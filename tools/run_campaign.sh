@@ -5,7 +5,7 @@
 #
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
 #       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | robots | robots_rep3 |
-#       robots_more
+#       robots_more | robots_configs2
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
@@ -28,6 +28,10 @@
 #   robots_more (issue #18, session 21): the same 28 configurations on 4 more seed-study
 #              buildings of 2,083-2,208 m2 (config/robot_campaign/design_more.yaml), 4 points x
 #              2 runs each, breadth-first: every building's first replicate before any second.
+#   robots_configs2 (issue #18, session 22): 14 more configurations (c28-c41,
+#              config/robot_campaign/design_configs2.yaml) on robots' 21 buildings, 2 points x
+#              2 runs per building (84 runs), breadth-first; pooled with robots and robots_rep3
+#              it gives the configuration-held-out protocol 42 configurations instead of 28.
 # Records go to data/campaigns/NAME/ (run.json and summary.csv are committed, the rest is not);
 # finished runs are never redone, so the command can be repeated in every working period.
 set -euo pipefail
@@ -72,7 +76,9 @@ case "$NAME" in
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml" --runs 4 --seed 3) ;;
   robots_more) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design_more.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more)" >&2; exit 2 ;;
+  robots_configs2) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
+          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design_configs2.yaml") ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
@@ -103,6 +109,10 @@ if [ "$WITH_LARGE" = 1 ]; then   # breadth-first: every building's run k before 
 fi
 if [ "$NAME" = robots_more ]; then   # breadth-first: the first replicate of every building first
   slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --runs 4 --jobs "$JOBS" \
+    --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
+fi
+if [ "$NAME" = robots_configs2 ]; then   # breadth-first: each building's 2 points once first
+  slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --runs 2 --jobs "$JOBS" \
     --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
 fi
 if [ "${#DESIGN_ARGS[@]}" -gt 0 ]; then   # the design sets the runs (all, or --runs in DESIGN_ARGS)

@@ -151,3 +151,21 @@ def test_the_extension_design_reuses_the_campaign_configurations(root):
     assert more.base == main.base and more.resolution_deg == main.resolution_deg
     assert not set(more.worlds) & set(main.worlds) and len(more.worlds) == 4
     assert all(len(set(c)) == main.points_per_world for c in more.worlds.values())
+
+
+def test_the_configurations_design_adds_new_robots_to_the_same_buildings(root):
+    """design_configs2.yaml (campaign robots_configs2): new configurations whose ids never
+    clash with design.yaml's, within the same bounds, base robot and resolution, on the same
+    21 buildings, each configuration on 3 of them, so that the campaigns pool."""
+    from slam_predict.collect.robot_design import load_design
+
+    main = load_design(root / "config" / "robot_campaign" / "design.yaml")
+    extra = load_design(root / "config" / "robot_campaign" / "design_configs2.yaml")
+    assert not set(extra.configs) & set(main.configs) and len(extra.configs) == 14
+    assert extra.bounds == main.bounds and extra.base == main.base
+    assert extra.resolution_deg == main.resolution_deg
+    assert set(extra.worlds) == set(main.worlds)
+    for factor, (low, high) in extra.bounds.items():
+        assert all(low <= c[factor] <= high for c in extra.configs.values())
+    dealt = [c for cs in extra.worlds.values() for c in cs]
+    assert all(dealt.count(c) == 3 for c in extra.configs)
