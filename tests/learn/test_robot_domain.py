@@ -104,3 +104,32 @@ def test_a_design_that_does_not_match_the_runs_is_refused(designed, tmp_path):
                                          "design, .* in the runs") as err:
         design_ranges(design, 30.0, other)
     assert err.value.one_line().startswith(str(design))
+
+
+def test_several_design_files_pool_their_configurations(designed, tmp_path):
+    """A campaign's design and an extension that adds configurations: the runs' configurations
+    may come from either; the files must agree on bounds, base robot and on any id they share."""
+    import yaml
+
+    design, data = designed
+    content = yaml.safe_load(open(design))
+    configs = content["configs"]
+    first = dict(content, configs={k: configs[k] for k in ("c00", "c01")},
+                 worlds={w: ["c00", "c01"] for w in content["worlds"]})
+    second = dict(content, configs={k: configs[k] for k in ("c02", "c03")},
+                  worlds={w: ["c02", "c03"] for w in content["worlds"]})
+    a, b = tmp_path / "a.yaml", tmp_path / "b.yaml"
+    a.write_text(yaml.safe_dump(first))
+    b.write_text(yaml.safe_dump(second))
+    assert design_ranges([a, b], 30.0, data.configs) == design_ranges(design, 30.0, data.configs)
+    with pytest.raises(InputError, match="configuration 'c02' of the runs is not in the design"):
+        design_ranges([a], 30.0, data.configs)
+    clash = dict(second, configs={"c00": configs["c02"], "c03": configs["c03"]},
+                 worlds={w: ["c00", "c03"] for w in content["worlds"]})
+    b.write_text(yaml.safe_dump(clash))
+    with pytest.raises(InputError, match="configuration 'c00' differs from .*a.yaml's"):
+        design_ranges([a, b], 30.0, data.configs)
+    wider = dict(second, bounds=dict(content["bounds"], fov=[90.0, 360.0]))
+    b.write_text(yaml.safe_dump(wider))
+    with pytest.raises(InputError, match="bounds, base robot or resolution differ"):
+        design_ranges([a, b], 30.0, data.configs)

@@ -1,11 +1,11 @@
 """``slam-predict learn robots``: robot-aware models from campaign run records (issue #18).
 
-``learn robots DATA_DIR [DATA_DIR...] (--worlds DIR | --features CSV) [--design YAML]
+``learn robots DATA_DIR [DATA_DIR...] (--worlds DIR | --features CSV) [--design YAML...]
 [--out EVAL_DIR] [--name NAME [--models-dir DIR]]`` reads every ``<world>/run_NNN/run.json``,
 builds the RUN and POINT tables (the range capped at the runs' GMapping maxUrange), joins the
 plan features, evaluates the models (leave buildings out, leave configurations out, both) and
 writes ``EVAL_DIR/robots_eval.md`` + CSVs; with ``--name`` it fits the models on every run and
-writes the model folder, whose robot inputs' training ranges are the design file's bounds with
+writes the model folder, whose robot inputs' training ranges are the design files' bounds with
 ``--design`` (checked against the runs). Dispatched from :mod:`learn_cmd`.
 """
 from __future__ import annotations
@@ -29,9 +29,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     src.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
     src.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
     parser.add_argument("--feature-version", help="feature version of a --features table")
-    parser.add_argument("--design", metavar="YAML",
-                        help="the campaign's design file (e.g. config/robot_campaign/design."
-                             "yaml): the card's robot input ranges become its bounds")
+    parser.add_argument("--design", metavar="YAML", nargs="+",
+                        help="the campaigns' design file(s) (e.g. config/robot_campaign/"
+                             "design.yaml): the card's robot input ranges become their bounds")
     parser.add_argument("--feature-config", metavar="YAML",
                         help="with --worlds: feature configuration (section 'features')")
     parser.add_argument("--out", metavar="EVAL_DIR",
@@ -86,7 +86,7 @@ def _check_outputs(args: argparse.Namespace) -> Path | None:
     check_at_least(args.jobs, 1, "--jobs")
     if not args.out and not args.name:
         raise InputError("nothing to write: give --out EVAL_DIR and/or --name NAME")
-    inputs = [*args.data, args.features, args.worlds, args.config, args.design]
+    inputs = [*args.data, args.features, args.worlds, args.config, *(args.design or [])]
     if args.out:
         check_out_dir(args.out, args.force, inputs=inputs)
     if not args.name:
@@ -182,6 +182,15 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
         (tmp / "best.json").write_text(json.dumps({"best": best}, indent=2) + "\n")
 
 
+def _designs(paths: list[str] | None):
+    """The card's record of the design files: None, one portable path, or a list of them."""
+    from slam_predict.paths import portable_path
+
+    if not paths:
+        return None
+    return portable_path(paths[0]) if len(paths) == 1 else [portable_path(p) for p in paths]
+
+
 def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.robot_dataset import build_dataset, plan_features, read_runs
     from slam_predict.learn.robot_evaluate import best_models, evaluate, summarize
@@ -193,7 +202,8 @@ def run(args: argparse.Namespace) -> int:
     if args.design:
         from slam_predict.errors import require_file
 
-        require_file(args.design, "design file")
+        for path in args.design:
+            require_file(path, "design file")
     feature_config = _feature_config(args.feature_config)
     runs, skipped = read_runs(args.data, config.min_coverage, config.max_urange_m)
     features, version, full_config = plan_features(
@@ -225,7 +235,7 @@ def run(args: argparse.Namespace) -> int:
 
         sources = {"data": [portable_path(d) for d in args.data],
                    "features_from": portable_path(args.worlds or args.features),
-                   "design": portable_path(args.design) if args.design else None}
+                   "design": _designs(args.design)}
         train_robot_store(data, config, summary, best, target,
                           {"name": args.name, "description": args.description,
                            "feature_config": full_config, "sources": sources,

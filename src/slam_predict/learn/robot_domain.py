@@ -15,7 +15,7 @@ did (or not capped, for a run collected without a robot file), must hash to the 
 parameters. Every run must give the same value; the card records it as ``max_urange_m`` and
 prediction applies it to the user's robot.
 
-**Design box.** With the campaign's design file (``learn robots --design``), the robot inputs'
+**Design box.** With the campaign's design file(s) (``learn robots --design``), the robot inputs'
 training ranges are the design's bounds (range 3.5–30 m, fov 180–360°, odometry 0–2 × the base
 robot's bounds), not only the span of the configurations drawn from them: a Latin hypercube
 covers its box, and the seed study's robot (80 m laser, so 30 m used) sits at its edge
@@ -148,25 +148,43 @@ def _text(value: float | None) -> str:
     return "unset (the laser's range)" if value is None else f"{value:g} m"
 
 
-def design_ranges(path: os.PathLike | str, max_urange_m: float | None,
+def design_ranges(paths, max_urange_m: float | None,
                   configs: Mapping[str, Mapping[str, float]]) -> dict[str, list[float]]:
-    """Robot input → [low, high] of a design file's bounds, in the inputs' units (range
-    capped at ``max_urange_m``); InputError naming the file when a configuration of the runs
-    (``configs``: id → robot inputs) is not in the design or has other inputs there."""
+    """Robot input → [low, high] of the bounds of one design file or several (``paths``: a
+    path or a sequence of them, e.g. a campaign's design and an extension's that adds
+    configurations), in the inputs' units (range capped at ``max_urange_m``); InputError
+    naming a file when a configuration of the runs (``configs``: id → robot inputs) is in none
+    of them or has other inputs there, when two files define a configuration id differently,
+    or when they disagree on the bounds, base robot or resolution."""
     from slam_predict.collect.robot_design import FACTORS, configured_robot, load_design
 
-    design = load_design(path)
+    files = [paths] if isinstance(paths, (str, os.PathLike)) else list(paths)
+    designs = [(path, load_design(path)) for path in files]
+    first_path, first = designs[0]
+    robots = {}
+    for path, design in designs:
+        if (design.bounds, design.base, design.resolution_deg) != (
+                first.bounds, first.base, first.resolution_deg):
+            raise InputError(f"its bounds, base robot or resolution differ from {first_path}'s",
+                             path)
+        for config in design.configs:
+            robot = design.robot(config)
+            if robots.setdefault(config, (path, robot))[1] != robot:
+                raise InputError(f"configuration '{config}' differs from "
+                                 f"{robots[config][0]}'s", path)
     for config, inputs in configs.items():
-        if config not in design.configs:
-            raise InputError(f"configuration '{config}' of the runs is not in the design", path)
-        expected = inputs_from_robot(design.robot(config), max_urange_m)
+        if config not in robots:
+            raise InputError(f"configuration '{config}' of the runs is not in the design",
+                             first_path)
+        path, robot = robots[config]
+        expected = inputs_from_robot(robot, max_urange_m)
         for name in ROBOT_INPUTS:
             if not math.isclose(expected[name], inputs[name], rel_tol=1e-6, abs_tol=1e-9):
                 raise InputError(f"configuration '{config}': {name} is {expected[name]:.6g} in "
                                  f"the design, {inputs[name]:.6g} in the runs", path)
-    corners = [inputs_from_robot(configured_robot(design.base,
-                                                  {f: design.bounds[f][i] for f in FACTORS},
-                                                  design.resolution_deg, f"bound{i}"),
+    corners = [inputs_from_robot(configured_robot(first.base,
+                                                  {f: first.bounds[f][i] for f in FACTORS},
+                                                  first.resolution_deg, f"bound{i}"),
                                  max_urange_m) for i in (0, 1)]
     return {name: [min(c[name] for c in corners), max(c[name] for c in corners)]
             for name in ROBOT_INPUTS}
