@@ -130,7 +130,7 @@ def _boosting(kind: str, names: list[str], config: RobotLearningConfig):
     """Boosted trees (monotone in the configured inputs, if any); ``trend_boosting`` with
     power-law tails on its trend inputs."""
     from slam_predict.learn.robot_config import MONOTONE_DECREASING, MONOTONE_INCREASING
-    from slam_predict.learn.robot_monotone import MonotoneBoosting, monotonic_vector
+    from slam_predict.learn.robot_monotone import boosted_trees, monotonic_vector
 
     c = config.trend_boosting if kind == "trend_boosting" else config.gradient_boosting
     # the known directions, for the inputs this model has (e.g. no blind fraction with
@@ -148,14 +148,8 @@ def _boosting(kind: str, names: list[str], config: RobotLearningConfig):
         columns = tuple(names.index(n) for n in c.trend_inputs)
         return TrendTailBoosting(columns, c.n_estimators, c.learning_rate, c.max_depth,
                                  c.subsample, config.seed, c.min_samples_leaf, cst)
-    if cst is not None:
-        return MonotoneBoosting(cst, c.n_estimators, c.learning_rate, c.max_depth,
-                                c.min_samples_leaf, c.subsample, config.seed)
-    from sklearn.ensemble import GradientBoostingRegressor
-
-    return GradientBoostingRegressor(
-        n_estimators=c.n_estimators, learning_rate=c.learning_rate, max_depth=c.max_depth,
-        min_samples_leaf=c.min_samples_leaf, subsample=c.subsample, random_state=config.seed)
+    return boosted_trees(cst, c.n_estimators, c.learning_rate, c.max_depth,
+                         c.min_samples_leaf, c.subsample, config.seed)
 
 
 def _gaussian_process(n_features: int, config: RobotLearningConfig):

@@ -89,3 +89,18 @@ class MonotoneBoosting(RegressorMixin, BaseEstimator):
         for tree in self.estimators_:
             total += tree.predict(X)
         return self.base_ + self.learning_rate * total
+
+
+def boosted_trees(monotonic_cst: Sequence[int] | None, n_estimators: int,
+                  learning_rate: float, max_depth: int, min_samples_leaf: int,
+                  subsample: float, random_state):
+    """The unfitted booster of the robot models: :class:`MonotoneBoosting` with constraints,
+    scikit-learn's GradientBoostingRegressor (the same boosting) without."""
+    if monotonic_cst is not None:
+        return MonotoneBoosting(monotonic_cst, n_estimators, learning_rate, max_depth,
+                                min_samples_leaf, subsample, random_state)
+    from sklearn.ensemble import GradientBoostingRegressor
+
+    return GradientBoostingRegressor(
+        n_estimators=n_estimators, learning_rate=learning_rate, max_depth=max_depth,
+        min_samples_leaf=min_samples_leaf, subsample=subsample, random_state=random_state)

@@ -21,6 +21,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted, validate_data
 
+from slam_predict.learn.robot_monotone import boosted_trees
 from slam_predict.learn.robot_plain import tail
 
 
@@ -54,23 +55,11 @@ class TrendTailBoosting(RegressorMixin, BaseEstimator):
         self.min_samples_leaf = min_samples_leaf
         self.monotonic_cst = monotonic_cst
 
-    def _booster(self):
-        if self.monotonic_cst is not None:
-            from slam_predict.learn.robot_monotone import MonotoneBoosting
-
-            return MonotoneBoosting(self.monotonic_cst, self.n_estimators, self.learning_rate,
-                                    self.max_depth, self.min_samples_leaf, self.subsample,
-                                    self.random_state)
-        from sklearn.ensemble import GradientBoostingRegressor
-
-        return GradientBoostingRegressor(
-            n_estimators=self.n_estimators, learning_rate=self.learning_rate,
-            max_depth=self.max_depth, min_samples_leaf=self.min_samples_leaf,
-            subsample=self.subsample, random_state=self.random_state)
-
     def fit(self, X, y):
         X, y = validate_data(self, X, y, y_numeric=True)
-        self.booster_ = self._booster().fit(X, y)
+        self.booster_ = boosted_trees(self.monotonic_cst, self.n_estimators, self.learning_rate,
+                                      self.max_depth, self.min_samples_leaf, self.subsample,
+                                      self.random_state).fit(X, y)
         cols = np.asarray(self.trend_columns, dtype=int)
         self.columns_ = cols
         self.slope_ = self._constrained(cols, least_squares_trend(X[:, cols], y)[0])
