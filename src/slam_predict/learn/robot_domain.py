@@ -156,22 +156,9 @@ def design_ranges(paths, max_urange_m: float | None,
     naming a file when a configuration of the runs (``configs``: id → robot inputs) is in none
     of them or has other inputs there, when two files define a configuration id differently,
     or when they disagree on the bounds, base robot or resolution."""
-    from slam_predict.collect.robot_design import FACTORS, configured_robot, load_design
+    from slam_predict.collect.robot_design import FACTORS, configured_robot
 
-    files = [paths] if isinstance(paths, (str, os.PathLike)) else list(paths)
-    designs = [(path, load_design(path)) for path in files]
-    first_path, first = designs[0]
-    robots = {}
-    for path, design in designs:
-        if (design.bounds, design.base, design.resolution_deg) != (
-                first.bounds, first.base, first.resolution_deg):
-            raise InputError(f"its bounds, base robot or resolution differ from {first_path}'s",
-                             path)
-        for config in design.configs:
-            robot = design.robot(config)
-            if robots.setdefault(config, (path, robot))[1] != robot:
-                raise InputError(f"configuration '{config}' differs from "
-                                 f"{robots[config][0]}'s", path)
+    first_path, first, robots = _pooled_designs(paths)
     for config, inputs in configs.items():
         if config not in robots:
             raise InputError(f"configuration '{config}' of the runs is not in the design",
@@ -188,3 +175,26 @@ def design_ranges(paths, max_urange_m: float | None,
                                  max_urange_m) for i in (0, 1)]
     return {name: [min(c[name] for c in corners), max(c[name] for c in corners)]
             for name in ROBOT_INPUTS}
+
+
+def _pooled_designs(paths):
+    """(first path, its design, configuration id → (path, robot) over every file); InputError
+    when a file's bounds, base robot or resolution differ from the first's, or two files
+    define one configuration id differently."""
+    from slam_predict.collect.robot_design import load_design
+
+    files = [paths] if isinstance(paths, (str, os.PathLike)) else list(paths)
+    designs = [(path, load_design(path)) for path in files]
+    first_path, first = designs[0]
+    robots: dict = {}
+    for path, design in designs:
+        if (design.bounds, design.base, design.resolution_deg) != (
+                first.bounds, first.base, first.resolution_deg):
+            raise InputError(f"its bounds, base robot or resolution differ from {first_path}'s",
+                             path)
+        for config in design.configs:
+            robot = design.robot(config)
+            if robots.setdefault(config, (path, robot))[1] != robot:
+                raise InputError(f"configuration '{config}' differs from "
+                                 f"{robots[config][0]}'s", path)
+    return first_path, first, robots
