@@ -177,8 +177,8 @@ def campaign(folder: Path, n_worlds: int = 12, n_configs: int = 6, replicates: i
 
 
 FAST_FEATURES = ("building_area", "building_perimeter", "voronoi_traversal_distance",
-                 "voronoi_traversal_rotation")   # the configuration's default plan features
-FAST = {"conformal_folds": 3, "folds": 3,
+                 "voronoi_traversal_rotation")   # the synthetic plans' features (no sight lines)
+FAST = {"conformal_folds": 3, "folds": 3, "plan_features": list(FAST_FEATURES),
         "elasticnet": {"alphas": [0.001, 0.01, 0.1], "l1_ratios": [0.5, 1.0], "cv": 3},
         "gradient_boosting": {"n_estimators": 60, "learning_rate": 0.1, "max_depth": 2},
         "trend_boosting": {"n_estimators": 60, "learning_rate": 0.1, "max_depth": 2}}

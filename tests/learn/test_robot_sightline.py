@@ -76,3 +76,26 @@ def test_model_predicts_and_plots_with_the_blind_fraction(robot_models_dir):
         X[:, j] = [blind_fraction(card["sightline_curves"][w], g) for w in model.point_worlds]
         assert value == pytest.approx(float(np.mean(model.models["trans_mean"].predict(X))),
                                       rel=1e-12)
+
+
+def test_the_isotropy_feature_alone_makes_the_card_keep_the_sampling(campaign):
+    from slam_predict.learn.robot_train import _sightline_entries
+
+    data, _ = campaign
+    assert _sightline_entries(data, [], ["building_area"]) == {}
+    alone = _sightline_entries(data, [], ["building_area", "sightline_isotropy"])
+    assert set(alone) == {"sightline"} and alone["sightline"]["isotropy_range_m"] == 30.0
+    both = _sightline_entries(data, ["laser_blind_fraction"], ["building_area"])
+    assert set(both) == {"sightline", "sightline_curves"}
+
+
+def test_a_model_reading_the_isotropy_computes_the_sight_lines(robot_models_dir):
+    from ..features.plans import Plan
+
+    world = Plan(12.0, 12.0, 0.05).room("hall", (1.0, 1.0, 11.0, 11.0)).world()   # square
+    model = RobotModel.load(robot_models_dir / "own-robots")
+    model.derived = []
+    assert model.sightline_features(world) == {}
+    model.names = [*model.names, "sightline_isotropy"]
+    features = model.sightline_features(world)
+    assert 0.8 < features["sightline_isotropy"] <= 1.0 and set(curve_columns()) <= set(features)

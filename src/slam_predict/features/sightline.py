@@ -13,6 +13,8 @@ The plan's *curve* is the blind fraction at the fixed ranges :data:`CURVE_RANGES
 :func:`curve_columns`); :func:`blind_fraction` reads it at any range (interpolated linearly in
 log range and log fraction, floored at :data:`BLIND_FLOOR`). The robot-aware models take the
 blind fraction at the laser's range as an input (:mod:`slam_predict.learn.robot_inputs`).
+The same sight lines give the plan feature ``sightline_isotropy``: how evenly the walls a
+laser sees face every way (:mod:`slam_predict.features.scan_conditioning`).
 """
 from __future__ import annotations
 
@@ -30,12 +32,14 @@ COLUMN_PREFIX = "sightline_blind_"
 @dataclass(frozen=True)
 class SightlineConfig:
     """Sampling of the sight lines: grid spacing (m), beams per point over 360°, minimum
-    clearance of a point from obstacles (m), ray length (m, ≥ the longest curve range)."""
+    clearance of a point from obstacles (m), ray length (m, ≥ the longest curve range), and
+    the laser range of the isotropy feature (m: GMapping's maxUrange of the campaigns)."""
 
     spacing_m: float = 1.0
     beams: int = 360
     clearance_m: float = 0.3
     max_range_m: float = 40.0
+    isotropy_range_m: float = 30.0
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -95,9 +99,17 @@ def blind_curve(distances: np.ndarray, ranges_m=CURVE_RANGES_M) -> np.ndarray:
 
 
 def sightline_features(world, config: SightlineConfig | None = None) -> dict[str, float]:
-    """The plan's curve as columns (:func:`curve_columns` → blind fraction)."""
-    curve = blind_curve(sight_lines(world, config))
-    return {name: float(v) for name, v in zip(curve_columns(), curve, strict=True)}
+    """The plan's curve as columns (:func:`curve_columns` → blind fraction) and its
+    ``sightline_isotropy`` at ``isotropy_range_m``
+    (:func:`slam_predict.features.scan_conditioning.mean_isotropy`)."""
+    from slam_predict.features.scan_conditioning import ISOTROPY_COLUMN, mean_isotropy
+
+    config = config or SightlineConfig()
+    distances = sight_lines(world, config)
+    curve = blind_curve(distances)
+    features = {name: float(v) for name, v in zip(curve_columns(), curve, strict=True)}
+    features[ISOTROPY_COLUMN] = mean_isotropy(distances, config.isotropy_range_m)
+    return features
 
 
 def blind_fraction(curve: Mapping[str, float] | np.ndarray, range_m: float) -> float:

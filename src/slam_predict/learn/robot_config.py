@@ -21,11 +21,11 @@ ROBOT_MODEL_KINDS = ("elasticnet", "gradient_boosting", "trend_boosting", "gauss
 # past them (bench/bench_size_extrapolation.py)
 DEFAULT_MODELS = ("elasticnet", "trend_boosting", "gaussian_process")
 PROTOCOLS = ("buildings", "configs", "both")
-# Plan features by default: the building's size (area, perimeter: the best single features of
-# the shipped plan-only models) and the thesis' traversal length and rotation (what the
-# odometry error accumulates over). Few, because a campaign has a few dozen buildings.
-DEFAULT_PLAN_FEATURES = ("building_area", "building_perimeter", "voronoi_traversal_distance",
-                         "voronoi_traversal_rotation")
+# Plan features by default: the building's size (area: the best single feature of the shipped
+# plan-only models), the thesis' traversal length (what the odometry error accumulates over)
+# and the sight lines' isotropy (features/scan_conditioning.py: how evenly the walls a 30 m
+# laser sees face every way). Few, because a campaign has a few dozen buildings.
+DEFAULT_PLAN_FEATURES = ("building_area", "sightline_isotropy", "voronoi_traversal_distance")
 # Directions known before any data (trend_boosting's monotonic constraints): GMapping's error
 # does not fall as the building grows, the laser is blind in more directions or the odometry
 # gets worse, and does not rise with a longer or wider laser.

@@ -107,9 +107,12 @@ class RobotModel:
         check_feature_version(self.store, retrain="slam-predict learn robots")
 
     def sightline_features(self, world) -> dict[str, float]:
-        """The plan's sight-line curve columns when the model takes a derived input (add them
-        to the plan features given to :meth:`predict`), else {}."""
-        if not self.derived:
+        """The plan's sight-line columns (curve and isotropy) when the model reads them: a
+        derived input or the ``sightline_isotropy`` feature (add them to the plan features
+        given to :meth:`predict`), else {}."""
+        from slam_predict.features.scan_conditioning import ISOTROPY_COLUMN
+
+        if not self.derived and ISOTROPY_COLUMN not in self.names:
             return {}
         from slam_predict.features.sightline import SightlineConfig, sightline_features
 

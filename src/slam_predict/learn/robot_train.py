@@ -127,7 +127,7 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
         "feature_version": data.feature_version,
         "feature_config": dict(meta.get("feature_config") or {}), "features": plan,
         "robot_inputs": list(ROBOT_INPUTS), "robot_units": dict(ROBOT_UNITS),
-        "derived_inputs": derived, **(_sightline_entries(data) if derived else {}),
+        "derived_inputs": derived, **_sightline_entries(data, derived, plan),
         "max_urange_m": data.max_urange_m, "odom_model": data.odom_model,
         "input_ranges": input_ranges(tables, bounds), "design": design,
         "training_buildings": data.worlds, "skipped_runs": dict(data.skipped),
@@ -137,13 +137,21 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
         "robot_learning_config": to_dict(config), "components": components}
 
 
-def _sightline_entries(data: RobotDataset) -> dict[str, Any]:
-    """The card's sight-line sampling and the training buildings' curves (for the
+def _sightline_entries(data: RobotDataset, derived: list[str],
+                       plan: list[str]) -> dict[str, Any]:
+    """The card's sight-line sampling when the model reads sight lines (a derived input or
+    the isotropy feature) and, with a derived input, the training buildings' curves (for the
     partial-dependence plots, which move the laser range and so the blind fraction)."""
+    from slam_predict.features.scan_conditioning import ISOTROPY_COLUMN
     from slam_predict.features.sightline import CURVE_RANGES_M, SightlineConfig
 
-    return {"sightline": dict(SightlineConfig().to_dict(), ranges_m=list(CURVE_RANGES_M)),
-            "sightline_curves": data.sightline_curves()}
+    if not derived and ISOTROPY_COLUMN not in plan:
+        return {}
+    entries: dict[str, Any] = {
+        "sightline": dict(SightlineConfig().to_dict(), ranges_m=list(CURVE_RANGES_M))}
+    if derived:
+        entries["sightline_curves"] = data.sightline_curves()
+    return entries
 
 
 def plain_forms(fitted: Mapping[str, Mapping[str, Any]],
