@@ -90,7 +90,7 @@ def test_the_isotropy_feature_alone_makes_the_card_keep_the_sampling(campaign):
 
 
 def test_a_model_reading_the_isotropy_computes_the_sight_lines(robot_models_dir):
-    from ..features.plans import Plan
+    from features.plans import Plan
 
     world = Plan(12.0, 12.0, 0.05).room("hall", (1.0, 1.0, 11.0, 11.0)).world()   # square
     model = RobotModel.load(robot_models_dir / "own-robots")
