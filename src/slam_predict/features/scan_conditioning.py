@@ -26,11 +26,10 @@ MAX_GAP_M = 0.75           # m: farther-apart neighbouring hits are not one wall
 
 
 def wall_normals(distances: np.ndarray, range_m: float,
-                 max_gap_m: float = MAX_GAP_M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                 max_gap_m: float = MAX_GAP_M) -> tuple[np.ndarray, np.ndarray]:
     """Unit normals (nx, ny), shape (points, beams), of the wall segment between beam k and
     beam k + 1 (cyclic over 360°) of each row of ``distances`` (m, beams evenly spread over
-    360° from angle 0), and the mask of the pairs that see one wall within ``range_m`` (m).
-    Where the mask is False both normals are 0."""
+    360° from angle 0); both 0 where the pair does not see one wall within ``range_m`` (m)."""
     d = np.asarray(distances, dtype=float)
     beams = d.shape[1]
     angles = np.arange(beams) * (2.0 * np.pi / beams)
@@ -40,14 +39,14 @@ def wall_normals(distances: np.ndarray, range_m: float,
     gap = np.hypot(dx, dy)
     one_wall = np.isfinite(gap) & (gap < max_gap_m) & (gap > 1e-9)
     safe = np.where(one_wall, gap, 1.0)
-    return (np.where(one_wall, -dy / safe, 0.0), np.where(one_wall, dx / safe, 0.0), one_wall)
+    return np.where(one_wall, -dy / safe, 0.0), np.where(one_wall, dx / safe, 0.0)
 
 
 def scan_isotropy(distances: np.ndarray, range_m: float,
                   max_gap_m: float = MAX_GAP_M) -> np.ndarray:
     """Per row of ``distances`` (see :func:`wall_normals`): smaller over larger eigenvalue of
     Σ n nᵀ over the row's wall normals, in [0, 1]; 0 for a row without normals."""
-    nx, ny, _ = wall_normals(distances, range_m, max_gap_m)
+    nx, ny = wall_normals(distances, range_m, max_gap_m)
     a, b, c = (nx * nx).sum(axis=1), (nx * ny).sum(axis=1), (ny * ny).sum(axis=1)
     half_trace = (a + c) / 2.0
     spread = np.sqrt(np.maximum(half_trace ** 2 - (a * c - b * b), 0.0))
