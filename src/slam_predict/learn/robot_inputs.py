@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from slam_predict.errors import InputError
@@ -144,6 +144,14 @@ def angular_resolution_deg(sensor: Mapping[str, Any],
     if samples < 1:
         raise InputError(f"sensor 'laser.samples' must be >= 1, got {samples:g}", source)
     return fov if samples == 1 else fov / (samples - 1)
+
+
+def reads_sight_lines(derived: Sequence[str], names: Sequence[str]) -> bool:
+    """Whether a model with these derived inputs and input ``names`` needs the plan's sight
+    lines (features/sightline.py): a derived input, or the ``sightline_isotropy`` feature."""
+    from slam_predict.features.scan_conditioning import ISOTROPY_COLUMN
+
+    return bool(derived) or ISOTROPY_COLUMN in names
 
 
 def derived_inputs(curve: Mapping[str, float], robot: Mapping[str, float]) -> dict[str, float]:

@@ -31,6 +31,7 @@ from slam_predict.learn.robot_inputs import (
     ROBOT_INPUTS,
     ROBOT_UNITS,
     derived_inputs,
+    reads_sight_lines,
 )
 from slam_predict.learn.robot_plain import (
     KIND,
@@ -110,9 +111,7 @@ class RobotModel:
         """The plan's sight-line columns (curve and isotropy) when the model reads them: a
         derived input or the ``sightline_isotropy`` feature (add them to the plan features
         given to :meth:`predict`), else {}."""
-        from slam_predict.features.scan_conditioning import ISOTROPY_COLUMN
-
-        if not self.derived and ISOTROPY_COLUMN not in self.names:
+        if not reads_sight_lines(self.derived, self.names):
             return {}
         from slam_predict.features.sightline import SightlineConfig, sightline_features
 

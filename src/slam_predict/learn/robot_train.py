@@ -36,6 +36,7 @@ from slam_predict.learn.robot_inputs import (
     DESIGN_RESOLUTION_DEG,
     ROBOT_INPUTS,
     ROBOT_UNITS,
+    reads_sight_lines,
 )
 from slam_predict.learn.robot_models import fit_component
 from slam_predict.learn.robot_plain import KIND, POINTS_FILE, plain_component
@@ -142,10 +143,9 @@ def _sightline_entries(data: RobotDataset, derived: list[str],
     """The card's sight-line sampling when the model reads sight lines (a derived input or
     the isotropy feature) and, with a derived input, the training buildings' curves (for the
     partial-dependence plots, which move the laser range and so the blind fraction)."""
-    from slam_predict.features.scan_conditioning import ISOTROPY_COLUMN
     from slam_predict.features.sightline import CURVE_RANGES_M, SightlineConfig
 
-    if not derived and ISOTROPY_COLUMN not in plan:
+    if not reads_sight_lines(derived, plan):
         return {}
     entries: dict[str, Any] = {
         "sightline": dict(SightlineConfig().to_dict(), ranges_m=list(CURVE_RANGES_M))}
