@@ -68,7 +68,8 @@ def test_a_room_s_curve_has_known_ends():
     within 1 m only those of points near a wall do; the curve never rises."""
     world = Plan(12.0, 8.0, 0.05).room("hall", (1.0, 1.0, 11.0, 7.0)).world()
     features = sightline_features(world)
-    assert list(features) == [*curve_columns(), "sightline_isotropy"]
+    assert list(features) == [*curve_columns(), "sightline_isotropy", "floor_elongation"]
+    assert features["floor_elongation"] == pytest.approx(10.0 / 6.0)     # 10 × 6 squares
     curve = np.array([features[c] for c in curve_columns()])
     ranges = np.array(CURVE_RANGES_M)
     assert 0.5 < curve[0] < 1.0

@@ -119,10 +119,11 @@ def test_runs_without_design_skips_and_missing_features(tmp_path, caplog):
     with pytest.raises(InputError, match="'building_aera' is not in the feature table "
                                          r"\(did you mean 'building_area'\?\)"):
         data.tables(["building_aera"])
-    with pytest.raises(InputError, match="'sightline_isotropy' is not in the feature table "
-                                         r"\(a sight-line feature: compute the features with "
-                                         "--worlds\\)"):
-        data.tables(["sightline_isotropy"])
+    for name in ("sightline_isotropy", "floor_elongation"):
+        with pytest.raises(InputError, match=f"'{name}' is not in the feature table "
+                                             r"\(a sight-line feature: compute the features "
+                                             "with --worlds\\)"):
+            data.tables([name])
 
 
 def edit(path, change):

@@ -78,12 +78,13 @@ def test_model_predicts_and_plots_with_the_blind_fraction(robot_models_dir):
                                       rel=1e-12)
 
 
-def test_the_isotropy_feature_alone_makes_the_card_keep_the_sampling(campaign):
+@pytest.mark.parametrize("feature", ["sightline_isotropy", "floor_elongation"])
+def test_a_sampling_feature_alone_makes_the_card_keep_the_sampling(campaign, feature):
     from slam_predict.learn.robot_train import _sightline_entries
 
     data, _ = campaign
     assert _sightline_entries(data, [], ["building_area"]) == {}
-    alone = _sightline_entries(data, [], ["building_area", "sightline_isotropy"])
+    alone = _sightline_entries(data, [], ["building_area", feature])
     assert set(alone) == {"sightline"} and alone["sightline"]["isotropy_range_m"] == 30.0
     both = _sightline_entries(data, ["laser_blind_fraction"], ["building_area"])
     assert set(both) == {"sightline", "sightline_curves"}
@@ -99,3 +100,7 @@ def test_a_model_reading_the_isotropy_computes_the_sight_lines(robot_models_dir)
     model.names = [*model.names, "sightline_isotropy"]
     features = model.sightline_features(world)
     assert 0.8 < features["sightline_isotropy"] <= 1.0 and set(curve_columns()) <= set(features)
+    model.names = [n for n in model.names if n != "sightline_isotropy"]
+    assert model.sightline_features(world) == {}
+    model.names = [*model.names, "floor_elongation"]
+    assert model.sightline_features(world)["floor_elongation"] == pytest.approx(1.0)

@@ -14,7 +14,9 @@ The plan's *curve* is the blind fraction at the fixed ranges :data:`CURVE_RANGES
 log range and log fraction, floored at :data:`BLIND_FLOOR`). The robot-aware models take the
 blind fraction at the laser's range as an input (:mod:`slam_predict.learn.robot_inputs`).
 The same sight lines give the plan feature ``sightline_isotropy``: how evenly the walls a
-laser sees face every way (:mod:`slam_predict.features.scan_conditioning`).
+laser sees face every way (:mod:`slam_predict.features.scan_conditioning`); their floor
+points give ``floor_elongation``, how long and thin the floor is
+(:mod:`slam_predict.features.floor_shape`). :data:`PLAN_COLUMNS` names these plan features.
 """
 from __future__ import annotations
 
@@ -24,9 +26,13 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from slam_predict.features.floor_shape import ELONGATION_COLUMN, elongation
+from slam_predict.features.scan_conditioning import ISOTROPY_COLUMN, mean_isotropy
+
 BLIND_FLOOR = 1e-3   # fraction: below this a plan is "never blind" (sampling resolution)
 CURVE_RANGES_M = tuple(round(1.0 * 40.0 ** (k / 24), 3) for k in range(25))   # 1–40 m, log
 COLUMN_PREFIX = "sightline_blind_"
+PLAN_COLUMNS = (ISOTROPY_COLUMN, ELONGATION_COLUMN)   # the plan features of this sampling
 
 
 @dataclass(frozen=True)
@@ -71,10 +77,16 @@ def sight_lines(world, config: SightlineConfig | None = None) -> np.ndarray:
     """(points, beams) distances to the first wall, m (inf: none within ``max_range_m``),
     from the grid points of :func:`sample_points` of a
     :class:`~slam_predict.world.model.World`."""
-    from slam_predict.sim.raycast import LaserGrid
-
     config = config or SightlineConfig()
     rows, cols = sample_points(world.occupied, world.resolution, config)
+    return cast_sight_lines(world, rows, cols, config)
+
+
+def cast_sight_lines(world, rows: np.ndarray, cols: np.ndarray,
+                     config: SightlineConfig) -> np.ndarray:
+    """:func:`sight_lines` from the given grid points (rows, cols) of ``world``."""
+    from slam_predict.sim.raycast import LaserGrid
+
     grid = LaserGrid.of_world(world)
     frame = grid.frame
     angles = np.arange(config.beams) * (2.0 * math.pi / config.beams)
@@ -99,16 +111,20 @@ def blind_curve(distances: np.ndarray, ranges_m=CURVE_RANGES_M) -> np.ndarray:
 
 
 def sightline_features(world, config: SightlineConfig | None = None) -> dict[str, float]:
-    """The plan's curve as columns (:func:`curve_columns` → blind fraction) and its
+    """The plan's curve as columns (:func:`curve_columns` → blind fraction), its
     ``sightline_isotropy`` at ``isotropy_range_m``
-    (:func:`slam_predict.features.scan_conditioning.mean_isotropy`)."""
-    from slam_predict.features.scan_conditioning import ISOTROPY_COLUMN, mean_isotropy
-
+    (:func:`slam_predict.features.scan_conditioning.mean_isotropy`) and the
+    ``floor_elongation`` of the sight lines' floor points
+    (:mod:`slam_predict.features.floor_shape`; 1 without points)."""
     config = config or SightlineConfig()
-    distances = sight_lines(world, config)
+    rows, cols = sample_points(world.occupied, world.resolution, config)
+    distances = cast_sight_lines(world, rows, cols, config)
     curve = blind_curve(distances)
     features = {name: float(v) for name, v in zip(curve_columns(), curve, strict=True)}
     features[ISOTROPY_COLUMN] = mean_isotropy(distances, config.isotropy_range_m)
+    features[ELONGATION_COLUMN] = (
+        elongation(cols * world.resolution, rows * world.resolution, config.spacing_m)
+        if rows.size else 1.0)
     return features
 
 

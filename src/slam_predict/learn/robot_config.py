@@ -22,15 +22,17 @@ ROBOT_MODEL_KINDS = ("elasticnet", "gradient_boosting", "trend_boosting", "gauss
 DEFAULT_MODELS = ("elasticnet", "trend_boosting", "gaussian_process")
 PROTOCOLS = ("buildings", "configs", "both")
 # Plan features by default: the building's size (area: the best single feature of the shipped
-# plan-only models), the thesis' traversal length (what the odometry error accumulates over)
-# and the sight lines' isotropy (features/scan_conditioning.py: how evenly the walls a 30 m
-# laser sees face every way). Few, because a campaign has a few dozen buildings.
-DEFAULT_PLAN_FEATURES = ("building_area", "sightline_isotropy", "voronoi_traversal_distance")
+# plan-only models), the thesis' traversal length (what the odometry error accumulates over),
+# the sight lines' isotropy (features/scan_conditioning.py: how evenly the walls a 30 m
+# laser sees face every way) and the floor's elongation (features/floor_shape.py: how far
+# apart the poses of a relation lie). Few, because a campaign has a few dozen buildings.
+DEFAULT_PLAN_FEATURES = ("building_area", "sightline_isotropy", "voronoi_traversal_distance",
+                         "floor_elongation")
 # Directions known before any data (trend_boosting's monotonic constraints): GMapping's error
-# does not fall as the building grows, the laser is blind in more directions or the odometry
-# gets worse, and does not rise with a longer or wider laser.
-MONOTONE_INCREASING = ("building_area", "laser_blind_fraction", "odom_xy_error",
-                       "odom_yaw_error")
+# does not fall as the building grows or gets longer and thinner, the laser is blind in more
+# directions or the odometry gets worse, and does not rise with a longer or wider laser.
+MONOTONE_INCREASING = ("building_area", "floor_elongation", "laser_blind_fraction",
+                       "odom_xy_error", "odom_yaw_error")
 MONOTONE_DECREASING = ("laser_range_max_m", "laser_fov_deg")
 
 

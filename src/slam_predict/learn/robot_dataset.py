@@ -18,8 +18,7 @@ from typing import Any
 import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
-from slam_predict.features.scan_conditioning import ISOTROPY_COLUMN
-from slam_predict.features.sightline import COLUMN_PREFIX, curve_columns
+from slam_predict.features.sightline import COLUMN_PREFIX, PLAN_COLUMNS, curve_columns
 from slam_predict.learn.dataset import COMPONENTS
 from slam_predict.learn.robot_inputs import DERIVED_INPUTS, ROBOT_INPUTS, derived_inputs
 from slam_predict.learn.robot_records import (  # noqa: F401  (re-exported)
@@ -163,7 +162,7 @@ class RobotDataset:
         for name in names:
             if name not in known:
                 hint = (" (a sight-line feature: compute the features with --worlds)"
-                        if name == ISOTROPY_COLUMN else did_you_mean(name, known))
+                        if name in PLAN_COLUMNS else did_you_mean(name, known))
                 raise InputError(f"plan feature '{name}' is not in the feature table" + hint)
             for world in self.worlds:
                 if not math.isfinite(float(self.features[world].get(name, math.nan))):

@@ -148,10 +148,11 @@ def angular_resolution_deg(sensor: Mapping[str, Any],
 
 def reads_sight_lines(derived: Sequence[str], names: Sequence[str]) -> bool:
     """Whether a model with these derived inputs and input ``names`` needs the plan's sight
-    lines (features/sightline.py): a derived input, or the ``sightline_isotropy`` feature."""
-    from slam_predict.features.scan_conditioning import ISOTROPY_COLUMN
+    lines (features/sightline.py): a derived input, or a feature of
+    :data:`~slam_predict.features.sightline.PLAN_COLUMNS`."""
+    from slam_predict.features.sightline import PLAN_COLUMNS
 
-    return bool(derived) or ISOTROPY_COLUMN in names
+    return bool(derived) or any(name in PLAN_COLUMNS for name in names)
 
 
 def derived_inputs(curve: Mapping[str, float], robot: Mapping[str, float]) -> dict[str, float]:

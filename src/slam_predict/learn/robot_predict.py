@@ -108,9 +108,9 @@ class RobotModel:
         check_feature_version(self.store, retrain="slam-predict learn robots")
 
     def sightline_features(self, world) -> dict[str, float]:
-        """The plan's sight-line columns (curve and isotropy) when the model reads them: a
-        derived input or the ``sightline_isotropy`` feature (add them to the plan features
-        given to :meth:`predict`), else {}."""
+        """The plan's sight-line columns (curve, isotropy, elongation) when the model reads
+        them: a derived input or a feature of ``sightline.PLAN_COLUMNS`` (add them to the plan
+        features given to :meth:`predict`), else {}."""
         if not reads_sight_lines(self.derived, self.names):
             return {}
         from slam_predict.features.sightline import SightlineConfig, sightline_features
