@@ -5,7 +5,7 @@
 #
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
 #       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | robots | robots_rep3 |
-#       robots_more | robots_configs2
+#       robots_more | robots_configs2 | robots_rep4
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
@@ -25,6 +25,8 @@
 #   robots_rep3 (issue #18): a third replicate of every robots design point (the design's first
 #              4 runs per building, --seed 3: new seeds), in its own folder; `learn robots
 #              data/campaigns/robots data/campaigns/robots_rep3` pools the two.
+#   robots_rep4 (issue #18, session 24): a fourth replicate, as robots_rep3 with --seed 4: less
+#              run-to-run noise in every point's measured mean (pooled like robots_rep3).
 #   robots_more (issue #18, session 21): the same 28 configurations on 4 more seed-study
 #              buildings of 2,083-2,208 m2 (config/robot_campaign/design_more.yaml), 4 points x
 #              2 runs each, breadth-first: every building's first replicate before any second.
@@ -74,11 +76,13 @@ case "$NAME" in
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml") ;;
   robots_rep3) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml" --runs 4 --seed 3) ;;
+  robots_rep4) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
+          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml" --runs 4 --seed 4) ;;
   robots_more) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design_more.yaml") ;;
   robots_configs2) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design_configs2.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2)" >&2; exit 2 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2, robots_rep4)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
