@@ -26,9 +26,10 @@ def test_card_describes_the_complete_campaign(model):
     assert len(card["training_buildings"]) == 21 and card["derived_inputs"] == [
         "laser_blind_fraction"]
     by_config = card["exploration"]["by_config"].values()
-    assert sum(e["runs"] for e in by_config) == 252 and len(by_config) == 28
+    assert sum(e["runs"] for e in by_config) == 336 and len(by_config) == 28
     sources = card["sources"]
-    assert sources["data"] == ["data/campaigns/robots", "data/campaigns/robots_rep3"]
+    assert sources["data"] == ["data/campaigns/robots", "data/campaigns/robots_rep3",
+                               "data/campaigns/robots_rep4"]
     assert card["components"]["trans_mean"]["best"] == "trend_boosting"
     assert not any(str(v).startswith("/") for v in (sources["features_from"], sources["design"]))
 
