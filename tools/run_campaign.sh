@@ -74,10 +74,10 @@ case "$NAME" in
   fidelity_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   robots) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml") ;;
-  robots_rep3) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
-          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml" --runs 4 --seed 3) ;;
-  robots_rep4) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
-          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml" --runs 4 --seed 4) ;;
+  robots_rep3|robots_rep4) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
+          # replicate k: the design's first 4 runs per building under --seed k
+          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml" --runs 4
+                       --seed "${NAME#robots_rep}") ;;
   robots_more) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design_more.yaml") ;;
   robots_configs2) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
