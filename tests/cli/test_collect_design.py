@@ -39,6 +39,25 @@ def test_each_run_gets_its_design_robot(tmp_path, design_file, capsys):
     assert len(summary) == 3                       # one row per (world, robot): two points
     assert main(args) == 0                         # resume: nothing left to do
     assert "0 runs done" in capsys.readouterr().out
+    # a fresh clone has the run.json files but not campaign.json: adopted, each run checked
+    # against the settings with its own design robot
+    (out / "campaign.json").unlink()
+    assert main(args) == 0, capsys.readouterr().err
+    assert "0 runs done" in capsys.readouterr().out
+    assert json.loads((out / "campaign.json").read_text())["adopted"]["runs"] == 2
+    (out / "campaign.json").unlink()
+    run_json = out / "tiny" / "run_001" / "run.json"
+    original = run_json.read_text()
+    record = json.loads(original)
+    record["config_hashes"]["sim"] = "x"
+    run_json.write_text(json.dumps(record))
+    assert main(args) == 2                         # ... and a run of other settings refused
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "run_001/run.json" in err[0] and "(sim config" in err[0]
+    assert not (out / "campaign.json").exists()
+    run_json.write_text(original)
+    assert main(args) == 0
+    capsys.readouterr()
     design_file.write_text(design_file.read_text().replace("seed: 4", "seed: 5"))
     assert main(args) == 2
     assert "design file differs" in capsys.readouterr().err

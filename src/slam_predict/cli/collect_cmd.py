@@ -169,7 +169,8 @@ def run(args: argparse.Namespace) -> int:
         options["design"] = os.path.abspath(args.design)   # the workers may run elsewhere
         current["design"] = {"file": portable_path(args.design),
                              "sha256": file_sha256(args.design)}
-    open_campaign(out, current, force=args.force)
+    open_campaign(out, current, force=args.force,
+                  run_hashes=design.run_hashes(settings, args.design) if design else None)
     config = BatchConfig(runs=runs, max_runs=args.max_runs, jobs=args.jobs,
                          scheduler=args.scheduler, base_seed=args.seed,
                          progress=not args.no_progress, options=options)

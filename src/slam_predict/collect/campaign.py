@@ -13,7 +13,9 @@ carries its own config hashes). A different code version alone is logged, not re
 
 Folders collected before campaign.json existed are adopted on their first resume: when every
 run.json carries the seed that ``--seed`` gives its run and the config hashes of the current
-settings, campaign.json is written from them; otherwise the resume is refused likewise.
+settings, campaign.json is written from them; otherwise the resume is refused likewise. In a
+robot-design campaign each run has its own robot, so its hashes are compared with those of the
+settings with that run's robot (``run_hashes``).
 """
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ import hashlib
 import json
 import logging
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +37,7 @@ CAMPAIGN_JSON = "campaign.json"
 SCHEMA_VERSION = 1
 MAX_LISTED = 3  # differences named in an error line
 HINT = " (use a new --out folder, or --force to continue with the new ones)"
+RunHashes = Callable[[str, int], "dict[str, str] | None"]   # (world, run index) → config hashes
 
 
 class CampaignMismatch(InputError):
@@ -121,12 +125,15 @@ def design_mismatch(old: dict[str, Any] | None, new: dict[str, Any] | None) -> s
     return f"the design file differs from the campaign's ({old.get('file')}, SHA-256 changed)"
 
 
-def open_campaign(root: Path, current: dict[str, Any], force: bool = False) -> dict[str, Any]:
+def open_campaign(root: Path, current: dict[str, Any], force: bool = False,
+                  run_hashes: RunHashes | None = None) -> dict[str, Any]:
     """Check a (new, resumed or legacy) campaign folder against ``current`` and write
-    campaign.json; raises :class:`CampaignMismatch` for a refused resume."""
+    campaign.json; raises :class:`CampaignMismatch` for a refused resume. ``run_hashes``: the
+    config hashes each run of a legacy folder must carry (None: ``current``'s, the same for
+    every run; None from it: the run is not one the campaign would collect)."""
     path = Path(root) / CAMPAIGN_JSON
     if not path.is_file():
-        return _adopt(Path(root), current, force)
+        return _adopt(Path(root), current, force, run_hashes)
     recorded = read_campaign(path)
     problem = mismatch(recorded, current)
     if problem is None:
@@ -141,9 +148,11 @@ def open_campaign(root: Path, current: dict[str, Any], force: bool = False) -> d
     return _write(path, {**current, "history": history})
 
 
-def _adopt(root: Path, current: dict[str, Any], force: bool) -> dict[str, Any]:
-    """campaign.json for a new folder, or for one collected before campaign.json existed."""
-    problem, where, runs = legacy_mismatch(RunStore(root), current)
+def _adopt(root: Path, current: dict[str, Any], force: bool,
+           run_hashes: RunHashes | None) -> dict[str, Any]:
+    """campaign.json for a new folder, or for one collected without it (before campaign.json
+    existed, or on another machine: campaign.json is not committed)."""
+    problem, where, runs = legacy_mismatch(RunStore(root), current, run_hashes)
     if problem and not force:
         raise CampaignMismatch(problem + HINT, where)
     extra: dict[str, Any] = {"created": _now()}
@@ -154,30 +163,38 @@ def _adopt(root: Path, current: dict[str, Any], force: bool) -> dict[str, Any]:
     return _write(root / CAMPAIGN_JSON, {**current, **extra})
 
 
-def legacy_mismatch(store: RunStore, current: dict[str, Any]):
-    """For a folder without campaign.json: (why its run records do not match ``current`` or
-    None, the run.json concerned, how many records there are)."""
+def legacy_mismatch(store: RunStore, current: dict[str, Any],
+                    run_hashes: RunHashes | None = None):
+    """For a folder without campaign.json: (why its run records do not match ``current`` and
+    ``run_hashes`` (see :func:`open_campaign`) or None, the run.json concerned, how many
+    records there are)."""
     problem, where, count = None, None, 0
     for world in store.worlds() if store.root.is_dir() else []:
         for index in store.completed(world):
             run_json = store.run_dir(world, index) / RUN_JSON
             count += 1
-            found = record_mismatch(json.loads(run_json.read_text()), world, index, current)
+            expected = (current["config_hashes"] if run_hashes is None
+                        else run_hashes(world, index))
+            found = record_mismatch(json.loads(run_json.read_text()), world, index, current,
+                                    expected)
             if found and problem is None:
                 problem, where = found, run_json
     return problem, where, count
 
 
-def record_mismatch(record: dict[str, Any], world: str, index: int,
-                    current: dict[str, Any]) -> str | None:
-    """Why one run.json was not collected with ``current``'s seed and settings, or None."""
+def record_mismatch(record: dict[str, Any], world: str, index: int, current: dict[str, Any],
+                    expected: dict[str, str] | None) -> str | None:
+    """Why one run.json was not collected with ``current``'s seed and settings (config hashes
+    ``expected``; None: a run the campaign would not collect), or None."""
     seed = record.get("seed")
     if seed is not None and int(seed) != run_seed(current["base_seed"], world, index):
         return f"collected with another base seed than --seed {current['base_seed']}"
+    if expected is None:
+        return f"run {index} of '{world}' is not a run of the campaign's design"
     hashes = record.get("config_hashes")
-    if hashes is not None and hashes != current["config_hashes"]:
-        changed = sorted(k for k in set(hashes) | set(current["config_hashes"])
-                         if hashes.get(k) != current["config_hashes"].get(k))
+    if hashes is not None and hashes != expected:
+        changed = sorted(k for k in set(hashes) | set(expected)
+                         if hashes.get(k) != expected.get(k))
         return (f"collected with other settings than {current['settings_file']} "
                 f"({', '.join(changed)} config{'' if len(changed) == 1 else 's'} differ)")
     return None

@@ -167,10 +167,9 @@ def run_design_episode(spec) -> dict:
     ``spec``'s world and run index (:mod:`slam_predict.collect.robot_design`) over the settings;
     run.json gets the point as ``design``."""
     from slam_predict.collect.robot_design import load_design
-    from slam_predict.collect.settings import with_robot
 
     design = load_design(spec.options["design"])
     point = design.run_point(spec.world, spec.index)
-    settings = with_robot(load_settings(spec.options.get("settings")),
-                          design.robot(point["config"]), spec.options["design"])
+    settings = design.settings_for(load_settings(spec.options.get("settings")),
+                                   point["config"], spec.options["design"])
     return run_episode(spec, settings, extra={"design": point})

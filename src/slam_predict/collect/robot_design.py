@@ -127,6 +127,29 @@ class RobotDesign:
         """The robot description of configuration ``config``."""
         return configured_robot(self.base, self.configs[config], self.resolution_deg, config)
 
+    def settings_for(self, settings, config: str, path: os.PathLike | str):
+        """Collection ``settings`` with configuration ``config``'s robot (``path``: this
+        design's file, named in errors)."""
+        from slam_predict.collect.settings import with_robot
+
+        return with_robot(settings, self.robot(config), str(path))
+
+    def run_hashes(self, settings, path: os.PathLike | str):
+        """(world, run index) → the config hashes of that run's settings (None for a run
+        the design does not have); hashes computed once per configuration."""
+        cache: dict[str, dict[str, str]] = {}
+
+        def hashes(world: str, index: int) -> dict[str, str] | None:
+            try:
+                config = self.run_point(world, index)["config"]
+            except KeyError:
+                return None
+            if config not in cache:
+                cache[config] = self.settings_for(settings, config, path).hashes()
+            return cache[config]
+
+        return hashes
+
 
 def configured_robot(base: RobotDescription, factors: Mapping[str, float],
                      resolution_deg: float, name: str) -> RobotDescription:
