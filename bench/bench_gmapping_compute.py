@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """What the real slam_gmapping spends per scan and per map rebuild (CPU s), measured on the
 sensor logs of collected runs: the calibration of the compute-delay model (`slam_compute` in
-collect settings, src/slam_predict/explore/compute_delay.py; docs/fidelity.md).
+collect settings, src/slam_predict/slam/compute_delay.py; docs/fidelity.md).
 
 The real openslam_gmapping, built outside the repository with bench/gmapping_diff/build.sh,
 replays each run's sensors.log.gz with the run's recorded GMapping parameters; its driver times

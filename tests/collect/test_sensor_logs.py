@@ -79,7 +79,7 @@ def test_a_run_recorded_before_random_stream_replays_on_numpy(tmp_path):
 def test_replay_applies_the_runs_compute_delay(tmp_path, capsys):
     """A run collected with slam_gmapping's compute delay (scans dropped while GMapping is
     busy) replays exactly: `slam run` hands GMapping the same scans from run.json's model."""
-    from slam_predict.explore.compute_delay import ComputeDelayConfig
+    from slam_predict.slam.compute_delay import ComputeDelayConfig
 
     s = settings(True)
     s.compute = ComputeDelayConfig(model="cost", scan_s=0.35, rebuild_s_per_map_cell=2e-8)

@@ -77,8 +77,8 @@ def test_ros_runs_drop_the_in_process_compute_delay():
     import dataclasses
 
     from slam_predict.collect.settings import load_settings
-    from slam_predict.explore.compute_delay import ComputeDelayConfig
     from slam_predict.ros.orchestrator_config import without_compute_delay
+    from slam_predict.slam.compute_delay import ComputeDelayConfig
 
     warnings = []
 

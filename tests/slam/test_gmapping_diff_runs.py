@@ -116,7 +116,7 @@ def test_runs_table_gives_each_ratio_and_their_median():
 
 
 def test_a_delayed_run_gives_both_sides_only_the_scans_its_gmapping_was_handed(tmp_path):
-    from slam_predict.explore.compute_delay import ComputeDelayConfig
+    from slam_predict.slam.compute_delay import ComputeDelayConfig
 
     settings = load_settings()
     settings.slam.params = dataclasses.replace(settings.slam.params, particles=6)

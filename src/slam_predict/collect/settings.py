@@ -31,11 +31,12 @@ from slam_predict.config import (
     to_dict,
 )
 from slam_predict.errors import InputError
-from slam_predict.explore.compute_delay import ComputeDelayConfig
+from slam_predict.paths import PROJECT_ROOT
 from slam_predict.slam import SlamChoice
+from slam_predict.slam.compute_delay import ComputeDelayConfig
 
 LOG = logging.getLogger(__name__)
-DEFAULT_SETTINGS = Path(__file__).resolve().parents[3] / "config" / "collect.yaml"
+DEFAULT_SETTINGS = PROJECT_ROOT / "config" / "collect.yaml"
 FILE_KEYS = ("robot", "navigation", "explore")
 FILE_DEFAULTS = ("robot.yaml", ".", "explore.yaml")
 DEFAULT_SLAM = {"type": "gmapping", "params": "gmapping.yaml"}

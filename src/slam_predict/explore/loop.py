@@ -31,7 +31,6 @@ import numpy as np
 
 from slam_predict.errors import InputError
 from slam_predict.explore import PERFECT, map_sources
-from slam_predict.explore.compute_delay import ComputeDelayConfig, for_backend
 from slam_predict.explore.explorer import ExploreConfig, Explorer
 from slam_predict.explore.mapsource import PerfectMap, PerfectMapConfig
 from slam_predict.formats.stage_stream import StagePublisher, StepMessages
@@ -40,6 +39,7 @@ from slam_predict.nav.config import MoveBaseConfig
 from slam_predict.nav.navigator import GoalRecord, Navigator
 from slam_predict.sim import SimConfig, Simulator
 from slam_predict.slam import LaserGeometry
+from slam_predict.slam.compute_delay import ComputeDelayConfig, for_backend
 from slam_predict.world.model import World
 
 LOG = logging.getLogger(__name__)
@@ -89,7 +89,7 @@ class ClosedLoop:
         map_source: ``perfect`` or a SLAM back-end of :func:`map_sources`.
         perfect: perfect map source settings; slam_params: the SLAM back-end's parameters
             (``None`` = its defaults).
-        compute: slam_gmapping's compute time (:mod:`slam_predict.explore.compute_delay`);
+        compute: slam_gmapping's compute time (:mod:`slam_predict.slam.compute_delay`);
             None or model ``none``: every scan is handled at once, as in lockstep.
     """
 

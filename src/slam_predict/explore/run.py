@@ -33,10 +33,11 @@ from slam_predict.explore.loop import ClosedLoop
 from slam_predict.explore.mapsource import PerfectMapConfig
 from slam_predict.nav.config import MoveBaseConfig, load_nav_config
 from slam_predict.nav.costmap import inscribed_radius
+from slam_predict.paths import PROJECT_ROOT
 from slam_predict.sim import SimConfig
 from slam_predict.world.model import World
 
-DEFAULT_CONFIG_DIR = Path(__file__).resolve().parents[3] / "config"
+DEFAULT_CONFIG_DIR = PROJECT_ROOT / "config"
 
 
 @dataclass

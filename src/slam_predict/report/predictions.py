@@ -17,12 +17,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from slam_predict.errors import InputError
+from slam_predict.paths import PROJECT_ROOT
 from slam_predict.report import html as H
 from slam_predict.report.campaign import Campaign
 from slam_predict.report.models import COMPONENTS, LABELS, UNITS, ModelEntry
 
 LOG = logging.getLogger(__name__)
-SHIPPED_WORLDS = Path(__file__).resolve().parents[3] / "worlds"
+SHIPPED_WORLDS = PROJECT_ROOT / "worlds"
 
 
 @dataclass

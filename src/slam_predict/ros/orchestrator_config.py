@@ -12,10 +12,11 @@ from pathlib import Path
 from typing import ClassVar
 
 from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
+from slam_predict.paths import PROJECT_ROOT
 from slam_predict.ros.ground_truth import GroundTruthConfig
 from slam_predict.ros.orchestrator import MonitorSettings
 
-DEFAULT_CONFIG = Path(__file__).resolve().parents[3] / "config" / "orchestrator.yaml"
+DEFAULT_CONFIG = PROJECT_ROOT / "config" / "orchestrator.yaml"
 
 
 @dataclass
@@ -86,7 +87,7 @@ class RunSetup:
 def without_compute_delay(settings, rospy_module):
     """Settings with ``slam_compute`` off: under ROS GMapping's compute time is real, so the
     in-process engine's emulation of it does not apply (and is not recorded)."""
-    from slam_predict.explore.compute_delay import ComputeDelayConfig
+    from slam_predict.slam.compute_delay import ComputeDelayConfig
 
     if not settings.compute.enabled:
         return settings

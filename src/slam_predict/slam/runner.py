@@ -16,7 +16,7 @@ import os
 import resource
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -24,10 +24,11 @@ import numpy as np
 
 from slam_predict import slam as backends
 from slam_predict.atomic import atomic_dir
-from slam_predict.config import to_dict
+from slam_predict.config import from_dict, to_dict
 from slam_predict.errors import InputError
 from slam_predict.slam import OccupancyGrid, SlamBackend
 from slam_predict.slam.bag_input import bag_like, read_bag_input
+from slam_predict.slam.compute_delay import ComputeDelayConfig, for_backend
 from slam_predict.slam.scans import SlamInput, read_carmen_input
 
 LOG = logging.getLogger(__name__)
@@ -105,10 +106,6 @@ def _recorded_compute(section, run_json: Path):
     """The compute delay a run was collected with (run.json ``slam_compute``), or None."""
     if section is None:
         return None
-    from dataclasses import fields
-
-    from slam_predict.config import from_dict
-    from slam_predict.explore.compute_delay import ComputeDelayConfig
     keys = {f.name for f in fields(ComputeDelayConfig)}
     settings = {k: v for k, v in section.items() if k in keys}   # without its counters
     return from_dict(ComputeDelayConfig, settings, f"{run_json} slam_compute")
@@ -119,10 +116,8 @@ def run(data: SlamInput, slam_type: str, params, seed: int,
         rng: np.random.Generator | None = None, compute=None) -> RunResult:
     """Run back-end ``slam_type`` over ``data`` with a generator seeded by ``seed`` (or ``rng``
     when given, e.g. a collected run's SLAM generator); the map is built at the end.
-    ``compute``: a :class:`~slam_predict.explore.compute_delay.ComputeDelayConfig` (a collected
+    ``compute``: a :class:`~slam_predict.slam.compute_delay.ComputeDelayConfig` (a collected
     run's), so the back-end gets the scans the run's GMapping had time for."""
-    from slam_predict.explore.compute_delay import for_backend
-
     cpu0, wall0 = time.process_time(), time.perf_counter()
     slam = backends.create(slam_type, params=params, laser=data.laser,
                            rng=rng if rng is not None else np.random.default_rng(seed))

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from slam_predict.explore import run as runner
-from slam_predict.explore.compute_delay import ComputeDelay, ComputeDelayConfig, line_cells
 from slam_predict.explore.loop import ClosedLoop
+from slam_predict.slam.compute_delay import ComputeDelay, ComputeDelayConfig, line_cells
 from slam_predict.slam.gmapping.params import GMappingParams
 from slam_predict.world.load import load_plan
 
@@ -144,7 +144,7 @@ def test_a_slow_machine_processes_fewer_scans(root):
 
 def test_scan_cost_scales_with_beams_only_when_asked():
     from slam_predict.config import config_hash
-    from slam_predict.explore.compute_delay import scan_cost
+    from slam_predict.slam.compute_delay import scan_cost
 
     fixed = ComputeDelayConfig(model="cost", scan_s=0.448)
     per_beam = ComputeDelayConfig(model="cost", scan_s=0.448, scan_beams=541)
