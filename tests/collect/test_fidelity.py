@@ -211,7 +211,7 @@ def test_area_ticks_stay_within_the_plotted_areas():
     """Fixed ticks widened a small campaign's axis to 5,000 m²; a campaign's own range only."""
     import numpy as np
 
-    from slam_predict.collect.fidelity_plot import _area_ticks
+    from slam_predict.report.fidelity_plot import _area_ticks
 
     assert _area_ticks(np.array([333.0, 878.0])) == [300, 500, 1000]   # at most 15 % wider
     assert _area_ticks(np.array([333.0, 6222.0])) == [300, 500, 1000, 2000, 3000, 5000]

@@ -50,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
         write_text(args.out, text)
     if args.plot:
         from slam_predict.atomic import write_bytes
-        from slam_predict.collect.fidelity_plot import ratio_vs_area_png
+        from slam_predict.report.fidelity_plot import ratio_vs_area_png
 
         write_bytes(args.plot, ratio_vs_area_png(comparisons))
     print(text, end="")

@@ -37,6 +37,7 @@ from slam_predict.formats.stage_stream import StagePublisher, StepMessages
 from slam_predict.geometry import compose, inverse, wrap_angle
 from slam_predict.nav.config import MoveBaseConfig
 from slam_predict.nav.navigator import GoalRecord, Navigator
+from slam_predict.seeds import run_seeds
 from slam_predict.sim import SimConfig, Simulator
 from slam_predict.slam import LaserGeometry
 from slam_predict.slam.compute_delay import ComputeDelayConfig, for_backend
@@ -100,7 +101,7 @@ class ClosedLoop:
         if map_source not in map_sources():
             raise InputError(f"unknown map source '{map_source}' (expected "
                              f"{' or '.join(map_sources())})")
-        sim_ss, explore_ss, slam_ss = loop_seeds(seed)
+        sim_ss, explore_ss, slam_ss = run_seeds(seed)
         self.world = world
         self.seed = seed
         self.map_source_name = map_source
@@ -234,11 +235,6 @@ class ClosedLoop:
         if self.explorer.goal is not None:
             self.client.cancel(self.t)
         return "max_sim_time"
-
-
-def loop_seeds(seed: int) -> list[np.random.SeedSequence]:
-    """The seed sequences of the simulator, the explorer and the SLAM back-end of a run."""
-    return np.random.SeedSequence(seed).spawn(3)
 
 
 def _with_speed(cfg: ExploreConfig, max_vel_x: float) -> ExploreConfig:

@@ -26,6 +26,7 @@ from slam_predict import slam as backends
 from slam_predict.atomic import atomic_dir
 from slam_predict.config import from_dict, to_dict
 from slam_predict.errors import InputError
+from slam_predict.seeds import run_seeds
 from slam_predict.slam import OccupancyGrid, SlamBackend
 from slam_predict.slam.bag_input import bag_like, read_bag_input
 from slam_predict.slam.compute_delay import ComputeDelayConfig, for_backend
@@ -78,8 +79,7 @@ class RecordedRun:
 
     def rng(self) -> np.random.Generator:
         """The generator the in-loop SLAM back-end of the run had."""
-        from slam_predict.explore.loop import loop_seeds
-        return np.random.default_rng(loop_seeds(self.seed)[2])
+        return np.random.default_rng(run_seeds(self.seed)[2])
 
 
 def recorded_run(path: os.PathLike | str) -> RecordedRun | None:
