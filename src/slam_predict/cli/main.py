@@ -31,18 +31,42 @@ SUBCOMMANDS = (
 )
 
 
+class HelpFormatter(argparse.HelpFormatter):
+    """argparse's formatter that appends each option's default to its help, unless the default
+    is empty (None, False, an empty list) or the help already says it."""
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        text = action.help or ""
+        default = action.default
+        if ("%(default)" in text or "default" in text.lower() or not action.option_strings
+                or default in (None, False, argparse.SUPPRESS) or default == []
+                or isinstance(action, argparse._VersionAction)):
+            return text
+        return f"{text} (default: %(default)s)"
+
+
+def global_options(top: bool) -> argparse.ArgumentParser:
+    """Options accepted before and after the subcommand (``slam-predict -v predict`` and
+    ``slam-predict predict -v``); after it they only override what was given before."""
+    options = argparse.ArgumentParser(add_help=False)
+    options.add_argument("-v", "--verbose", action="count",
+                         default=0 if top else argparse.SUPPRESS,
+                         help="more log output (-v info, -vv debug)")
+    return options
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full argument parser with every subcommand."""
     parser = argparse.ArgumentParser(
-        prog="slam-predict",
+        prog="slam-predict", parents=[global_options(top=True)], formatter_class=HelpFormatter,
         description="Predict GMapping's localization error in a building from its floor plan.")
     parser.add_argument("--version", action="version", version=f"slam-predict {__version__}")
-    parser.add_argument("-v", "--verbose", action="count", default=0,
-                        help="more log output (-v info, -vv debug)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    after = global_options(top=False)
     for name in SUBCOMMANDS:
         module = importlib.import_module(f"slam_predict.cli.{name}_cmd")
-        child = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        child = sub.add_parser(name, help=module.HELP, description=module.HELP,
+                               parents=[after], formatter_class=HelpFormatter)
         module.add_arguments(child)
         child.set_defaults(_run=module.run)
     return parser
