@@ -30,6 +30,6 @@ slam-predict predict "$WORLD" | tee "$OUT/predict.txt"
 slam-predict predict "$WORLD" --json > "$OUT/predict.json"
 
 echo "[demo] report of the demo campaign, with the shipped models' predictions for its worlds"
-slam-predict report "$OUT/data" --models "$ROOT/models" --out "$OUT/report.html" --force \
+slam-predict report "$OUT/data" --models-dir "$ROOT/models" --out "$OUT/report.html" --force \
   --title "slam_predict demo campaign"
 echo "[demo] done: outputs in $OUT"

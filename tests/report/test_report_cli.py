@@ -37,7 +37,7 @@ def test_real_features_of_a_shipped_world(campaign_dir, model_dir, tmp_path, cap
     shutil.copytree(campaign_dir, data)
     (data / "alpha").rename(data / "tiny")
     out = tmp_path / "r.html"
-    code, _, err = run(capsys, data, "--out", out, "--models", model_dir)
+    code, _, err = run(capsys, data, "--out", out, "--models-dir", model_dir)
     assert code == 0, err
     page = Page(out.read_text(encoding="utf-8"))
     worlds = {row[0] for row in page.table(["world", "runs", "component"])["rows"]}
@@ -68,11 +68,11 @@ def test_bad_inputs(campaign_dir, tmp_path, capsys, case, message):
         data.write_text("world\n")
     elif case == "models_missing":
         named = tmp_path / "models"
-        extra = ["--models", named]
+        extra = ["--models-dir", named]
     elif case == "models_empty":
         named = tmp_path / "models"
         named.mkdir()
-        extra = ["--models", named]
+        extra = ["--models-dir", named]
     elif case == "out_is_folder":
         out = named = tmp_path / "folder"
         out.mkdir()

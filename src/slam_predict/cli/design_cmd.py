@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from slam_predict.cli.deprecated import add_renamed_option
 from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_file
 from slam_predict.errors import InputError
 
@@ -34,8 +35,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="distinct configurations per world (default 4)")
     parser.add_argument("--replicates", type=int, default=2,
                         help="runs per world and configuration (default 2)")
-    parser.add_argument("--resolution", type=float, default=0.5, metavar="DEG",
-                        help="laser angular resolution, deg (default 0.5)")
+    step = parser.add_argument("--angle-step", type=float, default=0.5, metavar="DEG",
+                               help="laser angular resolution, deg (default 0.5)")
+    add_renamed_option(parser, "--resolution", step)
     parser.add_argument("--seed", type=int, default=0, help="seed of the design (default 0)")
     for factor, option, what in BOUND_OPTIONS:
         parser.add_argument(option, nargs=2, type=float, metavar=("LOW", "HIGH"),
@@ -65,8 +67,8 @@ def run(args: argparse.Namespace) -> int:
 
     for option in ("configs", "points_per_world", "replicates"):
         check_at_least(getattr(args, option), 1, "--" + option.replace("_", "-"))
-    if not args.resolution > 0:
-        raise InputError(f"--resolution must be > 0 deg, got {args.resolution}")
+    if not args.angle_step > 0:
+        raise InputError(f"--angle-step must be > 0 deg, got {args.angle_step}")
     if args.points_per_world > args.configs:
         raise InputError(f"--points-per-world ({args.points_per_world}) exceeds --configs "
                          f"({args.configs})")
@@ -75,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
     check_out_file(args.out, args.force)
     try:   # the design checks that every configuration makes a valid robot
         design = make_design(list(worlds), base, args.configs, args.points_per_world,
-                             args.replicates, args.seed, bounds_of(args), args.resolution)
+                             args.replicates, args.seed, bounds_of(args), args.angle_step)
     except ValueError as exc:
         raise InputError(f"cannot make the design: {exc}", args.base_robot) from None
     write_design(design, args.out)

@@ -1,11 +1,11 @@
 """``slam-predict report DATA``: one self-contained HTML page about a collection campaign.
 
-  slam-predict report DATA [--out report.html] [--models models/] [--title T]
+  slam-predict report DATA [--out report.html] [--models-dir models/] [--title T]
 
 The page holds the campaign overview (worlds, runs, configuration hashes, code versions, stop
 reasons, simulated and wall time), the per-building summary (error components in m, rad and
 deg), per world the final SLAM map of a representative run with the ground-truth and SLAM paths
-and the per-run table; with ``--models`` also the model cards (scores) and the models'
+and the per-run table; with ``--models-dir`` also the model cards (scores) and the models'
 predictions for the campaign's worlds next to the measured values. Images are embedded as PNG,
 there is no script and no external file. Missing pieces (a run without map, a world file that
 cannot be found) are listed on the page.
@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 
+from slam_predict.cli.deprecated import add_renamed_option
 from slam_predict.cli.guards import add_force_argument, check_out_file
 
 NAME = "report"
@@ -25,9 +26,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                                      "'slam-predict collect'")
     parser.add_argument("--out", default="report.html", metavar="HTML",
                         help="page to write (default report.html)")
-    parser.add_argument("--models", metavar="DIR",
-                        help="a model folder or a folder of them (e.g. models/): adds the model "
-                             "cards and their predictions for the campaign's worlds")
+    models = parser.add_argument(
+        "--models-dir", metavar="DIR",
+        help="a model folder or a folder of them (e.g. models/): adds the model cards and their "
+             "predictions for the campaign's worlds")
+    add_renamed_option(parser, "--models", models)
     parser.add_argument("--title", help="page title (default: from DATA's name)")
     add_force_argument(parser)
 
@@ -38,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.report.build import build_report
 
     check_out_file(args.out, args.force)
-    text = build_report(args.data, args.models, args.title)
+    text = build_report(args.data, args.models_dir, args.title)
     try:
         write_text(args.out, text)
     except OSError as exc:

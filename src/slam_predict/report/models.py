@@ -1,6 +1,6 @@
 """Model folders for the report's learning section: loading and the model-card tables.
 
-``--models`` names either one model folder (``card.json`` inside) or a folder of them (like
+``--models-dir`` names either one model folder (``card.json`` inside) or a folder of them (like
 the shipped ``models/``). A card that cannot be read, or a folder whose files fail the store's
 checks (checksums, scikit-learn major version), is reported on the page; the other models are
 still shown. A robot-aware folder (card ``kind: robots``) is loaded as a
