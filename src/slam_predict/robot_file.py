@@ -2,20 +2,24 @@
 odometry error, footprint and speed limits, in the units a Stage .world file writes them.
 
 Schema (every key optional unless marked *required*; unknown keys are refused with a
-did-you-mean hint; every error is an :class:`~slam_predict.errors.InputError` naming the file)::
+did-you-mean hint; every error is an :class:`~slam_predict.errors.InputError` naming the file;
+values no real robot has, usually a unit mistake, are refused unless ``force``:
+:mod:`slam_predict.robot_checks`)::
 
     name: lds_360_3p5            # required, a non-empty string
     description: "free text"     # optional
     laser:                       # required; Stage's ranger / stage_ros' LaserScan names
       range_max: 3.5             # required, m, > range_min
-      fov: 360.0                 # required, DEGREES (Stage's ranger), in (0, 360]
+      fov: 360.0                 # required, DEGREES (Stage's ranger), in (0, 360]; or
+                                 # fov_rad: 6.2832, radians (as a LaserScan's angles)
       samples: 360               # required, beams, >= 1 (bearing i: -fov/2 + i*fov/(samples-1))
       range_min: 0.12            # m, >= 0 (default 0)
       rate_hz: 5.0               # scans per s, > 0 (default 10)
       pose: [0.0, 0.0, 0.0]      # mounting on the robot: x m, y m, yaw DEGREES (default centred)
       noise_std: 0.0             # m, Gaussian range noise on hits, >= 0 (default 0, as Stage)
     odom_error: [0.01, 0.01, 2.0]  # required: x m/m, y m/m, yaw in DEGREES PER RADIAN; Stage's
-                                 # 4-value form [x, y, z, yaw] is accepted too (z is unused)
+                                 # 4-value form [x, y, z, yaw] is accepted too (z is unused);
+                                 # or odom_error_rad: [x m/m, y m/m, yaw rad/rad]
     odom_model: uniform_per_run  # one of sensor.ODOM_MODELS (default uniform_per_run)
     footprint_side: 0.3          # m, square footprint, > 0 (default 0.3)
     max_vel_x: 0.85              # m/s, > 0: base_local_planner's (default 0.85)
@@ -42,6 +46,7 @@ What a description changes, as pure conversions (SI units, rad):
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 import os
 from collections.abc import Mapping
@@ -58,7 +63,9 @@ from slam_predict.config import (
     load_yaml,
     to_dict,
 )
-from slam_predict.errors import InputError, require_file
+from slam_predict.errors import InputError, did_you_mean, require_file
+from slam_predict.paths import PROJECT_ROOT, portable_path
+from slam_predict.robot_checks import implausible
 from slam_predict.sensor import ODOM_MODELS, LaserConfig, OdomConfig, SensorConfig
 
 DEG = math.pi / 180.0          # rad per degree, as world.model's DEG (Stage's unit), bit for bit
@@ -66,6 +73,8 @@ FOV_DEG = Range(0.0, 360.0, open_low=True)
 GMAPPING_MARGIN = 0.01         # m: slam_gmapping's default maxRange is range_max − 0.01
 COSTMAP_MARGIN = 0.1           # m: costmap footprint side − body side (0.4 m − 0.3 m, seed study)
 P = TypeVar("P")
+LOG = logging.getLogger(__name__)
+ROBOTS_DIR = PROJECT_ROOT / "config" / "robots"
 
 
 @dataclass(frozen=True)
@@ -212,11 +221,16 @@ def _require_finite(section: str, values: Mapping[str, Any]) -> None:
                 raise ValueError(f"{where} must be finite, got {value!r}")
 
 
-def load_robot(path: os.PathLike | str) -> RobotDescription:
+def load_robot(path: os.PathLike | str, force: bool = False) -> RobotDescription:
     """Read and validate a robot description file; InputError (one line, naming the file)
-    on any problem."""
-    path = require_file(path, "robot file")
+    on any problem. A file that is valid but implausible (:mod:`slam_predict.robot_checks`,
+    usually a unit mistake) is refused too, unless ``force``: then each problem is logged."""
+    path = require_file(robot_path(path), "robot file")
     data = load_yaml(path)
+    if not data:
+        raise InputError("the robot file is empty (it needs at least name, laser and "
+                         "odom_error; examples in config/robots/)", path)
+    data = _explicit_units(data, path)
     check_keys(data, _field_names(RobotDescription), path)
     laser = data.get("laser")
     if isinstance(laser, Mapping):
@@ -225,7 +239,58 @@ def load_robot(path: os.PathLike | str) -> RobotDescription:
     _check_required(data, RobotDescription.REQUIRED, path, "")
     if isinstance(data.get("odom_error"), list) and len(data["odom_error"]) == 4:
         data = _stage_odom_error(data, path)
-    return from_dict(RobotDescription, data, path)
+    robot = from_dict(RobotDescription, data, path)
+    problems = implausible(robot)
+    if problems and not force:
+        raise InputError(f"{problems[0]} (--force uses it as written)", path)
+    for problem in problems:
+        LOG.warning("%s: %s (used as written: --force)", path, problem)
+    return robot
+
+
+def robot_path(spec: os.PathLike | str) -> str:
+    """The file of a robot given as a path, or by name as the shipped ones
+    (``urg_240_5p6`` = config/robots/urg_240_5p6.yaml); InputError with a did-you-mean when a
+    bare name is not one of them."""
+    spec = os.fspath(spec)
+    if os.path.exists(spec) or os.sep in spec or spec.endswith((".yaml", ".yml")):
+        return spec
+    shipped = {p.stem: p for p in sorted(ROBOTS_DIR.glob("*.yaml"))}
+    if spec in shipped:
+        return str(shipped[spec])
+    raise InputError(f"robot file not found, nor a shipped robot of {portable_path(ROBOTS_DIR)}"
+                     + (did_you_mean(spec, shipped) or f" ({', '.join(shipped)})"), spec)
+
+
+def _explicit_units(data: dict[str, Any], path: str) -> dict[str, Any]:
+    """``data`` with the radian spellings ROS users write (``laser.fov_rad``,
+    ``odom_error_rad`` = [x m/m, y m/m, yaw rad/rad]) turned into the file's own units
+    (degrees); InputError when a value is given both ways."""
+    laser = data.get("laser")
+    if isinstance(laser, Mapping) and "fov_rad" in laser:
+        if "fov" in laser:
+            raise InputError("give laser.fov (degrees) or laser.fov_rad, not both", path)
+        rest = {k: v for k, v in laser.items() if k != "fov_rad"}
+        data = {**data, "laser": {**rest, "fov": _degrees(laser["fov_rad"], "laser.fov_rad",
+                                                           path)}}
+    if "odom_error_rad" in data:
+        if "odom_error" in data:
+            raise InputError("give odom_error (yaw in deg/rad) or odom_error_rad (yaw in "
+                             "rad/rad), not both", path)
+        values = data["odom_error_rad"]
+        if not isinstance(values, list) or len(values) != 3:
+            raise InputError(f"'odom_error_rad' must be [x m/m, y m/m, yaw rad/rad], got "
+                             f"{values!r}", path)
+        rest = {k: v for k, v in data.items() if k != "odom_error_rad"}
+        data = {**rest, "odom_error": [*values[:2], _degrees(values[2], "odom_error_rad[2]",
+                                                             path)]}
+    return data
+
+
+def _degrees(value: Any, key: str, path: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"'{key}' must be a number, got {value!r}", path)
+    return math.degrees(value)
 
 
 def _field_names(cls: type) -> list[str]:

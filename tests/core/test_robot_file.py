@@ -207,7 +207,7 @@ BAD_FILES = [
     ("laser not a mapping", "name: r\nlaser: 3\nodom_error: [0, 0, 0]\n",
      ["'laser' must be a mapping"]),
     ("not a mapping", "- just\n- a list\n", ["top level must be a mapping"]),
-    ("empty file", "", ["missing required key 'name'"]),
+    ("empty file", "", ["the robot file is empty"]),
     ("YAML syntax", "name: [unclosed\n", ["YAML syntax error"]),
 ]
 

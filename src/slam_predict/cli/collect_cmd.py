@@ -37,17 +37,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--settings", metavar="YAML",
                         help="collection settings (robot, gmapping, navigation, exploration, "
                              "stopping); default config/collect.yaml")
-    parser.add_argument("--robot", metavar="YAML",
+    parser.add_argument("--robot", metavar="YAML|NAME",
                         help="robot description file (laser, odometry error, footprint, speed "
-                             "limits; e.g. config/robots/lds_360_3p5.yaml) applied over the "
-                             "settings")
+                             "limits; e.g. config/robots/lds_360_3p5.yaml, or the name of a "
+                             "shipped one: lds_360_3p5) applied over the settings")
     parser.add_argument("--design", metavar="YAML",
                         help="robot-configuration design (slam-predict design): each run uses "
                              "the robot of its building's design point; excludes --robot")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--force", action="store_true",
-                        help="resume a campaign even with another --seed or other settings than "
-                             "its campaign.json records (the change is kept in its history)")
+                        help="go on where a check would refuse: resume a campaign with another "
+                             "--seed or other settings than its campaign.json records (the "
+                             "change is kept in its history); use a robot file that no real "
+                             "robot matches (usually a unit mistake)")
 
 
 def find_worlds(items: list[str]) -> dict[str, str]:
@@ -153,7 +155,7 @@ def run(args: argparse.Namespace) -> int:
     check_at_least(args.jobs, 1, "--jobs")
     check_at_least(args.max_runs, 1, "--max-runs")
     worlds = find_worlds(args.worlds)
-    settings = load_settings(args.settings, robot=args.robot)
+    settings = load_settings(args.settings, robot=args.robot, force_robot=args.force)
     design = load_run_design(args, worlds)
     runs = design_runs(args.runs, design) if design else parse_runs(args.runs or "5")
     out = Path(args.out)

@@ -28,7 +28,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="Stage .world files, or folders of them (names = file stems)")
     parser.add_argument("--out", required=True, metavar="YAML", help="design file to write")
     parser.add_argument("--base-robot", default="config/robots/seed_realistic.yaml",
-                        metavar="YAML", help="robot description every configuration starts "
+                        metavar="YAML|NAME", help="robot description every configuration starts "
                                              "from (default: the seed study's realistic robot)")
     parser.add_argument("--configs", type=int, default=28, help="configurations (default 28)")
     parser.add_argument("--points-per-world", type=int, default=4,
@@ -73,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--points-per-world ({args.points_per_world}) exceeds --configs "
                          f"({args.configs})")
     worlds = find_worlds(args.worlds)
-    base = load_robot(args.base_robot)
+    base = load_robot(args.base_robot, force=args.force)
     check_out_file(args.out, args.force)
     try:   # the design checks that every configuration makes a valid robot
         design = make_design(list(worlds), base, args.configs, args.points_per_world,

@@ -22,9 +22,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     group = parser.add_argument_group("plan checks")
     group.add_argument("--force", action="store_true",
-                       help="use a plan whose free area or extent is outside what buildings "
-                            "have (10–100,000 m², ≤ 2 km), usually a wrong --resolution; and "
-                            "overwrite existing output files")
+                       help="go on where a check would refuse: use a plan whose free area or "
+                            "extent is outside what buildings have (10–100,000 m², ≤ 2 km), "
+                            "usually a wrong --resolution, or a robot file that no real robot "
+                            "matches (usually a unit mistake); overwrite existing output files")
     group.add_argument("--max-pixels", type=int, metavar="N",
                        help=f"refuse images of more than N pixels before decoding them "
                             f"(default {DEFAULT_MAX_PIXELS:,}; about 33 bytes of memory per "

@@ -100,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
     if args.robot:
         from slam_predict.robot_file import load_robot
 
-        robot = load_robot(args.robot)  # a bad robot file is the first error
+        robot = load_robot(args.robot, force=args.force)  # a bad robot file is the first error
         robot_model = predict_robot.load_model(args, required=args.simulate is None)
 
     def predict(world) -> dict:

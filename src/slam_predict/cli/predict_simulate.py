@@ -29,11 +29,12 @@ ROBOT_NOTE = "does not take the robot into account"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The --robot and --simulate options of ``predict``."""
+    parser.add_argument_group("robot").add_argument(
+        "--robot", metavar="YAML|NAME",
+        help="robot description file (e.g. config/robots/lds_360_3p5.yaml, or the name of a "
+             "shipped one: lds_360_3p5): the prediction comes from a robot-aware model "
+             "(--model, default own-robots); with --simulate also the simulated runs' robot")
     group = parser.add_argument_group("simulation (--simulate)")
-    group.add_argument("--robot", metavar="YAML",
-                       help="robot description file (e.g. config/robots/lds_360_3p5.yaml): "
-                            "the prediction comes from a robot-aware model (--model, default "
-                            "own-robots); with --simulate also the simulated runs' robot")
     group.add_argument("--simulate", metavar="N|auto",
                        help="also run N simulated explorations of PLAN (auto: pilot of 10, "
                             "then the seed study's run-count rule) and print the measured "
@@ -77,7 +78,7 @@ def _prepare(args: argparse.Namespace, world):
     runs = parse_runs(args.simulate, "--simulate")
     check_at_least(args.jobs, 1, "--jobs")
     check_at_least(args.max_runs, 1, "--max-runs")
-    settings = load_settings(args.settings, robot=args.robot)
+    settings = load_settings(args.settings, robot=args.robot, force_robot=args.force)
     out = Path(args.out)
     check_out_folder(out)
     check_creatable(out)

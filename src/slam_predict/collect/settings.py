@@ -112,10 +112,12 @@ class CollectSettings:
 
 
 def load_settings(path: os.PathLike | str | None = None,
-                  robot: os.PathLike | str | None = None) -> CollectSettings:
+                  robot: os.PathLike | str | None = None,
+                  force_robot: bool = False) -> CollectSettings:
     """Load collect.yaml (default: the package's config/collect.yaml) and the files it names;
     with ``robot``, a robot description file (:mod:`slam_predict.robot_file`) applied over them
-    (:func:`with_robot`)."""
+    (:func:`with_robot`), by path or shipped name; ``force_robot`` accepts an implausible one
+    (:func:`~slam_predict.robot_file.load_robot`)."""
     from slam_predict.explore.explorer import ExploreConfig
     from slam_predict.nav.config import load_nav_config
     from slam_predict.sim import SimConfig
@@ -136,9 +138,9 @@ def load_settings(path: os.PathLike | str | None = None,
         sensor_logs=files.sensor_logs, compute=files.slam_compute)
     if robot is None:
         return settings
-    from slam_predict.robot_file import load_robot
+    from slam_predict.robot_file import load_robot, robot_path
 
-    return with_robot(settings, load_robot(robot), os.fspath(robot))
+    return with_robot(settings, load_robot(robot, force=force_robot), robot_path(robot))
 
 
 def with_robot(settings: CollectSettings, robot, robot_path: str) -> CollectSettings:
