@@ -23,6 +23,7 @@ import datetime
 import hashlib
 import json
 import logging
+import math
 import os
 from collections.abc import Callable
 from pathlib import Path
@@ -73,13 +74,27 @@ def differences(old: Any, new: Any, prefix: str = "") -> list[str]:
         for key in sorted(set(old) | set(new), key=str):
             path = f"{prefix}.{key}" if prefix else str(key)
             if key not in old:
-                out.append(f"{path}: (absent) -> {new[key]!r}")
+                out.append(f"{path}: (absent) -> {shown(path, new[key])}")
             elif key not in new:
-                out.append(f"{path}: {old[key]!r} -> (absent)")
+                out.append(f"{path}: {shown(path, old[key])} -> (absent)")
             else:
                 out.extend(differences(old[key], new[key], path))
         return out
-    return [] if old == new else [f"{prefix}: {old!r} -> {new!r}"]
+    return [] if old == new else [f"{prefix}: {shown(prefix, old)} -> {shown(prefix, new)}"]
+
+
+def shown(path: str, value: Any) -> str:
+    """A settings value as a robot file writes it: the laser's fov in degrees, its mounting yaw
+    and the odometry's yaw error in degrees (per radian); anything else as it is."""
+    try:
+        if path.endswith("laser.fov"):
+            return f"{math.degrees(value):.6g} deg"
+        if path.endswith(("laser.pose", "odom.error")) and len(value) == 3:
+            unit = " deg]" if path.endswith("pose") else " deg/rad]"
+            return f"[{value[0]!r}, {value[1]!r}, {math.degrees(value[2]):.6g}{unit}"
+    except TypeError:
+        pass
+    return repr(value)
 
 
 def describe(found: list[str]) -> str:
@@ -196,7 +211,7 @@ def record_mismatch(record: dict[str, Any], world: str, index: int, current: dic
         changed = sorted(k for k in set(hashes) | set(expected)
                          if hashes.get(k) != expected.get(k))
         return (f"collected with other settings than {current['settings_file']} "
-                f"({', '.join(changed)} config{'' if len(changed) == 1 else 's'} differ)")
+                f"({', '.join(changed)} config{' differs' if len(changed) == 1 else 's differ'})")
     return None
 
 
