@@ -153,3 +153,45 @@ def test_nodes_left_running_after_the_record_are_not_waited_for_forever(tmp_path
     assert br._wait_for_run_end(_FakeLaunch(), tmp_path / "run.json", started, 60.0,
                                 _spec(tmp_path)) == "timeout"
     assert time.monotonic() - started < 5.0
+
+
+# -- campaign.json on the ROS path -------------------------------------------------------------
+
+def no_episode(spec):
+    raise AssertionError("a refused resume must not start any run")
+
+
+def test_a_resume_with_another_seed_or_nodes_is_refused_and_force_goes_on(tmp_path, monkeypatch):
+    from slam_predict.collect.campaign import CampaignMismatch, read_campaign
+
+    out = tmp_path / "data"
+    first = br.open_ros_campaign(out, {"max_sim_time": 45.0}, base_seed=0)
+    assert first["base_seed"] == 0 and first["ros"]["slam"] == "slam_predict"
+    assert first["ros"]["max_sim_time"] == "45.0"
+    assert br.open_ros_campaign(out, {"max_sim_time": 45.0}, base_seed=0)["base_seed"] == 0
+    written = (out / "campaign.json").read_text()
+    monkeypatch.setattr(br, "launch_episode", no_episode)
+    tiny = str(ROOT / "worlds" / "tiny.world")
+    for options, seed, words in [({"max_sim_time": 45.0}, 5, "--seed 0, not --seed 5"),
+                                 ({"max_sim_time": 45.0, "slam": "gmapping"}, 0,
+                                  "slam: 'slam_predict' -> 'gmapping'"),
+                                 ({"max_sim_time": 60}, 0, "max_sim_time: '45.0' -> '60.0'")]:
+        with pytest.raises(CampaignMismatch, match=words) as refused:
+            br.run_batch(tiny, 1, str(out), options, base_seed=seed)
+        assert "force:=true" in str(refused.value)
+        assert (out / "campaign.json").read_text() == written
+        assert not (out / "tiny").exists()
+    forced = br.open_ros_campaign(out, {"max_sim_time": 45.0, "force": "true"}, base_seed=5)
+    assert forced["base_seed"] == 5 and read_campaign(out / "campaign.json")["history"]
+
+
+def test_a_collect_campaign_is_not_resumed_through_the_ros_graph(tmp_path):
+    from slam_predict.collect.campaign import CampaignMismatch, identity, open_campaign
+    from slam_predict.collect.record import code_version
+    from slam_predict.collect.settings import load_settings
+
+    out = tmp_path / "data"
+    out.mkdir()
+    open_campaign(out, identity(load_settings(), 0, code_version()))
+    with pytest.raises(CampaignMismatch, match="collected in-process"):
+        br.open_ros_campaign(out, {}, base_seed=0)

@@ -3,6 +3,7 @@
 same format as the in-process episode (same files, same run.json keys + "ros"), and both reload."""
 import dataclasses
 import shutil
+import subprocess
 import tempfile
 import time
 import unittest
@@ -111,6 +112,23 @@ class BatchExploreTiny(unittest.TestCase):
                                  local_record["config_hashes"][name], name)
         finally:
             shutil.rmtree(folder, ignore_errors=True)
+
+    def test_3_a_resume_with_another_seed_is_refused(self):
+        """batch_explore on the finished campaign with base_seed 5: exit 2, the difference
+        named, campaign.json and the run untouched (no run is launched)."""
+        self.assertTrue((self.out / "campaign.json").is_file(), "the batch wrote no campaign.json")
+        before = (self.out / "campaign.json").read_text()
+        run_json = (self.run_dir / "run.json").read_text()
+        result = subprocess.run(
+            ["rosrun", "slam_predict", "batch_explore", "__name:=batch_explore_resume",
+             f"_worlds:={self.world}", "_runs:=1", f"_out:={self.out}", "_base_seed:=5",
+             "_max_sim_time:=45", "_snapshot_interval:=25"],
+            capture_output=True, text=True, timeout=120)
+        said = result.stdout + result.stderr
+        self.assertEqual(result.returncode, 2, said)
+        self.assertIn("--seed 0, not --seed 5", said)
+        self.assertEqual((self.out / "campaign.json").read_text(), before)
+        self.assertEqual((self.run_dir / "run.json").read_text(), run_json)
 
 
 if __name__ == "__main__":

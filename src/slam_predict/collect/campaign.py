@@ -112,6 +112,8 @@ def mismatch(recorded: dict[str, Any], current: dict[str, Any]) -> str | None:
         return plan_mismatch(recorded.get("plan"), current.get("plan"))
     if recorded.get("design", {}).get("sha256") != current.get("design", {}).get("sha256"):
         return design_mismatch(recorded.get("design"), current.get("design"))
+    if recorded.get("ros") != current.get("ros"):
+        return ros_mismatch(recorded.get("ros"), current.get("ros"))
     found = differences(recorded.get("settings"), current["settings"])
     if found:
         return f"the settings differ from the campaign's: {describe(found)}"
@@ -130,6 +132,15 @@ def plan_mismatch(old: dict[str, Any] | None, new: dict[str, Any] | None) -> str
             "start pose differ)")
 
 
+def ros_mismatch(old: dict[str, Any] | None, new: dict[str, Any] | None) -> str:
+    """Why a campaign run by ``batch_explore`` with nodes and launch options ``old`` (its
+    ``ros`` entry; None for an in-process campaign) is not one with ``new``."""
+    if old is None or new is None:
+        kind = "in-process ('slam-predict collect')" if old is None else "through the ROS graph"
+        return f"the campaign was collected {kind}"
+    return f"the campaign ran other nodes or launch options: {describe(differences(old, new))}"
+
+
 def design_mismatch(old: dict[str, Any] | None, new: dict[str, Any] | None) -> str:
     """Why a campaign of robot design ``old`` (``collect --design``'s ``design`` entry, None
     without one) is not one of design ``new``."""
@@ -141,14 +152,15 @@ def design_mismatch(old: dict[str, Any] | None, new: dict[str, Any] | None) -> s
 
 
 def open_campaign(root: Path, current: dict[str, Any], force: bool = False,
-                  run_hashes: RunHashes | None = None) -> dict[str, Any]:
+                  run_hashes: RunHashes | None = None, hint: str = HINT) -> dict[str, Any]:
     """Check a (new, resumed or legacy) campaign folder against ``current`` and write
     campaign.json; raises :class:`CampaignMismatch` for a refused resume. ``run_hashes``: the
     config hashes each run of a legacy folder must carry (None: ``current``'s, the same for
-    every run; None from it: the run is not one the campaign would collect)."""
+    every run; None from it: the run is not one the campaign would collect). ``hint``: how the
+    user asks for a new folder or forces the resume, appended to the refusal."""
     path = Path(root) / CAMPAIGN_JSON
     if not path.is_file():
-        return _adopt(Path(root), current, force, run_hashes)
+        return _adopt(Path(root), current, force, run_hashes, hint)
     recorded = read_campaign(path)
     problem = mismatch(recorded, current)
     if problem is None:
@@ -157,19 +169,19 @@ def open_campaign(root: Path, current: dict[str, Any], force: bool = False,
                      recorded.get("code_version"), current["code_version"])
         return recorded
     if not force:
-        raise CampaignMismatch(problem + HINT, path)
+        raise CampaignMismatch(problem + hint, path)
     LOG.warning("%s: %s; continuing (--force)", path, problem)
     history = recorded.pop("history", []) + [{**recorded, "replaced": _now(), "reason": problem}]
     return _write(path, {**current, "history": history})
 
 
 def _adopt(root: Path, current: dict[str, Any], force: bool,
-           run_hashes: RunHashes | None) -> dict[str, Any]:
+           run_hashes: RunHashes | None, hint: str) -> dict[str, Any]:
     """campaign.json for a new folder, or for one collected without it (before campaign.json
     existed, or on another machine: campaign.json is not committed)."""
     problem, where, runs = legacy_mismatch(RunStore(root), current, run_hashes)
     if problem and not force:
-        raise CampaignMismatch(problem + HINT, where)
+        raise CampaignMismatch(problem + hint, where)
     extra: dict[str, Any] = {"created": _now()}
     if runs:
         extra["adopted"] = {"runs": runs, **({"reason": problem} if problem else {})}

@@ -44,6 +44,7 @@ PASS_THROUGH = ("max_sim_time", "max_wall_time", "snapshot_interval",
                 "ground_truth_source", "ground_truth_topic", "ground_truth_frame",
                 "ground_truth_fixed_frame", "speedup",
                 "odom_model", "orchestrator_config")
+ROS_HINT = " (use a new out:= folder, or force:=true to continue with the new ones)"
 RUN_TIMEOUT_MARGIN_S = 300.0
 NODE_EXIT_TIMEOUT_S = 40.0   # wall s a node gets to exit when the batch ends a run itself
 END_GRACE_S = 4 * NODE_EXIT_TIMEOUT_S + 30.0  # wall s after the record for the ordered shutdown
@@ -232,6 +233,45 @@ def _default_timeout(options: dict) -> float:
     return wall + RUN_TIMEOUT_MARGIN_S
 
 
+def ros_identity(options: dict) -> dict:
+    """What a batch's runs depend on beyond the settings and the seed: the node choices and the
+    launch options passed through to every run."""
+    chosen = {key: str(options.get(key, "slam_predict")) for key in CHOICES}
+    passed = {key: _text(options[key]) for key in PASS_THROUGH
+              if options.get(key) not in (None, "")}
+    return {**chosen, **passed}
+
+
+def _text(value) -> str:
+    """A launch option as text; numbers as floats, so 45 (rosrun) and 45.0 (a launch file's
+    double) are the same option."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return repr(float(value))
+    return str(value)
+
+
+def open_ros_campaign(out: Path, options: dict, base_seed: int) -> dict:
+    """Write or check ``out``/campaign.json as ``collect`` does (base seed, resolved settings)
+    plus the batch's ``ros`` identity; a resume with another seed, other settings or other
+    nodes is refused (:class:`~slam_predict.collect.campaign.CampaignMismatch`, exit 2)
+    unless ``options['force']``."""
+    from slam_predict.collect.campaign import check_out_folder, identity, open_campaign
+    from slam_predict.collect.record import code_version
+    from slam_predict.collect.settings import load_settings
+
+    check_out_folder(out)
+    current = identity(load_settings(options.get("settings") or None), base_seed,
+                       code_version())
+    current["ros"] = ros_identity(options)
+    out.mkdir(parents=True, exist_ok=True)
+    return open_campaign(out, current, force=_true(options.get("force")), hint=ROS_HINT)
+
+
+def _true(value) -> bool:
+    """A launch-file boolean (a bool, or the text true/1/yes)."""
+    return value is True or str(value).strip().lower() in ("true", "1", "yes")
+
+
 def run_batch(worlds: str, runs, out: str, options: dict, base_seed: int = 0,
               max_runs: int = 50) -> int:
     """Run (or resume) the batch; returns the exit code: 0, 1 when runs failed, or 128 + the
@@ -241,12 +281,12 @@ def run_batch(worlds: str, runs, out: str, options: dict, base_seed: int = 0,
     from slam_predict.words import plural
 
     check_choices(options)
+    open_ros_campaign(Path(out), options, base_seed)
     runs = runs if runs == "auto" else int(runs)
     config = BatchConfig(runs=runs, max_runs=max_runs, jobs=1, base_seed=base_seed,
                          progress=False, episode="slam_predict.ros.batch_runner:launch_episode",
                          options=dict(options))
     batch = Batch(find_worlds(worlds), out, config)
-    Path(out).mkdir(parents=True, exist_ok=True)
     done = batch.run()
     path = write_summary(Path(out))
     LOG.info("%s done, %d failed; summary %s", plural(done, "run"), len(batch.failures), path)
@@ -286,7 +326,7 @@ def main(argv=None) -> int:
     forward_logging(rospy)
     get = rospy.get_param
     options = {key: get(f"~{key}", "slam_predict") for key in CHOICES}
-    for key in PASS_THROUGH + ("settings", "run_timeout", "launch_file"):
+    for key in PASS_THROUGH + ("settings", "run_timeout", "launch_file", "force"):
         value = get(f"~{key}", "")
         if value not in ("", None):
             options[key] = value
