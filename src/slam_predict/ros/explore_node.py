@@ -27,25 +27,33 @@ from slam_predict.ros.lockstep import AckPublisher, SimTicker
 
 LOG = logging.getLogger(__name__)
 TICK_HZ = 5.0
-ACTION_TO_STATUS = {5: 4, 9: 4, 8: 2}   # REJECTED, LOST -> ABORTED; RECALLED -> PREEMPTED
+# goal status as the explorer reads it: actionlib's GoalStatus, with SimpleActionClient's
+# get_state() folding (RECALLING -> PENDING, PREEMPTING -> ACTIVE) and REJECTED, LOST ->
+# ABORTED, RECALLED -> PREEMPTED
+ACTION_TO_STATUS = {7: 0, 6: 1, 5: 4, 9: 4, 8: 2}
 
 
 class ActionGoalClient:
-    """The explorer's goal client over actionlib's SimpleActionClient."""
+    """The explorer's goal client over actionlib's ActionClient, tracking the goal handle of the
+    latest goal itself and asking it for its status (no transition callbacks).
+
+    SimpleActionClient would do the same, but when a goal is replaced while move_base's status
+    thread is still delivering an update of the old goal, it logs "Got a transition callback on
+    a goal handle that we're not tracking" at ERROR level for that harmless, expected message;
+    without callbacks the old goal's updates reach nobody."""
 
     def __init__(self, action_client, make_plan=None, frame_id: str = "map", robot_pose=None):
         self.client = action_client
         self.make_plan = make_plan
         self.frame_id = frame_id
         self.robot_pose = robot_pose
-        self.sent = False
+        self.handle = None
         self.length: float | None = None
 
     def send_goal(self, target, t: float) -> None:
         from slam_predict.ros.conversions.nav import goal_to_ros
 
-        self.client.send_goal(goal_to_ros(target, self.frame_id, t))
-        self.sent = True
+        self.handle = self.client.send_goal(goal_to_ros(target, self.frame_id, t))
         self.length = self._plan_length(target)
 
     def _plan_length(self, target) -> float | None:
@@ -62,13 +70,13 @@ class ActionGoalClient:
         return float(math.hypot(target[0] - start[0], target[1] - start[1]))
 
     def cancel(self, t: float) -> None:
-        if self.sent:
-            self.client.cancel_goal()
+        if self.handle is not None:
+            self.handle.cancel()
 
     def status(self) -> int | None:
-        if not self.sent:
+        if self.handle is None:
             return None
-        state = int(self.client.get_state())
+        state = int(self.handle.get_goal_status())
         return ACTION_TO_STATUS.get(state, state)
 
     def plan_length(self) -> float | None:
@@ -188,7 +196,7 @@ def main(argv=None) -> int:
     seed = int(rospy.get_param("~seed", 0))
     tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
     tf2_ros.TransformListener(tf_buffer)
-    action = actionlib.SimpleActionClient("move_base", MoveBaseAction)
+    action = actionlib.ActionClient("move_base", MoveBaseAction)
     rospy.loginfo("explore: waiting for move_base")
     action.wait_for_server()
     service = rospy.ServiceProxy("move_base/make_plan", GetPlan)
