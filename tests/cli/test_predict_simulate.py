@@ -118,6 +118,45 @@ def test_other_arguments_are_refused(simulated, change):
     lines = err.strip().splitlines()
     assert code == 2 and len(lines) == 1 and "campaign.json" in lines[0], err
     assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == files
+    assert ("--force" in lines[0]) == (change[0] != "--start"), err   # a plan is never forced
+
+
+def copy_of(simulated, tmp_path):
+    """The simulated campaign copied (the module's own folder stays as it is)."""
+    import shutil
+
+    argv, out, _ = simulated
+    copy = tmp_path / "out"
+    shutil.copytree(out, copy)
+    argv = list(argv)
+    argv[argv.index(str(out))] = str(copy)
+    return argv, copy
+
+
+def test_force_continues_with_another_seed_but_never_another_plan(simulated, tmp_path):
+    argv, out = copy_of(simulated, tmp_path)
+    before = run_jsons(out)
+    code, _, err = call([*argv, "--start", "-3.5", "-2.5", "--force"])
+    assert code == 2 and "simulated another version of plan" in err, err
+    code, stdout, err = call([*argv, "--seed", "1", "--force"])
+    assert code == 0, err
+    assert json.loads(stdout)["simulation"]["runs_new"] == 0 and run_jsons(out) == before
+    campaign = json.loads((out / "campaign.json").read_text())
+    assert campaign["base_seed"] == 1 and campaign["history"][0]["base_seed"] == 0
+
+
+def test_one_run_has_no_measured_spread(simulated, tmp_path):
+    argv, _ = copy_of(simulated, tmp_path)
+    argv[argv.index("2")] = "1"
+    argv.remove("--json")
+    code, stdout, err = call(argv)
+    assert code == 0, err
+    assert "measured over 1 simulated run (" in stdout
+    assert stdout.count("measured   n/a (1 run)") == 2     # trans_std and rot_std
+    code, stdout, _ = call([*argv, "--json"])
+    measured = json.loads(stdout)["simulation"]["measured"]
+    assert measured["trans_std"]["status"] == "n/a" and measured["trans_std"]["value"] is None
+    assert measured["trans_mean"]["status"] == "ok"
 
 
 def open_plan(tmp_path: Path) -> Path:

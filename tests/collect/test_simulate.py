@@ -39,6 +39,8 @@ def test_mean_interval_is_clipped_at_zero_and_one_run_has_none():
     assert got["trans_mean"]["low"] == 0.0 and got["rot_mean"]["low"] == 0.0
     one = measured(records([0.1], [0.01]))
     assert one["trans_mean"]["low"] is None and one["trans_std"]["high"] is None
+    assert one["trans_std"]["status"] == one["rot_std"]["status"] == "n/a"
+    assert one["trans_std"]["value"] is None and one["trans_mean"]["value"] == 0.1
     with pytest.raises(ValueError):
         measured([])
 

@@ -166,7 +166,7 @@ def run(args: argparse.Namespace) -> int:
     current = identity(settings, args.seed, code_version())
     options = {"settings": args.settings} if args.settings else {}
     if args.robot:
-        options["robot"] = args.robot
+        options.update(robot=args.robot, force_robot=args.force)
     if design:
         options["design"] = os.path.abspath(args.design)   # the workers may run elsewhere
         current["design"] = {"file": portable_path(args.design),

@@ -85,7 +85,7 @@ def _prepare(args: argparse.Namespace, world):
     check_start_footprint(world, world.provenance.get("source") or world.name,
                           settings.sim.robot.footprint_side)
     current = {**identity(settings, args.seed, code_version()), "plan": plan_identity(world)}
-    check_resume(out, current)
+    check_resume(out, current, force=args.force)
     return runs, current
 
 
@@ -93,13 +93,15 @@ def simulate(args: argparse.Namespace, world, runs, current) -> dict:
     """Run (or resume) the simulations; returns the measured part of the result."""
     from slam_predict.collect.batch import Batch, BatchConfig
     from slam_predict.collect.campaign import open_campaign
-    from slam_predict.collect.simulate import cap_note, measured, write_plan_world
+    from slam_predict.collect.simulate import FORCE_HINT, cap_note, measured, write_plan_world
     from slam_predict.collect.summary import write_summary
 
     out = Path(args.out)
-    open_campaign(out, current)
+    open_campaign(out, current, force=args.force, hint=FORCE_HINT)
     world_path = write_plan_world(world, out)
     options = {key: getattr(args, key) for key in ("settings", "robot") if getattr(args, key)}
+    if args.robot:
+        options["force_robot"] = args.force
     config = BatchConfig(runs=runs, max_runs=args.max_runs, jobs=args.jobs,
                          base_seed=args.seed, progress=not args.no_progress, options=options)
     batch = Batch({world.name: str(world_path)}, out, config)
@@ -121,18 +123,21 @@ def simulate(args: argparse.Namespace, world, runs, current) -> dict:
 def format_text(result: dict, components) -> str:
     """Measured and predicted values per component, then notes and warnings."""
     from slam_predict.cli.predict_format import LABELS, entry_text, value_text
+    from slam_predict.words import plural
 
     sim = result["simulation"]
     robot = sim["robot"] or "the settings' robot"
     lines = [f"{result['world']}: GMapping localization error measured over "
-             f"{sim['runs']} simulated runs ({sim['runs_new']} new; robot {robot}, "
+             f"{plural(sim['runs'], 'simulated run')} ({sim['runs_new']} new; robot {robot}, "
              f"seed {sim['seed']}, in {sim['out']}), 95 % intervals", model_line(result)]
     conf = f"{100 * result['confidence']:g} %"
     for comp in components:
         lines.append(f"  {comp:<10s} {LABELS[comp]}")
         if sim["measured"] is not None:
             m = sim["measured"][comp]
-            lines.append(f"      measured   {value_text(m, '95 %')} [{m['method']}]")
+            measured = (f"{value_text(m, '95 %')} [{m['method']}]" if m["status"] == "ok"
+                        else f"n/a ({plural(m['runs'], 'run')})")
+            lines.append(f"      measured   {measured}")
         e = result[comp]
         model = f"  [{e['model']}]" if e["model"] else ""
         lines.append(f"      predicted  {entry_text(e, conf)}{model}")

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import concurrent.futures as futures
 import contextlib
+import dataclasses
 import importlib
 import logging
 import os
@@ -97,6 +98,11 @@ class _Executor:
             self.pool = futures.ProcessPoolExecutor(
                 max_workers=jobs, initializer=interrupt.init_worker, initargs=(os.getpid(),))
 
+    @property
+    def in_process(self) -> bool:
+        """Episodes run in this process (one at a time), where they can draw a progress bar."""
+        return self.pool is None and self.client is None
+
     def forward_signal(self, signum: int) -> None:
         """Pass a stop signal on to the local worker processes."""
         for pid in self._worker_pids():
@@ -110,7 +116,7 @@ class _Executor:
     def outcomes(self, episode: str, specs: Sequence[RunSpec]) -> Iterator[Outcome]:
         """(spec, run.json, None) or (spec, None, error) per run, in the order they finish;
         no new run starts once a stop was requested."""
-        if self.pool is None and self.client is None:
+        if self.in_process:
             yield from self._in_process(episode, specs)
         else:
             yield from self._parallel(episode, specs)
@@ -253,6 +259,9 @@ class Batch:
 
     def _round(self, executor: _Executor, specs: Sequence[RunSpec]) -> int:
         started = time.perf_counter()
+        if self.config.progress and executor.in_process:   # each run shows its sim time too
+            specs = [dataclasses.replace(s, options={**s.options, "progress": True})
+                     for s in specs]
         bar = tqdm(total=len(specs), unit="run", disable=not self.config.progress,
                    desc="collect")
         done = 0

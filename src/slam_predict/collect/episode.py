@@ -68,8 +68,10 @@ class Recorder:
                                 np.asarray(self.odom))
 
 
-def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_m2: float):
-    """Step ``loop`` until the stop rule (or a limit) ends the run; snapshots go to ``folder``."""
+def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_m2: float,
+                       bar=None):
+    """Step ``loop`` until the stop rule (or a limit) ends the run; snapshots go to ``folder``;
+    ``bar`` (a tqdm bar, or None) is moved on by every simulated second."""
     rule = SnapshotMSE(settings.stop, settings.stop.interval_for(free_area_m2))
     recorder = Recorder()
     wall_start = time.perf_counter()
@@ -78,6 +80,8 @@ def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_
         interrupt.check()   # SIGINT/SIGTERM or a dead batch process: discard the run
         loop.step()
         recorder.add(loop)
+        if bar is not None and loop.t >= bar.n + 1.0:
+            bar.update(int(loop.t) - bar.n)
         if loop.explorer.done and explorer_end is None:
             explorer_end = {"t": loop.t, "reason": str(loop.explorer.log.stop_reason)}
         if rule.due(loop.t) and loop.grid is not None:
@@ -89,6 +93,16 @@ def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_
                              time.perf_counter() - wall_start, not loop.explorer.done)
         if reason:
             return reason, rule, recorder, explorer_end, time.perf_counter() - wall_start
+
+
+def sim_time_bar(spec, max_sim_time_s: float):
+    """A progress bar of the run's simulated seconds (up to the stop rule's limit), shown only
+    when the batch runs its episodes in this process with progress on (``spec.options``)."""
+    from tqdm import tqdm
+
+    return tqdm(total=int(max_sim_time_s), unit="sim s", leave=False, mininterval=1.0,
+                desc=f"{spec.world} run {spec.index}",
+                disable=not spec.options.get("progress"))
 
 
 def _sensor_recorder(folder: Path, loop, spec):
@@ -123,20 +137,24 @@ def run_episode(spec, settings: CollectSettings | None = None,
     from slam_predict.nav.costmap import inscribed_radius
     from slam_predict.world.load import load_plan
 
-    settings = settings or load_settings(spec.options.get("settings"), spec.options.get("robot"))
+    settings = settings or load_settings(spec.options.get("settings"), spec.options.get("robot"),
+                                         force_robot=bool(spec.options.get("force_robot")))
     world = load_plan(spec.world_path)
     loop = ClosedLoop(world, spec.seed, settings.nav, settings.explore, settings.sim,
                       map_source=settings.slam.type, slam_params=settings.slam.params,
                       compute=settings.compute)
     with atomic_dir(spec.out_dir) as folder:
         sensors = _sensor_recorder(folder, loop, spec) if settings.sensor_logs else None
+        bar = sim_time_bar(spec, settings.stop.max_sim_time_s)
         try:
             reason, rule, recorder, explorer_end, wall = explore_until_stop(
-                loop, settings, folder, world.free_area_m2)
+                loop, settings, folder, world.free_area_m2, bar)
         except BaseException:
             if sensors is not None:
                 sensors.abort()
             raise
+        finally:
+            bar.close()
         traj = recorder.trajectories()
         grid = loop.source.map()
         reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))

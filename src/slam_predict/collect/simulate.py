@@ -28,6 +28,7 @@ COMPONENTS = {"trans_mean": ("trans_mean", mean_interval, "m"),
               "rot_mean": ("rot_mean", mean_interval, "rad"),
               "rot_std": ("rot_mean", std_interval, "rad")}
 HINT = " (use another --out folder)"
+FORCE_HINT = " (use another --out folder, or --force to continue with the new settings)"
 
 
 def world_files(world) -> tuple[str, bytes]:
@@ -45,15 +46,22 @@ def plan_identity(world) -> dict[str, str]:
             "bitmap_sha256": hashlib.sha256(png).hexdigest()}
 
 
-def check_resume(out: Path, current: dict[str, Any]) -> None:
+def check_resume(out: Path, current: dict[str, Any], force: bool = False) -> None:
     """CampaignMismatch when ``out`` holds a campaign of another plan, seed or settings (read
-    only: run before the slow steps, so a refusal costs nothing)."""
+    only: run before the slow steps, so a refusal costs nothing). With ``force`` only another
+    plan is refused: a folder simulates one plan, as ``collect --force`` never mixes worlds
+    either; another seed or other settings are then continued (and kept in the history)."""
     path = Path(out) / CAMPAIGN_JSON
     if not path.is_file():
         return
-    problem = mismatch(read_campaign(path), current)
-    if problem is not None:
-        raise CampaignMismatch(problem + HINT, path)
+    recorded = read_campaign(path)
+    problem = mismatch(recorded, current)
+    if problem is None:
+        return
+    same_plan = recorded.get("plan") == current.get("plan")
+    if force and same_plan:
+        return
+    raise CampaignMismatch(problem + (FORCE_HINT if same_plan else HINT), path)
 
 
 def write_plan_world(world, out: Path) -> Path:
@@ -74,8 +82,9 @@ def per_run_values(records: Sequence[dict]) -> dict[str, list[float]]:
 
 
 def measured(records: Sequence[dict], confidence: float = CONFIDENCE) -> dict[str, dict]:
-    """The four components over ``records`` (run.json contents), each as ``{"value", "low",
-    "high", "unit", "method", "runs"}`` (low/high None with a single run)."""
+    """The four components over ``records`` (run.json contents), each as ``{"status", "value",
+    "low", "high", "unit", "method", "runs"}``: low/high None with a single run, and the stds
+    then ``status`` "n/a" with value None (one run gives no spread over runs)."""
     if not records:
         raise ValueError("no run records")
     values = per_run_values(records)
@@ -85,6 +94,8 @@ def measured(records: Sequence[dict], confidence: float = CONFIDENCE) -> dict[st
         low = None if est.low is None else max(est.low, 0.0)  # an error is never negative
         out[component] = {"status": "ok", "value": est.value, "low": low, "high": est.high,
                           "unit": unit, "method": est.method, "runs": est.n}
+        if statistic is std_interval and est.n < 2:      # one run has no spread to measure
+            out[component].update(status="n/a", value=None)
     return out
 
 
