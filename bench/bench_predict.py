@@ -31,7 +31,7 @@ def run_cli(plan: str, model: str, setting: str, cache: str,
     """(wall time s, parsed JSON) of one ``slam-predict predict --json`` process."""
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
     cmd = [sys.executable, "-m", "slam_predict.cli.main", "predict", plan, "--model", model,
-           "--setting", setting, "--json"]
+           "--thesis-setting", setting, "--json"]
     if resolution is not None:
         cmd += ["--resolution", str(resolution)]
     start = time.perf_counter()
@@ -69,7 +69,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("plan", nargs="?", default=str(DEFAULT_PLAN))
     parser.add_argument("--model", default="best")
-    parser.add_argument("--setting", default="realistic")
+    parser.add_argument("--thesis-setting", dest="setting", default="realistic")
     parser.add_argument("--resolution", type=float, default=None,
                         help="m/px, for an image without a map_server YAML")
     parser.add_argument("--repeat", type=int, default=3, help="warm runs (best is reported)")

@@ -37,7 +37,7 @@ tail -n +2 "$OUT/summary.csv" | cut -d, -f1 | while read -r world; do
   done
   [ -f "$OUT/worlds/$world.world" ] || { echo "train_own_model: no world file for $world" >&2; exit 2; }
 done
-slam-predict learn dataset --errors "$OUT/summary.csv" --worlds "$OUT/worlds" --setting realistic \
+slam-predict learn dataset --errors "$OUT/summary.csv" --worlds "$OUT/worlds" --thesis-setting realistic \
   --out "$OUT/own-realistic.csv" --jobs "$JOBS" --force
 slam-predict learn train "$OUT/own-realistic.csv" --name own-realistic --models-dir "$MODELS" \
   --evaluation-out "$OUT/eval" --jobs "$JOBS" --force \

@@ -21,11 +21,11 @@ slam-predict worlds import-thesis "$THESIS/environments.csv" --out "$OUT/worlds"
 
 echo "[thesis models] computing features (realistic dataset)"
 slam-predict learn dataset --errors "$THESIS/stats_realistic.csv" --worlds "$OUT/worlds" \
-  --setting realistic --save-features "$OUT/features.csv" --out "$OUT/thesis-realistic.csv" \
+  --thesis-setting realistic --save-features "$OUT/features.csv" --out "$OUT/thesis-realistic.csv" \
   --jobs "$JOBS" --force
 echo "[thesis models] optimistic dataset (same features)"
 slam-predict learn dataset --errors "$THESIS/stats_optimistic.csv" --features "$OUT/features.csv" \
-  --setting optimistic --out "$OUT/thesis-optimistic.csv" --force
+  --thesis-setting optimistic --out "$OUT/thesis-optimistic.csv" --force
 
 for setting in realistic optimistic; do
   echo "[thesis models] evaluating and training thesis-$setting"

@@ -80,7 +80,7 @@ def test_shipped_world_json(root, models, capsys, monkeypatch):
 
 def test_text_output_lists_four_components_with_units(root, models, capsys, monkeypatch):
     monkeypatch.chdir(root)
-    assert main(["predict", SHIPPED_WORLD, "--setting", "optimistic"]) == 0
+    assert main(["predict", SHIPPED_WORLD, "--thesis-setting", "optimistic"]) == 0
     out = capsys.readouterr().out
     for comp in COMPONENTS:
         assert comp in out
@@ -161,6 +161,6 @@ def test_named_model_uses_its_own_setting(root, models, capsys, monkeypatch):
     result = predict_json(root, capsys, SHIPPED_WORLD, "--model", "thesis-optimistic",
                           "--component", "trans_mean")
     assert result["setting"] == "optimistic"
-    err = error_of(capsys, SHIPPED_WORLD, "--model", "thesis-optimistic", "--setting",
+    err = error_of(capsys, SHIPPED_WORLD, "--model", "thesis-optimistic", "--thesis-setting",
                    "realistic")
     assert "trained for the optimistic setting, not realistic" in err

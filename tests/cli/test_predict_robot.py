@@ -126,8 +126,8 @@ def test_other_refusals(root, robot_models_dir, tmp_path):
     err = one_line_error(str(root / WORLD), "--robot", lds, "--model", "thesis-realistic")
     assert "model thesis-realistic is a plan-only model" in err and "--robot needs" in err
     err = one_line_error(str(root / WORLD), "--robot", lds, "--models-dir",
-                         str(robot_models_dir), "--setting", "optimistic")
-    assert "--setting applies to the plan-only models" in err
+                         str(robot_models_dir), "--thesis-setting", "optimistic")
+    assert "--thesis-setting applies to the plan-only models" in err
     bad = tmp_path / "bad.yaml"
     bad.write_text((root / ROBOTS / "lds_360_3p5.yaml").read_text().replace("fov: 360.0",
                                                                             "fov: 400.0"))

@@ -41,7 +41,7 @@ def inputs(tmp_path):
 def test_dataset_evaluate_train(inputs, capsys):
     out = inputs / "ds.csv"
     assert main(["learn", "dataset", "--errors", str(inputs / "summary.csv"), "--features",
-                 str(inputs / "features.csv"), "--feature-version", "fv1", "--setting",
+                 str(inputs / "features.csv"), "--feature-version", "fv1", "--thesis-setting",
                  "realistic", "--slam-config-hash", "h1", "--out", str(out)]) == 0
     data = read_dataset(out)
     assert len(data) == 30 and set(data.slam_config_hash) == {"h1"}
@@ -82,8 +82,8 @@ def test_bad_inputs_are_one_line_errors(inputs, capsys):
                      str(inputs / "ev"), "--config", str(inputs / "top.yaml")], capsys)
     assert "unknown config key 'learnign'" in err and "did you mean 'learning'" in err
     (inputs / "ftop.yaml").write_text("features:\n  mode: documented\nfeatures2: {}\n")
-    err = run_error(["learn", "dataset", "--errors", str(inputs / "summary.csv"), "--setting",
-                     "realistic", "--worlds", str(inputs), "--feature-config",
+    err = run_error(["learn", "dataset", "--errors", str(inputs / "summary.csv"),
+                     "--thesis-setting", "realistic", "--worlds", str(inputs), "--feature-config",
                      str(inputs / "ftop.yaml"), "--out", str(inputs / "x.csv")], capsys)
     assert "ftop.yaml: unknown config key 'features2'" in err
     assert not (inputs / "ev").exists() and not (inputs / "x.csv").exists()
@@ -100,7 +100,7 @@ def test_reference_features_cannot_be_shipped(shared_data, tmp_path, capsys):
         writer.writerows([[r[0], "reference-table", r[1]] for r in rows[1:]])
     out = tmp_path / "ds.csv"
     assert main(["learn", "dataset", "--errors", str(table), "--features", str(features),
-                 "--setting", "realistic", "--out", str(out)]) == 0
+                 "--thesis-setting", "realistic", "--out", str(out)]) == 0
     err = run_error(["learn", "train", str(out), "--name", "x", "--models-dir",
                      str(tmp_path / "m")], capsys)
     assert "cannot be shipped" in err

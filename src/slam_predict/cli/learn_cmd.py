@@ -15,6 +15,7 @@ import argparse
 import logging
 import os
 
+from slam_predict.cli.deprecated import add_renamed_option
 from slam_predict.cli.guards import (
     add_force_argument,
     check_at_least,
@@ -49,7 +50,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     src = ds.add_mutually_exclusive_group(required=True)
     src.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
     src.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
-    ds.add_argument("--setting", help="robot setting of the errors (realistic, optimistic...)")
+    setting = ds.add_argument("--thesis-setting", dest="setting",
+                              help="the seed study's robot setting of the errors (realistic, "
+                                   "optimistic...)")
+    add_renamed_option(ds, "--setting", setting)
     ds.add_argument("--slam-config-hash", help="SLAM configuration hash (default: the table's)")
     ds.add_argument("--feature-version", help="feature version of a --features table")
     ds.add_argument("--feature-config", metavar="YAML",

@@ -19,7 +19,7 @@ from pathlib import Path
 from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_dir
 from slam_predict.errors import InputError
 
-HELP = "robot-aware models: plan features + robot inputs from campaign runs (issue #18)"
+HELP = "robot-aware models: plan features + robot inputs from campaign runs"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -20,6 +20,7 @@ import json
 import math
 
 from slam_predict.cli import plan_checks, predict_robot, predict_simulate
+from slam_predict.cli.deprecated import add_renamed_option
 from slam_predict.cli.predict_format import LABELS, format_text  # noqa: F401  (LABELS re-exported)
 from slam_predict.errors import InputError
 
@@ -43,9 +44,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--model", default="best",
                         help="model folder name under models/ (or a path), default best; "
                              "with --robot a robot-aware one, default own-robots")
-    parser.add_argument("--setting",
-                        help="robot setting (realistic, optimistic): with --model best the "
-                             "default is realistic; with a named model it must match its card")
+    setting = parser.add_argument(
+        "--thesis-setting", dest="setting",
+        help="the seed study's robot setting (realistic, optimistic) of a plan-only model: with "
+             "--model best the default is realistic; with a named model it must match its card")
+    add_renamed_option(parser, "--setting", setting)
     parser.add_argument("--models-dir", metavar="DIR", help="model folders (default models/)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     plan_checks.add_arguments(parser)

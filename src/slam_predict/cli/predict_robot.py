@@ -61,7 +61,7 @@ def load_model(args: argparse.Namespace, required: bool):
     model = RobotModel.load(path)
     model.check_feature_version()
     if args.setting:
-        raise InputError(f"--setting applies to the plan-only models: the robot-aware model "
+        raise InputError(f"--thesis-setting applies to the plan-only models: the robot-aware model "
                          f"{model.name} takes the robot itself as input")
     return model
 
