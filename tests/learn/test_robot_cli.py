@@ -114,7 +114,7 @@ def run_error(argv, capsys) -> str:
     ((), "nothing to write: give --out EVAL_DIR and/or --name NAME"),
     (("--out", "{tmp}/ev", "--folds", "1"), "--folds must be ≥ 2, got 1"),
     (("--out", "{tmp}/ev", "--repeats", "0"), "--repeats must be ≥ 1, got 0"),
-    (("--out", "{tmp}/ev", "--models", "svm"), "unknown model kind 'svm'"),
+    (("--out", "{tmp}/ev", "--estimators", "svm"), "unknown model kind 'svm'"),
     (("--out", "{tmp}/ev", "--jobs", "0"), "--jobs must be ≥ 1, got 0"),
     (("--out", "{tmp}/full"), "--out folder exists and is not empty"),
     (("--name", "a/b"), "--name must be a folder name"),

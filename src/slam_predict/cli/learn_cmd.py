@@ -35,9 +35,10 @@ def _common(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--splits", type=int, metavar="N", help="number of random splits")
     parser.add_argument("--no-loo", action="store_true",
                         help="skip leave-one-building-out")
-    parser.add_argument("--models", nargs="+", metavar="KIND",
-                        help="model kinds (single fregression elasticnet random_forest "
-                             "gradient_boosting)")
+    kinds = parser.add_argument("--estimators", dest="models", nargs="+", metavar="KIND",
+                                help="estimator kinds (single fregression elasticnet "
+                                     "random_forest gradient_boosting)")
+    add_renamed_option(parser, "--models", kinds)
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     add_force_argument(parser)
 

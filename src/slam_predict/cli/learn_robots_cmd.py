@@ -16,6 +16,7 @@ import math
 import os
 from pathlib import Path
 
+from slam_predict.cli.deprecated import add_renamed_option
 from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_dir
 from slam_predict.errors import InputError
 
@@ -43,9 +44,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--config", metavar="YAML",
                         help="robot learning configuration (default: "
                              "config/robot_learning.yaml)")
-    parser.add_argument("--models", nargs="+", metavar="KIND",
-                        help="model kinds (elasticnet gradient_boosting trend_boosting "
-                             "gaussian_process)")
+    kinds = parser.add_argument("--estimators", dest="models", nargs="+", metavar="KIND",
+                                help="estimator kinds (elasticnet gradient_boosting "
+                                     "trend_boosting gaussian_process)")
+    add_renamed_option(parser, "--models", kinds)
     parser.add_argument("--folds", type=int, metavar="N", help="folds of each protocol")
     parser.add_argument("--repeats", type=int, metavar="N",
                         help="evaluate on N shufflings of the groups; scores are their mean")
