@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import math
 import sys
 from collections.abc import Callable
 
@@ -47,3 +48,42 @@ def load_checked(load: Callable[[argparse.Namespace], object], args: argparse.Na
         world = load(args)
     check_scale(world, force=args.force)
     return world
+
+
+def plan_used(world, args: argparse.Namespace) -> dict:
+    """What ``predict`` took from the plan, for its output: the scale (m/px) and where it came
+    from, the free area (m²) and the start pose (m, m, deg) and where it came from."""
+    from slam_predict.paths import portable_path
+
+    provenance = world.provenance
+    if args.resolution is not None:
+        scale_from = "--resolution"
+    elif getattr(args, "world", None):
+        scale_from = f"--world {args.world}"
+    elif provenance.get("format") == "layout-xml":
+        scale_from = f"the layout's <scale> ({provenance['unit_m']:g} m per drawing unit)"
+    elif provenance.get("resolution_from"):
+        scale_from = portable_path(provenance["resolution_from"])
+    elif provenance.get("format") == "stage":
+        scale_from = "the .world's floorplan size"
+    else:
+        scale_from = str(provenance.get("format") or "the plan")
+    if args.start:
+        start_from = "--start"
+    elif provenance.get("start_given"):
+        start_from = "the plan"
+    else:
+        start_from = "the free cell of largest clearance"
+    x, y, yaw = (float(v) for v in world.start_pose)
+    return {"scale_m_per_px": float(world.resolution), "scale_from": scale_from,
+            "free_area_m2": round(world.free_area_m2, 1),
+            "start": [round(x, 3), round(y, 3), round(math.degrees(yaw), 2)],
+            "start_from": start_from}
+
+
+def plan_line(plan: dict) -> str:
+    """``plan_used`` as one line of text."""
+    x, y, yaw = plan["start"]
+    return (f"plan: {plan['scale_m_per_px']:.4g} m/px ({plan['scale_from']}), free area "
+            f"{plan['free_area_m2']:,.0f} m², start ({x:.2f} m, {y:.2f} m, {yaw:.0f} deg; "
+            f"{plan['start_from']})")

@@ -113,13 +113,15 @@ def run(args: argparse.Namespace) -> int:
         return predict_plan(world, args.model, setting, args.component, args.models_dir)
 
     world = plan_checks.load_checked(load_world, args)
+    plan = plan_checks.plan_used(world, args)
     if args.simulate is not None:
-        return predict_simulate.run(args, world, components, predict)
-    result = predict(world)
+        return predict_simulate.run(args, world, components,
+                                    lambda w: {**predict(w), "plan": plan})
+    result = {**predict(world), "plan": plan}
     if args.json:
         robot_keys = ["model_takes_robot", "robot"] if robot_model is not None else []
-        keys = ["world", "setting", "model_store", *robot_keys, "confidence", *components,
-                "free_space", "warnings", "features"]
+        keys = ["world", "plan", "setting", "model_store", *robot_keys, "confidence",
+                *components, "free_space", "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))
     else:
         print(format_text(result, components))

@@ -38,6 +38,11 @@ def entry_text(e: dict, conf: str) -> str:
     return value_text(e, conf)
 
 
+def model_tag(e: dict) -> str:
+    """"  [model]" after a component's value; nothing where no model predicts it."""
+    return f"  [{e['model']}]" if e["model"] and e["status"] != "no_model" else ""
+
+
 def header(result: dict) -> list[str]:
     """The first line(s): world, model, interval level; with a robot-aware model the robot
     and what the model took of it."""
@@ -59,9 +64,12 @@ def format_text(result: dict, components) -> str:
     """Human-readable lines: value, interval and model per component, then warnings."""
     conf = f"{100 * result['confidence']:g} %"
     lines = header(result)
+    if "plan" in result:
+        from slam_predict.cli.plan_checks import plan_line
+
+        lines.append(plan_line(result["plan"]))
     for comp in components:
         e = result[comp]
-        model = f"  [{e['model']}]" if e["model"] else ""
-        lines.append(f"  {comp:<10s} {LABELS[comp]:<27s} {entry_text(e, conf)}{model}")
+        lines.append(f"  {comp:<10s} {LABELS[comp]:<27s} {entry_text(e, conf)}{model_tag(e)}")
     lines += [f"warning: {w}" for w in result["warnings"]]
     return "\n".join(lines)

@@ -122,14 +122,16 @@ def simulate(args: argparse.Namespace, world, runs, current) -> dict:
 
 def format_text(result: dict, components) -> str:
     """Measured and predicted values per component, then notes and warnings."""
-    from slam_predict.cli.predict_format import LABELS, entry_text, value_text
+    from slam_predict.cli.plan_checks import plan_line
+    from slam_predict.cli.predict_format import LABELS, entry_text, model_tag, value_text
     from slam_predict.words import plural
 
     sim = result["simulation"]
     robot = sim["robot"] or "the settings' robot"
     lines = [f"{result['world']}: GMapping localization error measured over "
              f"{plural(sim['runs'], 'simulated run')} ({sim['runs_new']} new; robot {robot}, "
-             f"seed {sim['seed']}, in {sim['out']}), 95 % intervals", model_line(result)]
+             f"seed {sim['seed']}, in {sim['out']}), 95 % intervals", plan_line(result["plan"]),
+             model_line(result)]
     conf = f"{100 * result['confidence']:g} %"
     for comp in components:
         lines.append(f"  {comp:<10s} {LABELS[comp]}")
@@ -139,8 +141,7 @@ def format_text(result: dict, components) -> str:
                         else f"n/a ({plural(m['runs'], 'run')})")
             lines.append(f"      measured   {measured}")
         e = result[comp]
-        model = f"  [{e['model']}]" if e["model"] else ""
-        lines.append(f"      predicted  {entry_text(e, conf)}{model}")
+        lines.append(f"      predicted  {entry_text(e, conf)}{model_tag(e)}")
     lines += [f"note: {n}" for n in sim["notes"]]
     lines += [f"warning: {w}" for w in result["warnings"]]
     return "\n".join(lines)
@@ -171,7 +172,8 @@ def run(args: argparse.Namespace, world, components, predict) -> int:
     result.setdefault("model_takes_robot", False)
     if args.json:
         robot = ["robot"] if result["model_takes_robot"] else []
-        keys = ["world", "setting", "model_store", "model_takes_robot", *robot, "confidence",
+        keys = ["world", "plan", "setting", "model_store", "model_takes_robot", *robot,
+                "confidence",
                 *components, "simulation", "free_space", "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))
     else:
