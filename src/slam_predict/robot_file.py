@@ -20,7 +20,8 @@ values no real robot has, usually a unit mistake, are refused unless ``force``:
     odom_error: [0.01, 0.01, 2.0]  # required: x m/m, y m/m, yaw in DEGREES PER RADIAN; Stage's
                                  # 4-value form [x, y, z, yaw] is accepted too (z is unused);
                                  # or odom_error_rad: [x m/m, y m/m, yaw rad/rad]
-    odom_model: uniform_per_run  # one of sensor.ODOM_MODELS (default uniform_per_run)
+    odom_model: fixed            # one of sensor.ODOM_MODELS (default fixed: Stage's code, a
+                                 # real robot's systematic bias; uniform_per_run draws per run)
     footprint_side: 0.3          # m, square footprint, > 0 (default 0.3)
     max_vel_x: 0.85              # m/s, > 0: base_local_planner's (default 0.85)
     max_vel_theta: 0.7           # rad/s, > 0: base_local_planner's (default 0.7)
@@ -126,7 +127,7 @@ class RobotDescription:
     laser: RobotLaser
     odom_error: tuple[float, float, float]
     description: str = ""
-    odom_model: str = "uniform_per_run"
+    odom_model: str = "fixed"
     footprint_side: float = 0.3
     max_vel_x: float = 0.85
     max_vel_theta: float = 0.7

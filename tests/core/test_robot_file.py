@@ -73,9 +73,9 @@ UNIFORM, FIXED = "uniform_per_run", "fixed"
     ("seed_realistic", 270.0, 541, 0.0, 80.0, 10.0, (0.01, 0.01, 2.0), UNIFORM),
     ("seed_realistic_fixed", 270.0, 541, 0.0, 80.0, 10.0, (0.01, 0.01, 2.0), FIXED),
     ("seed_optimistic", 270.0, 541, 0.0, 80.0, 10.0, (0.01, 0.01, 0.0), UNIFORM),
-    ("lds_360_3p5", 360.0, 360, 0.12, 3.5, 5.0, (0.01, 0.01, 2.0), UNIFORM),
-    ("urg_240_5p6", 240.0, 683, 0.02, 5.6, 10.0, (0.01, 0.01, 2.0), UNIFORM),
-    ("utm_270_30_poor_odom", 270.0, 1081, 0.1, 30.0, 40.0, (0.02, 0.02, 4.0), UNIFORM),
+    ("lds_360_3p5", 360.0, 360, 0.12, 3.5, 5.0, (0.01, 0.01, 2.0), FIXED),
+    ("urg_240_5p6", 240.0, 683, 0.02, 5.6, 10.0, (0.01, 0.01, 2.0), FIXED),
+    ("utm_270_30_poor_odom", 270.0, 1081, 0.1, 30.0, 40.0, (0.02, 0.02, 4.0), FIXED),
 ])
 def test_examples_hold_their_spec_values(name, fov, samples, range_min, range_max, rate, odom,
                                          model):
@@ -144,7 +144,7 @@ def test_sim_overrides_are_the_sensor_in_si_units(tmp_path):
     tree = robot.sim_overrides()
     sensor = robot.to_sensor_config()
     assert tree["laser"]["fov"] == sensor.laser.fov and tree["laser"]["pose"][2] == math.pi / 2
-    assert tree["odom"] == {"model": "uniform_per_run", "error": list(sensor.odom.error)}
+    assert tree["odom"] == {"model": "fixed", "error": list(sensor.odom.error)}   # the default
     assert tree["robot"] == {"footprint_side": 0.3, "max_vel_x": 0.5, "max_vel_theta": 1.0}
 
 

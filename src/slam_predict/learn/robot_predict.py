@@ -216,7 +216,9 @@ class RobotModel:
         if "none" in (odom_model, trained) or odom_model == trained:
             return None
         return (f"the robot's odometry model is {odom_model}, the model's training runs used "
-                f"{trained}: the same error numbers describe a different robot")
+                f"{trained}: the same error numbers describe a different robot; write "
+                f"odom_model: {trained} in the robot file if that reading fits your robot "
+                f"(docs/robots.md says which does)")
 
     def odom_gap_warning(self, robot: Mapping[str, float]) -> str | None:
         """A warning when (odom_xy_error, odom_yaw_error), scaled by the design's spans, lies
