@@ -14,7 +14,7 @@
 #              config/fidelity/sizes.yaml; runs are added breadth-first (run 1 of every building,
 #              then run 2, ...) so that a campaign cut by the end of a working period is usable.
 #   fidelity_sizes_r2 (issue #16): the same buildings under config/fidelity/sizes_rebuild2.yaml
-#              (the map rebuild twice as dear per traced cell; docs/fidelity.md "Session 12").
+#              (the map rebuild twice as dear per traced cell; docs/fidelity.md, 2026-12-03).
 #   fidelity_seed_study (issue #16): the same buildings under config/fidelity/seed_study.yaml
 #              (Stage's fixed odometry biases, the calibrated compute delay): the fidelity
 #              campaign whose settings the robots campaign and own-realistic use.
@@ -25,12 +25,12 @@
 #   robots_rep3 (issue #18): a third replicate of every robots design point (the design's first
 #              4 runs per building, --seed 3: new seeds), in its own folder; `learn robots
 #              data/campaigns/robots data/campaigns/robots_rep3` pools the two.
-#   robots_rep4 (issue #18, session 24): a fourth replicate, as robots_rep3 with --seed 4: less
+#   robots_rep4 (issue #18, 2026-12-05): a fourth replicate, as robots_rep3 with --seed 4: less
 #              run-to-run noise in every point's measured mean (pooled like robots_rep3).
-#   robots_more (issue #18, session 21): the same 28 configurations on 4 more seed-study
+#   robots_more (issue #18, 2026-12-04): the same 28 configurations on 4 more seed-study
 #              buildings of 2,083-2,208 m2 (config/robot_campaign/design_more.yaml), 4 points x
 #              2 runs each, breadth-first: every building's first replicate before any second.
-#   robots_configs2 (issue #18, session 22): 14 more configurations (c28-c41,
+#   robots_configs2 (issue #18, 2026-12-04): 14 more configurations (c28-c41,
 #              config/robot_campaign/design_configs2.yaml) on robots' 21 buildings, 2 points x
 #              2 runs per building (84 runs), breadth-first; pooled with robots and robots_rep3
 #              it gives the configuration-held-out protocol 42 configurations instead of 28.

@@ -4,7 +4,7 @@
 # #16): its summary.csv joined with our features of the campaign's worlds (the seed-study
 # buildings rebuilt by `worlds import-thesis`, the shipped ones from worlds/).
 # Usage: tools/train_own_model.sh [OUT]   (intermediate files in OUT, default out/own_model)
-# Environment: CAMPAIGN (default data/campaigns/fidelity_seed_study; the model until session 17
+# Environment: CAMPAIGN (default data/campaigns/fidelity_seed_study; the model until 2026-12-04
 # came from data/campaigns/realistic with MIN_RUNS=5), SLAM_PREDICT_DATA (default
 # ../shared/data), MIN_RUNS (default 3), JOBS (default 2), MODELS (default models/).
 set -euo pipefail

@@ -264,7 +264,7 @@ def test_gmapping_caps_of_a_3p5_m_laser():
 def test_a_short_lasers_no_hit_beams_map_free_space_and_no_walls(name):
     """In a space wider than its range a short laser reports range_max on every beam (Stage's
     no-hit). With the capped parameters GMapping marks the disc free and no cell occupied;
-    with maxRange below range_max (the capping before session 17) it marked nothing, and the
+    with maxRange below range_max (the capping before 2026-12-04) it marked nothing, and the
     explorer found its only frontier under the robot."""
     from slam_predict.slam import LaserGeometry
     from slam_predict.slam.gmapping.filter import GMapping

@@ -89,8 +89,8 @@ def test_error_keeps_growing_past_the_largest_training_building(model, root):
 def test_mean_error_moves_with_each_robot_input_the_way_physics_says(model, root, name):
     """Sweeping one input of the seed robot over the design's box (the others fixed, at 5 m
     and 30 m range): mean ε_t never falls as the odometry gets worse and never rises as the
-    laser gets longer or wider (the blind fraction follows the range). Session 21's
-    unconstrained trees broke this 2-10 times per sweep, e.g. a 190° laser predicted lower
+    laser gets longer or wider (the blind fraction follows the range). The unconstrained
+    trees of 2026-12-04 broke this 2-10 times per sweep, e.g. a 190° laser predicted lower
     than a 180° one."""
     import numpy as np
 
