@@ -33,7 +33,9 @@ IGNORED_KEYS = {"wall_time_s", "timing", "code_version", "created", "settings_fi
                 "world_file", "history", "elapsed_s", "timings", "wall_s", "timing_s",
                 "timing_share", "settings_sha256", "files"}
 
-# (name, world, map source, seed, max sim time s, strategy); a "collect" case runs one run.
+# (name, world, map source, seed, max sim time s, strategy[, base settings]); a "collect" case
+# runs one run. A world that is not in worlds/ is a seed-study building, imported from
+# ../shared/data into out/thesis_worlds (`worlds import-thesis`) once and used by both trees.
 CASES = [
     ("tiny_perfect", "tiny", "perfect", 1, 600, "nearest"),
     ("tiny_gmapping", "tiny", "gmapping", 2, 300, "nearest"),
@@ -43,6 +45,8 @@ CASES = [
     ("office_1500_gmapping", "office_1500", "gmapping", 6, 200, "nearest"),
     ("school_300_perfect_explore_lite", "school_300", "perfect", 7, 400, "explore_lite"),
     ("collect_office_150", "office_150", "collect", 8, 300, "nearest"),
+    ("collect_lab_intel_seed_study", "lab_intel", "collect", 9, 900, "nearest",
+     "config/fidelity/seed_study.yaml"),
 ]
 QUICK = {"tiny_perfect", "tiny_gmapping", "collect_office_150"}
 
@@ -69,15 +73,17 @@ def selected_cases(spec: str) -> list[tuple]:
     return [c for c in CASES if c[0] in names]
 
 
-def collect_settings(tree: Path, folder: Path, max_sim_time: float, strategy: str) -> Path:
-    """A collect.yaml extending the tree's own, with a short stop rule and pinned defaults."""
+def collect_settings(tree: Path, folder: Path, max_sim_time: float, strategy: str,
+                     base_settings: str = "config/collect.yaml") -> Path:
+    """A collect.yaml extending the tree's ``base_settings``, with a short stop rule and pinned
+    defaults."""
     explore = folder / "explore.yaml"
     base = (tree / "config" / "explore.yaml").read_text()
     lines = [ln for ln in base.splitlines() if not ln.startswith("strategy:")]
     explore.write_text("\n".join([f"strategy: {strategy}"] + lines) + "\n")
     settings = folder / "collect.yaml"
     settings.write_text(
-        f"extends: {tree / 'config' / 'collect.yaml'}\n"
+        f"extends: {tree / base_settings}\n"
         f"explore: {explore}\n"
         "sensor_logs: true\n"
         "stop:\n"
@@ -88,17 +94,33 @@ def collect_settings(tree: Path, folder: Path, max_sim_time: float, strategy: st
     return settings
 
 
+def world_path(tree: Path, world: str) -> Path:
+    """The tree's shipped world, else the seed-study building imported into this tree's
+    out/thesis_worlds (the same file for both trees)."""
+    shipped = tree / "worlds" / f"{world}.world"
+    if shipped.is_file():
+        return shipped
+    imported = ROOT / "out" / "thesis_worlds" / f"{world}.world"
+    if not imported.is_file():
+        table = ROOT.parent / "shared" / "data" / "thesis" / "environments.csv"
+        subprocess.run([sys.executable, "-m", "slam_predict.cli.main", "worlds", "import-thesis",
+                        str(table), "--out", str(imported.parent), "--only", world],
+                       cwd=ROOT, check=True, capture_output=True,
+                       env=dict(os.environ, PYTHONPATH=str(ROOT / "src")))
+    return imported
+
+
 def run_case(tree: Path, case: tuple, out: Path) -> float:
     """Run one case with the code of ``tree``; returns its wall time, s."""
-    name, world, source, seed, max_sim, strategy = case
+    name, world, source, seed, max_sim, strategy = case[:6]
     env = dict(os.environ, PYTHONPATH=str(tree / "src"),
                NUMBA_CACHE_DIR=str(tree / ".numba_cache"))
-    world_file = tree / "worlds" / f"{world}.world"
+    world_file = world_path(tree, world)
     cmd = [sys.executable, "-m", "slam_predict.cli.main"]
     if source == "collect":
         work = out.parent / f"{name}.settings"
         work.mkdir(parents=True, exist_ok=True)
-        settings = collect_settings(tree, work, max_sim, strategy)
+        settings = collect_settings(tree, work, max_sim, strategy, *case[6:])
         cmd += ["collect", str(world_file), "--out", str(out), "--runs", "1", "--seed",
                 str(seed), "--settings", str(settings), "--no-progress", "--jobs", "1"]
     else:
@@ -180,6 +202,8 @@ def compare_trees(ref: Path, new: Path, renames: dict[str, str]) -> list[str]:
     for rel in sorted(ref_files & new_files):
         if rel.suffix == ".log" and rel.name.startswith("collect"):
             continue  # the campaign log carries timestamps
+        if rel.name == ".collect.lock":
+            continue  # the collecting process's id
         problems += [f"{rel}: {d}" for d in compare_file(ref / rel, new / rel, renames)]
     return problems
 

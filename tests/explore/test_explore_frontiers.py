@@ -140,3 +140,41 @@ def test_clear_goal_falls_back_to_the_most_open_frontier_cell():
     frontier = find_frontiers(grid, (0.5, 0.4), 0.2)[0]
     goal = clear_goal(frontier, grid, 0.5)
     assert any(np.allclose(goal, c) for c in frontier.cells)
+
+
+def grid_of(data, origin=(-2.0, 1.0), resolution=0.1):
+    return SimpleNamespace(data=data, origin=origin, resolution=resolution)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_cached_clusters_are_the_ones_searched_afresh(seed, monkeypatch):
+    """The explorer's ClusterCache: frontiers from cached clusters equal a fresh search for
+    every robot position, an unchanged map (even a new grid object) is not searched again, and
+    a map changed in place, moved or of another resolution is."""
+    from slam_predict.explore import frontiers as fr
+
+    rng = np.random.default_rng(seed)
+    cache, calls = fr.ClusterCache(), []
+    real = fr.frontier_clusters
+
+    def counting(*args):
+        calls.append(1)
+        return real(*args)
+
+    monkeypatch.setattr(fr, "frontier_clusters", counting)
+    data = random_map(rng)
+    for robot in rng.uniform(-2.0, 5.0, (5, 2)):
+        grid = grid_of(data.copy())                      # republished, same cells
+        got = find_frontiers(grid, robot, 0.3, 0.0, cache.clusters(grid, 0.3, 0.0))
+        want = find_frontiers(grid, robot, 0.3, 0.0)
+        assert [f.min_distance for f in got] == [f.min_distance for f in want]
+        for a, b in zip(got, want, strict=True):
+            assert np.array_equal(a.cells, b.cells) and np.array_equal(a.goal, b.goal)
+    assert len(calls) == 1 + 5        # one cached search; five fresh ones for `want`
+    grid.data[grid.data == -1] = 0                       # changed in place
+    assert cache.clusters(grid, 0.3, 0.0) == [] and len(calls) == 7
+    for other in (grid_of(data, origin=(0.0, 0.0)), grid_of(data, resolution=0.05)):
+        cache.clusters(other, 0.3, 0.0)
+    assert len(calls) == 9
+    cache.clusters(grid_of(data, resolution=0.05), 0.5, 0.0)   # another minimum size
+    assert len(calls) == 10

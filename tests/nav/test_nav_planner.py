@@ -258,3 +258,25 @@ def test_start_escape_does_not_cross_walls_or_long_inscribed_corridors():
     corridor = Costmap(grid2, (0.0, 0.0), RES)
     plan = planner().make_plan(corridor, (0.27, 1.0, 0.0), (3.5, 1.0, 0.0))
     assert plan is None
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_reused_search_work_gives_the_fresh_searches_results(seed):
+    """One SearchWork over many searches of several sizes (as a planner keeps it) returns the
+    paths and costs of searches each given new, cleared arrays."""
+    from slam_predict.nav.planner import SearchWork, _search
+
+    rng = np.random.default_rng(seed)
+    kept = SearchWork()
+    for _ in range(12):
+        ny, nx = rng.integers(8, 40, size=2)
+        cost = rng.choice([50.0, 80.0, 130.0, np.inf], size=(ny, nx), p=[0.5, 0.2, 0.1, 0.2])
+        s = (int(rng.integers(nx)), int(rng.integers(ny)))
+        g = (int(rng.integers(nx)), int(rng.integers(ny)))
+        tol = int(rng.integers(0, 3))
+        ours = _search(cost, s, g, tol, kept)
+        fresh = _search(cost, s, g, tol, SearchWork())
+        assert np.array_equal(ours[0], fresh[0]) and ours[1] == fresh[1]
+        if len(ours[0]) and ours[0][-1].tolist() == list(g):
+            assert ours[1] == pytest.approx(reference_dijkstra(cost, s, g), rel=1e-9)
+    assert kept.stamp == 12

@@ -55,7 +55,7 @@ from typing import ClassVar
 import numpy as np
 
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
-from slam_predict.explore.frontiers import Frontier, clear_goal, find_frontiers
+from slam_predict.explore.frontiers import ClusterCache, Frontier, clear_goal, find_frontiers
 from slam_predict.explore.goals import ABORTED, PREEMPTED, SUCCEEDED, ExploreLog, Goal, GoalClient
 from slam_predict.explore.thesis_config import ThesisExploreConfig
 
@@ -139,6 +139,7 @@ class Explorer:
         self.frontiers: list[Frontier] = []
         self.recent: list[tuple[np.ndarray, object]] = []
         self._grid = None
+        self._clusters = ClusterCache()
         self.log = ExploreLog()
         self._next_tick = -math.inf
 
@@ -161,8 +162,10 @@ class Explorer:
         self._next_tick = t + 1.0 / self.cfg.planner_frequency
         if self._retry_pending(grid):
             return
+        clusters = self._clusters.clusters(grid, self.cfg.min_frontier_size,
+                                           self.cfg.min_unknown_width)
         self.frontiers = find_frontiers(grid, robot_pose[:2], self.cfg.min_frontier_size,
-                                        self.cfg.min_unknown_width)
+                                        self.cfg.min_unknown_width, clusters)
         candidates = [f for f in self.frontiers if not self.is_blacklisted(f)]
         if not candidates:
             if self.frontiers and self._start_retry(t, grid, robot_pose):

@@ -86,10 +86,22 @@ def known_box(data: np.ndarray, grow: int = 1):
             max(0, cols[0] - grow), min(data.shape[1], cols[-1] + 1 + grow))
 
 
-def find_frontiers(grid, robot_xy: Sequence[float], min_frontier_size: float,
-                   min_unknown_width: float = 0.0) -> list[Frontier]:
-    """Frontier clusters of ``grid`` (data, origin, resolution) sorted by ``min_distance``;
-    ``min_unknown_width`` (m): see the module docstring (0 = explore_lite)."""
+@dataclass(frozen=True)
+class Cluster:
+    """A frontier cluster as the map alone gives it (world m): its cells, size, centroid and
+    goal cell (the cell nearest the centroid)."""
+
+    cells: np.ndarray
+    size: int
+    centroid: np.ndarray
+    goal: np.ndarray
+
+
+def frontier_clusters(grid, min_frontier_size: float,
+                      min_unknown_width: float = 0.0) -> list[Cluster]:
+    """The frontier clusters of ``grid`` (data, origin, resolution) in label order, those
+    shorter than ``min_frontier_size`` m dropped; ``min_unknown_width`` (m): see the module
+    docstring (0 = explore_lite)."""
     data = np.asarray(grid.data)
     res = float(grid.resolution)
     width = int(round(min_unknown_width / res)) if min_unknown_width > 0 else 0
@@ -109,18 +121,54 @@ def find_frontiers(grid, robot_xy: Sequence[float], min_frontier_size: float,
     splits = np.nonzero(np.diff(ids))[0] + 1
     xs = ox + (cols + c0 + 0.5) * res
     ys = oy + (rows + r0 + 0.5) * res
-    rx, ry = float(robot_xy[0]), float(robot_xy[1])
-    out: list[Frontier] = []
+    out: list[Cluster] = []
     for part in np.split(np.arange(len(ids)), splits):
         if len(part) * res < min_frontier_size:
             continue
         cells = np.stack([xs[part], ys[part]], axis=1)
         centroid = cells.mean(axis=0)
         goal = cells[int(np.argmin(np.hypot(*(cells - centroid).T)))]
-        dist = float(np.min(np.hypot(cells[:, 0] - rx, cells[:, 1] - ry)))
-        out.append(Frontier(cells, len(part), centroid, goal, dist))
+        out.append(Cluster(cells, len(part), centroid, goal))
+    return out
+
+
+def find_frontiers(grid, robot_xy: Sequence[float], min_frontier_size: float,
+                   min_unknown_width: float = 0.0,
+                   clusters: list[Cluster] | None = None) -> list[Frontier]:
+    """Frontier clusters of ``grid`` (data, origin, resolution) sorted by ``min_distance``;
+    ``min_unknown_width`` (m): see the module docstring (0 = explore_lite). ``clusters``: the
+    grid's :func:`frontier_clusters` when already known (e.g. from a :class:`ClusterCache`)."""
+    if clusters is None:
+        clusters = frontier_clusters(grid, min_frontier_size, min_unknown_width)
+    rx, ry = float(robot_xy[0]), float(robot_xy[1])
+    out = [Frontier(c.cells, c.size, c.centroid, c.goal,
+                    float(np.min(np.hypot(c.cells[:, 0] - rx, c.cells[:, 1] - ry))))
+           for c in clusters]
     out.sort(key=lambda f: f.min_distance)
     return out
+
+
+class ClusterCache:
+    """:func:`frontier_clusters` of the last grid asked for: a grid with the same cells,
+    origin and resolution (and the same two sizes) gets the same clusters without a new search.
+    The SLAM map is republished every few seconds while the explorer looks at it every second,
+    so most searches are of an unchanged map. The cells are compared, not the grid objects, so
+    a grid changed in place is searched again."""
+
+    def __init__(self):
+        self._key: tuple | None = None
+        self._data: np.ndarray | None = None
+        self._clusters: list[Cluster] = []
+
+    def clusters(self, grid, min_frontier_size: float,
+                 min_unknown_width: float = 0.0) -> list[Cluster]:
+        data = np.asarray(grid.data)
+        key = (float(grid.origin[0]), float(grid.origin[1]), float(grid.resolution),
+               float(min_frontier_size), float(min_unknown_width), data.shape, data.dtype.str)
+        if key != self._key or not np.array_equal(data, self._data):
+            self._clusters = frontier_clusters(grid, min_frontier_size, min_unknown_width)
+            self._key, self._data = key, data.copy()
+        return self._clusters
 
 
 def clear_goal(frontier: Frontier, grid, clearance: float, search: float = 1.0) -> np.ndarray:

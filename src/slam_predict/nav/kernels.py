@@ -176,7 +176,7 @@ def _heap_pop(keys, vals, size):
 
 @numba.njit(cache=True)
 def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuristic_weight,
-                keys, vals):
+                keys, vals, g, parent, seen, done, stamp):
     """Cheapest 8-connected path from (sx, sy) towards the goal window.
 
     ``cell_cost`` (float64 [ny, nx]): cost of entering a cell, per cell of travel (a diagonal
@@ -188,14 +188,16 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
     heuristic (``heuristic_weight`` <= the smallest cell cost) every settled cell has its
     optimal cost, so the returned path is optimal for its end cell.
 
-    ``keys`` (float64) / ``vals`` (int64) are the heap storage. Returns (path as int64 [n, 2]
-    of (x, y) cells from start to end, its cost, status): status 0 = done (n = 0 when no window
-    cell is reachable), -1 = the heap storage was too small (retry with more).
+    ``keys`` (float64) / ``vals`` (int64) are the heap storage. ``g`` (float64), ``parent``,
+    ``seen`` and ``done`` (int64) are per-cell work arrays of at least ny·nx entries, reused from
+    search to search: a cell's ``g`` and ``parent`` hold for this search only where
+    ``seen == stamp`` (else g = inf), and it is settled where ``done == stamp``; ``stamp``
+    must differ from every value the arrays hold from earlier searches (a search number), so
+    nothing needs clearing. Returns (path as int64 [n, 2] of (x, y) cells from start to end, its
+    cost, status): status 0 = done (n = 0 when no window cell is reachable), -1 = the heap
+    storage was too small (retry with more).
     """
     ny, nx = cell_cost.shape
-    g = np.full(ny * nx, np.inf)
-    parent = np.full(ny * nx, -1, np.int64)
-    closed = np.zeros(ny * nx, np.bool_)
     to_settle = 0
     for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
         for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
@@ -205,15 +207,16 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
     size = 0
     start = sy * nx + sx
     g[start] = 0.0
+    seen[start] = stamp
     h0 = heuristic_weight * math.hypot(sx - gx, sy - gy)
     size = _heap_push(keys, vals, size, h0, start)
     diag = math.sqrt(2.0)
     goal_found = False
     while size > 0 and to_settle > 0:
         key, u, size = _heap_pop(keys, vals, size)
-        if closed[u]:
+        if done[u] == stamp:
             continue
-        closed[u] = True
+        done[u] = stamp
         ux = u % nx
         uy = u // nx
         if win_x0 <= ux <= win_x1 and win_y0 <= uy <= win_y1:
@@ -236,11 +239,12 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
                 if not np.isfinite(c):
                     continue
                 v = vy * nx + vx
-                if closed[v]:
+                if done[v] == stamp:
                     continue
                 step = diag if dx != 0 and dy != 0 else 1.0
                 gv = gu + step * c
-                if gv < g[v]:
+                if seen[v] != stamp or gv < g[v]:
+                    seen[v] = stamp
                     g[v] = gv
                     parent[v] = u
                     h = heuristic_weight * math.hypot(vx - gx, vy - gy)
@@ -255,7 +259,7 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
         for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
             for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
                 idx = y * nx + x
-                if closed[idx]:
+                if done[idx] == stamp:
                     d = (x - gx) * (x - gx) + (y - gy) * (y - gy)
                     if d < best:
                         best = d
@@ -477,7 +481,9 @@ def warmup() -> None:
     inflate(grid, 0, 0, 6, 6, r, costs, dist, bins.reshape(dist.shape).astype(np.int64),
             len(uniq), False, pool, pool.copy(), pool.copy())
     cost = np.ones((6, 6))
-    grid_search(cost, 0, 0, 5, 5, 5, 5, 5, 5, 1.0, np.empty(300), np.empty(300, np.int64))
+    work = np.zeros(36, np.int64)
+    grid_search(cost, 0, 0, 5, 5, 5, 5, 5, 5, 1.0, np.empty(300), np.empty(300, np.int64),
+                np.empty(36), np.empty(36, np.int64), work, work.copy(), 1)
     target_distance(grid, np.zeros((6, 6), np.bool_), np.array([0]), np.array([0]),
                     np.empty((6, 6)), np.empty((36, 2), np.int32), 0, 0, -1)
     obstacle_update(grid, 0.0, 0.0, 0.1, 0.05, 0.05, np.array([[0.45, 0.35]]), 3.0, 2.5,

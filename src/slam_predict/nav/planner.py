@@ -102,6 +102,7 @@ class GlobalPlanner:
             escape_radius = footprint_radii(make_footprint(cfg.global_costmap))[1]
         self.escape_radius = float(escape_radius)
         self.escapes = 0  # plans found only thanks to the start escape
+        self.work = SearchWork()
 
     @property
     def default_tolerance(self) -> float:
@@ -135,11 +136,11 @@ class GlobalPlanner:
         cell_cost = self.cell_costs(sub)
         sx, sy = s[0] - x0, s[1] - y0
         gx, gy = g[0] - x0, g[1] - y0
-        path, cost = _search(cell_cost, (sx, sy), (gx, gy), tol_cells)
+        path, cost = _search(cell_cost, (sx, sy), (gx, gy), tol_cells, self.work)
         if len(path) == 0 and INSCRIBED <= sub[sy, sx] <= LETHAL and self.escape_radius > 0:
             escape = self._escape_costs(sub, cell_cost, sx, sy, costmap.resolution)
             if escape is not None:
-                path, cost = _search(escape, (sx, sy), (gx, gy), tol_cells)
+                path, cost = _search(escape, (sx, sy), (gx, gy), tol_cells, self.work)
                 self.escapes += int(len(path) > 0)
         if len(path) == 0:
             return None
@@ -195,17 +196,44 @@ class GlobalPlanner:
         return Plan(np.column_stack([xy, yaw]), cost, length, reaches)
 
 
-def _search(cell_cost: np.ndarray, start, goal, tol_cells: int):
+class SearchWork:
+    """The per-cell work arrays of :func:`kernels.grid_search`, kept from search to search
+    with a search number, so a plan over millions of cells clears none of them."""
+
+    def __init__(self):
+        self.g = np.empty(0)
+        self.parent = np.empty(0, np.int64)
+        self.seen = np.zeros(0, np.int64)
+        self.done = np.zeros(0, np.int64)
+        self.stamp = 0
+
+    def next_search(self, cells: int) -> int:
+        """The number of the next search over ``cells`` cells (arrays grown to fit)."""
+        if self.g.size < cells:
+            self.g = np.empty(cells)
+            self.parent = np.empty(cells, np.int64)
+            self.seen = np.zeros(cells, np.int64)
+            self.done = np.zeros(cells, np.int64)
+        self.stamp += 1
+        return self.stamp
+
+
+def _search(cell_cost: np.ndarray, start, goal, tol_cells: int,
+            work: SearchWork | None = None):
     """:func:`kernels.grid_search` from ``start`` to the goal window (cells), growing the heap
-    storage until it fits; returns (path cells (n, 2), cost)."""
+    storage until it fits; returns (path cells (n, 2), cost). ``work``: the planner's
+    :class:`SearchWork` (a new one when None)."""
+    work = work or SearchWork()
     weight = float(np.min(cell_cost[np.isfinite(cell_cost)], initial=1.0))
     cell_cost = np.ascontiguousarray(cell_cost)
     (sx, sy), (gx, gy) = start, goal
     cap = max(1024, 2 * cell_cost.size)
     while True:
+        stamp = work.next_search(cell_cost.size)
         path, cost, status = kernels.grid_search(
             cell_cost, sx, sy, gx, gy, gx - tol_cells, gy - tol_cells, gx + tol_cells,
-            gy + tol_cells, min(weight, 50.0), np.empty(cap), np.empty(cap, np.int64))
+            gy + tol_cells, min(weight, 50.0), np.empty(cap), np.empty(cap, np.int64),
+            work.g, work.parent, work.seen, work.done, stamp)
         if status == 0:
             return path, cost
         cap *= 2
