@@ -41,6 +41,8 @@ MISTAKES = [
     ("one beam", robot_text(samples="1"), ["coarser than any planar laser", "241 for 1 deg"]),
     ("ten beams", robot_text(samples="10"), ["coarser than any planar laser"]),
     ("samples not a number", robot_text(samples="many"), ["'laser.samples' must be"]),
+    ("yaw of 0.1 rad/rad", robot_text(odom_error="odom_error: [0.01, 0.02, 0.1]"),
+     ["far below any real robot", "5.73 if 0.1 was rad/rad"]),
     ("yaw in rad/rad", robot_text(odom_error="odom_error: [0.01, 0.02, 0.0349]"),
      ["far below any real robot", "2 if 0.0349 was rad/rad", "odom_error_rad"]),
     ("yaw far too large", robot_text(odom_error="odom_error: [0.01, 0.02, 100]"),
