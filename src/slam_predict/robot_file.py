@@ -67,6 +67,7 @@ from slam_predict.config import (
 from slam_predict.errors import InputError, did_you_mean, require_file
 from slam_predict.paths import PROJECT_ROOT, portable_path
 from slam_predict.robot_checks import implausible
+from slam_predict.robot_spellings import check_foreign_keys, to_file_units
 from slam_predict.sensor import ODOM_MODELS, LaserConfig, OdomConfig, SensorConfig
 
 DEG = math.pi / 180.0          # rad per degree, as world.model's DEG (Stage's unit), bit for bit
@@ -231,7 +232,8 @@ def load_robot(path: os.PathLike | str, force: bool = False) -> RobotDescription
     if not data:
         raise InputError("the robot file is empty (it needs at least name, laser and "
                          "odom_error; examples in config/robots/)", path)
-    data = _explicit_units(data, path)
+    check_foreign_keys(data, path, _field_names(RobotLaser))
+    data, in_radians = to_file_units(data, path)
     check_keys(data, _field_names(RobotDescription), path)
     laser = data.get("laser")
     if isinstance(laser, Mapping):
@@ -241,7 +243,7 @@ def load_robot(path: os.PathLike | str, force: bool = False) -> RobotDescription
     if isinstance(data.get("odom_error"), list) and len(data["odom_error"]) == 4:
         data = _stage_odom_error(data, path)
     robot = from_dict(RobotDescription, data, path)
-    problems = implausible(robot)
+    problems = implausible(robot, in_radians)
     if problems and not force:
         raise InputError(f"{problems[0]} (--force uses it as written)", path)
     for problem in problems:
@@ -261,37 +263,6 @@ def robot_path(spec: os.PathLike | str) -> str:
         return str(shipped[spec])
     raise InputError(f"robot file not found, nor a shipped robot of {portable_path(ROBOTS_DIR)}"
                      + (did_you_mean(spec, shipped) or f" ({', '.join(shipped)})"), spec)
-
-
-def _explicit_units(data: dict[str, Any], path: str) -> dict[str, Any]:
-    """``data`` with the radian spellings ROS users write (``laser.fov_rad``,
-    ``odom_error_rad`` = [x m/m, y m/m, yaw rad/rad]) turned into the file's own units
-    (degrees); InputError when a value is given both ways."""
-    laser = data.get("laser")
-    if isinstance(laser, Mapping) and "fov_rad" in laser:
-        if "fov" in laser:
-            raise InputError("give laser.fov (degrees) or laser.fov_rad, not both", path)
-        rest = {k: v for k, v in laser.items() if k != "fov_rad"}
-        data = {**data, "laser": {**rest, "fov": _degrees(laser["fov_rad"], "laser.fov_rad",
-                                                           path)}}
-    if "odom_error_rad" in data:
-        if "odom_error" in data:
-            raise InputError("give odom_error (yaw in deg/rad) or odom_error_rad (yaw in "
-                             "rad/rad), not both", path)
-        values = data["odom_error_rad"]
-        if not isinstance(values, list) or len(values) != 3:
-            raise InputError(f"'odom_error_rad' must be [x m/m, y m/m, yaw rad/rad], got "
-                             f"{values!r}", path)
-        rest = {k: v for k, v in data.items() if k != "odom_error_rad"}
-        data = {**rest, "odom_error": [*values[:2], _degrees(values[2], "odom_error_rad[2]",
-                                                             path)]}
-    return data
-
-
-def _degrees(value: Any, key: str, path: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"'{key}' must be a number, got {value!r}", path)
-    return math.degrees(value)
 
 
 def _field_names(cls: type) -> list[str]:
