@@ -155,3 +155,15 @@ def test_a_shipped_robot_is_found_by_name():
 @pytest.mark.parametrize("name", sorted(p.stem for p in (ROOT / "config" / "robots").glob("*")))
 def test_shipped_robots_are_plausible(name):
     load_robot(name)        # raises on an implausible one
+
+
+def test_a_robot_file_named_as_the_settings_simulator_config_says_use_robot(tmp_path, capsys):
+    settings = tmp_path / "s.yaml"
+    settings.write_text(f"extends: {ROOT / 'config' / 'collect.yaml'}\n"
+                        f"robot: {ROOT / 'config' / 'robots' / 'urg_240_5p6.yaml'}\n")
+    out = tmp_path / "out"
+    assert main(["collect", str(TINY), "--settings", str(settings), "--runs", "1",
+                 "--out", str(out), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is a robot description file" in err and "--robot" in err
+    assert not out.exists()
