@@ -4,14 +4,15 @@ odometry error, footprint and speed limits, in the units a Stage .world file wri
 Schema (every key optional unless marked *required*; unknown keys are refused with a
 did-you-mean hint; every error is an :class:`~slam_predict.errors.InputError` naming the file;
 values no real robot has, usually a unit mistake, are refused unless ``force``:
-:mod:`slam_predict.robot_checks`)::
+:mod:`slam_predict.robot_checks`; the radian spellings and other tools' names:
+:mod:`slam_predict.robot_spellings`)::
 
     name: lds_360_3p5            # required, a non-empty string
     description: "free text"     # optional
     laser:                       # required; Stage's ranger / stage_ros' LaserScan names
       range_max: 3.5             # required, m, > range_min
       fov: 360.0                 # required, DEGREES (Stage's ranger), in (0, 360]; or
-                                 # fov_rad: 6.2832, radians (as a LaserScan's angles)
+                                 # fov_rad: 6.2832, radians in (0, 2 pi] (a LaserScan's)
       samples: 360               # required, beams, >= 1 (bearing i: -fov/2 + i*fov/(samples-1))
       range_min: 0.12            # m, >= 0 (default 0)
       rate_hz: 5.0               # scans per s, > 0 (default 10)
