@@ -4,14 +4,15 @@ odometry error, footprint and speed limits, in the units a Stage .world file wri
 Schema (every key optional unless marked *required*; unknown keys are refused with a
 did-you-mean hint; every error is an :class:`~slam_predict.errors.InputError` naming the file;
 values no real robot has, usually a unit mistake, are refused unless ``force``:
-:mod:`slam_predict.robot_checks`)::
+:mod:`slam_predict.robot_checks`; the radian spellings and other tools' names:
+:mod:`slam_predict.robot_spellings`)::
 
     name: lds_360_3p5            # required, a non-empty string
     description: "free text"     # optional
     laser:                       # required; Stage's ranger / stage_ros' LaserScan names
       range_max: 3.5             # required, m, > range_min
       fov: 360.0                 # required, DEGREES (Stage's ranger), in (0, 360]; or
-                                 # fov_rad: 6.2832, radians (as a LaserScan's angles)
+                                 # fov_rad: 6.2832, radians in (0, 2 pi] (a LaserScan's)
       samples: 360               # required, beams, >= 1 (bearing i: -fov/2 + i*fov/(samples-1))
       range_min: 0.12            # m, >= 0 (default 0)
       rate_hz: 5.0               # scans per s, > 0 (default 10)
@@ -67,6 +68,7 @@ from slam_predict.config import (
 from slam_predict.errors import InputError, did_you_mean, require_file
 from slam_predict.paths import PROJECT_ROOT, portable_path
 from slam_predict.robot_checks import implausible
+from slam_predict.robot_spellings import check_foreign_keys, to_file_units
 from slam_predict.sensor import ODOM_MODELS, LaserConfig, OdomConfig, SensorConfig
 
 DEG = math.pi / 180.0          # rad per degree, as world.model's DEG (Stage's unit), bit for bit
@@ -231,7 +233,8 @@ def load_robot(path: os.PathLike | str, force: bool = False) -> RobotDescription
     if not data:
         raise InputError("the robot file is empty (it needs at least name, laser and "
                          "odom_error; examples in config/robots/)", path)
-    data = _explicit_units(data, path)
+    check_foreign_keys(data, path, _field_names(RobotLaser))
+    data, in_radians = to_file_units(data, path)
     check_keys(data, _field_names(RobotDescription), path)
     laser = data.get("laser")
     if isinstance(laser, Mapping):
@@ -241,7 +244,7 @@ def load_robot(path: os.PathLike | str, force: bool = False) -> RobotDescription
     if isinstance(data.get("odom_error"), list) and len(data["odom_error"]) == 4:
         data = _stage_odom_error(data, path)
     robot = from_dict(RobotDescription, data, path)
-    problems = implausible(robot)
+    problems = implausible(robot, in_radians)
     if problems and not force:
         raise InputError(f"{problems[0]} (--force uses it as written)", path)
     for problem in problems:
@@ -261,37 +264,6 @@ def robot_path(spec: os.PathLike | str) -> str:
         return str(shipped[spec])
     raise InputError(f"robot file not found, nor a shipped robot of {portable_path(ROBOTS_DIR)}"
                      + (did_you_mean(spec, shipped) or f" ({', '.join(shipped)})"), spec)
-
-
-def _explicit_units(data: dict[str, Any], path: str) -> dict[str, Any]:
-    """``data`` with the radian spellings ROS users write (``laser.fov_rad``,
-    ``odom_error_rad`` = [x m/m, y m/m, yaw rad/rad]) turned into the file's own units
-    (degrees); InputError when a value is given both ways."""
-    laser = data.get("laser")
-    if isinstance(laser, Mapping) and "fov_rad" in laser:
-        if "fov" in laser:
-            raise InputError("give laser.fov (degrees) or laser.fov_rad, not both", path)
-        rest = {k: v for k, v in laser.items() if k != "fov_rad"}
-        data = {**data, "laser": {**rest, "fov": _degrees(laser["fov_rad"], "laser.fov_rad",
-                                                           path)}}
-    if "odom_error_rad" in data:
-        if "odom_error" in data:
-            raise InputError("give odom_error (yaw in deg/rad) or odom_error_rad (yaw in "
-                             "rad/rad), not both", path)
-        values = data["odom_error_rad"]
-        if not isinstance(values, list) or len(values) != 3:
-            raise InputError(f"'odom_error_rad' must be [x m/m, y m/m, yaw rad/rad], got "
-                             f"{values!r}", path)
-        rest = {k: v for k, v in data.items() if k != "odom_error_rad"}
-        data = {**rest, "odom_error": [*values[:2], _degrees(values[2], "odom_error_rad[2]",
-                                                             path)]}
-    return data
-
-
-def _degrees(value: Any, key: str, path: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"'{key}' must be a number, got {value!r}", path)
-    return math.degrees(value)
 
 
 def _field_names(cls: type) -> list[str]:

@@ -95,3 +95,40 @@ def test_design_command_refuses_bad_counts(tmp_path, capsys):
     assert main(["design", str(TINY), "--out", out]) == 0
     assert main(["design", str(TINY), "--out", out, "--seed", "1"]) == 2   # no --force
     assert "--force" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--fov", "3", "6.28"], ["looks like radians", "from --fov 3 6.28"]),
+    (["--range", "1000", "12000"], ["beyond any planar laser", "if it was mm",
+                                    "from --range 1000 12000"]),
+    (["--angle-step", "20"], ["coarser than any planar laser", "from --angle-step 20"])])
+def test_design_bounds_no_laser_has_are_refused_unless_force(tmp_path, capsys, extra, words):
+    out = tmp_path / "d.yaml"
+    args = ["design", str(TINY), "--configs", "3", "--points-per-world", "1", "--out", str(out),
+            *extra]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and all(word in err for word in words), err
+    assert "--force" in err and not out.exists()
+    assert main([*args, "--force"]) == 0
+    assert load_design(out).configs
+
+
+def test_collect_refuses_a_design_with_a_laser_no_robot_has(tmp_path, capsys):
+    design = tmp_path / "d.yaml"
+    assert main(["design", str(TINY), "--configs", "2", "--points-per-world", "1",
+                 "--replicates", "1", "--range", "2000", "4000", "--force",
+                 "--out", str(design)]) == 0
+    out = tmp_path / "data"
+    assert main(["collect", str(TINY), "--design", str(design), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(design) in err and "if it was mm" in err, err
+    assert not out.exists()
+
+
+def test_the_default_base_robot_is_found_from_any_folder(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["design", str(TINY), "--configs", "2", "--points-per-world", "1",
+                 "--out", "d.yaml"]) == 0
+    assert load_design(tmp_path / "d.yaml").base.name == "seed_realistic"
+    assert "2 configurations over 1 world, 1 per world x 2 replicates" in capsys.readouterr().out

@@ -33,14 +33,31 @@ MISTAKES = [
     ("fov both ways", robot_text(fov="fov: 240.0\n  fov_rad: 4.19"), ["not both"]),
     ("fov_rad not a number", robot_text(fov="fov_rad: wide"),
      ["'laser.fov_rad' must be a number"]),
+    ("fov_rad in degrees", robot_text(fov="fov_rad: 240"), ["'laser.fov_rad' must be in",
+                                                             "degrees? write laser.fov"]),
+    ("fov_rad far too narrow", robot_text(fov="fov_rad: 0.05"),
+     ["laser.fov_rad 0.05 rad is 2.86 deg", "narrower than any planar laser"]),
+    ("a LaserScan's angles", robot_text(fov="angle_min: -2.09\n  angle_max: 2.09"),
+     ["'angle_min'", "write laser.fov_rad = angle_max - angle_min"]),
+    ("mounting yaw in radians", robot_text(fov="fov: 240.0\n  pose: [0.1, 0.0, 3.1416]"),
+     ["laser.pose yaw 3.1416 looks like radians", "(180)"]),
+    ("laser key at the top level", robot_text(odom_error="odom_error: [0.01, 0.02, 2.0]\n"
+                                                         "pose: [0.1, 0.0, 0.0]"),
+     ["'pose' at the top level", "belongs in the laser: section"]),
     ("range in mm", robot_text(range_max="12000"),
      ["beyond any planar laser", "12 m if it was mm"]),
     ("range too long", robot_text(range_max="150"), ["beyond any planar laser", "metres"]),
     ("range in km or cm", robot_text(range_max="0.1", range_min="0.0"),
      ["shorter than any planar laser"]),
+    ("range_min in mm", robot_text(range_max="30", range_min="20"),
+     ["laser.range_min 20 m is longer than any planar laser's minimum range"]),
+    ("a LaserScan's range name", robot_text().replace("range_max", "max_range"),
+     ["did you mean 'range_max'"]),
     ("one beam", robot_text(samples="1"), ["coarser than any planar laser", "241 for 1 deg"]),
     ("ten beams", robot_text(samples="10"), ["coarser than any planar laser"]),
     ("samples not a number", robot_text(samples="many"), ["'laser.samples' must be"]),
+    ("yaw of 0.1 rad/rad", robot_text(odom_error="odom_error: [0.01, 0.02, 0.1]"),
+     ["far below any real robot", "5.73 if 0.1 was rad/rad"]),
     ("yaw in rad/rad", robot_text(odom_error="odom_error: [0.01, 0.02, 0.0349]"),
      ["far below any real robot", "2 if 0.0349 was rad/rad", "odom_error_rad"]),
     ("yaw far too large", robot_text(odom_error="odom_error: [0.01, 0.02, 100]"),
@@ -50,6 +67,8 @@ MISTAKES = [
     ("odom error both ways",
      robot_text(odom_error="odom_error: [0.01, 0.02, 2.0]\nodom_error_rad: [0.01, 0.02, 0.03]"),
      ["not both"]),
+    ("odom_error_rad in deg/rad", robot_text(odom_error="odom_error_rad: [0.01, 0.02, 2.0]"),
+     ["odom_error_rad yaw 2 rad/rad is beyond any real robot's", "or write odom_error"]),
     ("odom_error_rad too short", robot_text(odom_error="odom_error_rad: [0.01, 0.03]"),
      ["'odom_error_rad' must be [x m/m, y m/m, yaw rad/rad]"]),
     ("odom error not a list", robot_text(odom_error="odom_error: 2.0"), ["'odom_error'"]),
@@ -136,3 +155,15 @@ def test_a_shipped_robot_is_found_by_name():
 @pytest.mark.parametrize("name", sorted(p.stem for p in (ROOT / "config" / "robots").glob("*")))
 def test_shipped_robots_are_plausible(name):
     load_robot(name)        # raises on an implausible one
+
+
+def test_a_robot_file_named_as_the_settings_simulator_config_says_use_robot(tmp_path, capsys):
+    settings = tmp_path / "s.yaml"
+    settings.write_text(f"extends: {ROOT / 'config' / 'collect.yaml'}\n"
+                        f"robot: {ROOT / 'config' / 'robots' / 'urg_240_5p6.yaml'}\n")
+    out = tmp_path / "out"
+    assert main(["collect", str(TINY), "--settings", str(settings), "--runs", "1",
+                 "--out", str(out), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is a robot description file" in err and "--robot" in err
+    assert not out.exists()

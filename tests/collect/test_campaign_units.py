@@ -25,3 +25,16 @@ def test_other_values_keep_their_own_form():
         "a.samples: 541 -> 360"]
     assert differences({"laser": {"fov": None}}, {"laser": {"fov": 1.0}})[0].startswith(
         "laser.fov: None -> 57.2958 deg")
+
+
+def test_the_robot_s_values_come_first_with_their_units():
+    old = {"base_seed": 0, "settings": {
+        "gmapping": {"maxUrange": 3.49},
+        "sim": {"laser": {"range_max": 3.5, "rate_hz": 5.0}, "robot": {"max_vel_x": 0.5}}}}
+    new = {"base_seed": 0, "settings": {
+        "gmapping": {"maxUrange": 5.59},
+        "sim": {"laser": {"range_max": 5.6, "rate_hz": 10.0}, "robot": {"max_vel_x": 0.85}}}}
+    assert mismatch(old, new) == (
+        "the settings differ from the campaign's: sim.laser.range_max: 3.5 m -> 5.6 m; "
+        "sim.laser.rate_hz: 5.0 Hz -> 10.0 Hz; sim.robot.max_vel_x: 0.5 m/s -> 0.85 m/s "
+        "(and 1 more)")

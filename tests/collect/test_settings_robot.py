@@ -92,11 +92,11 @@ def test_nav_is_load_nav_config_with_the_robots_overrides(tmp_path):
 def test_robot_is_merged_after_the_settings_sim_overrides(tmp_path):
     settings_file = tmp_path / "s.yaml"
     settings_file.write_text(f"extends: {CONFIG / 'collect.yaml'}\nsim_overrides:\n"
-                             "  ranger_model: stage\n  odom: {model: fixed}\n"
+                             "  ranger_model: stage\n  odom: {model: gaussian_per_step}\n"
                              "  laser: {range_max: 60.0}\n")
     settings = load_settings(settings_file, robot=ROBOTS / "urg_240_5p6.yaml")
     assert settings.sim.ranger_model == "stage"            # the settings' own choice, kept
-    assert settings.sim.odom.model == "uniform_per_run"    # the robot's, over the settings'
+    assert settings.sim.odom.model == "fixed"              # the robot's, over the settings'
     assert settings.sim.laser.range_max == 5.6
 
 

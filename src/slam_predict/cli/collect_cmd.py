@@ -48,8 +48,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true",
                         help="go on where a check would refuse: resume a campaign with another "
                              "--seed or other settings than its campaign.json records (the "
-                             "change is kept in its history); use a robot file that no real "
-                             "robot matches (usually a unit mistake)")
+                             "change is kept in its history); use a robot file or --design "
+                             "configurations that no real robot matches (usually a unit "
+                             "mistake)")
 
 
 def find_worlds(items: list[str]) -> dict[str, str]:
@@ -112,11 +113,11 @@ def check_start_footprint(world, path: str, footprint_side: float | None = None)
 
 
 def load_run_design(args: argparse.Namespace, worlds: dict[str, str]):
-    """The robot design of ``--design``, or None; InputError when it is combined with --robot
-    or a world is not in it."""
+    """The robot design of ``--design``, or None; InputError when it is combined with --robot,
+    a world is not in it, or (unless --force) a configuration has a laser no robot has."""
     if not args.design:
         return None
-    from slam_predict.collect.robot_design import load_design
+    from slam_predict.collect.robot_design import check_plausible, load_design
 
     if args.robot:
         raise InputError("--design gives every run its robot; it excludes --robot")
@@ -124,6 +125,7 @@ def load_run_design(args: argparse.Namespace, worlds: dict[str, str]):
     for name, path in worlds.items():
         if name not in design.worlds:
             raise InputError(f"world '{name}' is not in the design {args.design}", path)
+    check_plausible(design, args.force, args.design)
     return design
 
 

@@ -12,7 +12,7 @@ import argparse
 from pathlib import Path
 
 from slam_predict.cli.deprecated import add_renamed_option
-from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_file
+from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_file, plural
 from slam_predict.errors import InputError
 
 NAME = "design"
@@ -27,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("worlds", nargs="+", metavar="WORLD",
                         help="Stage .world files, or folders of them (names = file stems)")
     parser.add_argument("--out", required=True, metavar="YAML", help="design file to write")
-    parser.add_argument("--base-robot", default="config/robots/seed_realistic.yaml",
+    parser.add_argument("--base-robot", default="seed_realistic",
                         metavar="YAML|NAME", help="robot description every configuration starts "
                                              "from (default: the seed study's realistic robot)")
     parser.add_argument("--configs", type=int, default=28, help="configurations (default 28)")
@@ -42,7 +42,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     for factor, option, what in BOUND_OPTIONS:
         parser.add_argument(option, nargs=2, type=float, metavar=("LOW", "HIGH"),
                             help=f"range of the {what}", dest=f"bound_{factor}")
-    add_force_argument(parser)
+    add_force_argument(parser, "go on where a check would refuse: overwrite an existing --out "
+                               "file; use a base robot or make configurations that no real "
+                               "robot matches (usually a unit mistake: --fov in radians, "
+                               "--range in mm)")
 
 
 def bounds_of(args: argparse.Namespace) -> dict[str, tuple[float, float]]:
@@ -60,9 +63,19 @@ def bounds_of(args: argparse.Namespace) -> dict[str, tuple[float, float]]:
     return bounds
 
 
+def sources_of(args: argparse.Namespace) -> dict[str, str]:
+    """Laser key → the options its design values come from, as the user typed them."""
+    def given(factor: str, option: str) -> str:
+        value = getattr(args, f"bound_{factor}")
+        return option if value is None else f"{option} {value[0]:g} {value[1]:g}"
+
+    return {"laser.fov": given("fov", "--fov"), "laser.range_max": given("range_max", "--range"),
+            "laser.samples": f"--angle-step {args.angle_step:g} over {given('fov', '--fov')}"}
+
+
 def run(args: argparse.Namespace) -> int:
     from slam_predict.cli.collect_cmd import find_worlds
-    from slam_predict.collect.robot_design import make_design, write_design
+    from slam_predict.collect.robot_design import check_plausible, make_design, write_design
     from slam_predict.robot_file import load_robot
 
     for option in ("configs", "points_per_world", "replicates"):
@@ -80,8 +93,10 @@ def run(args: argparse.Namespace) -> int:
                              args.replicates, args.seed, bounds_of(args), args.angle_step)
     except ValueError as exc:
         raise InputError(f"cannot make the design: {exc}", args.base_robot) from None
+    check_plausible(design, args.force, sources=sources_of(args))
     write_design(design, args.out)
     runs = len(worlds) * design.runs_per_world
-    print(f"{Path(args.out)}: {len(design.configs)} configurations over {len(worlds)} worlds, "
-          f"{design.points_per_world} per world x {design.replicates} replicates = {runs} runs")
+    print(f"{Path(args.out)}: {plural(len(design.configs), 'configuration')} over "
+          f"{plural(len(worlds), 'world')}, {design.points_per_world} per world x "
+          f"{plural(design.replicates, 'replicate')} = {plural(runs, 'run')}")
     return 0

@@ -26,7 +26,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        help="go on where a check would refuse: use a plan whose free area or "
                             "extent is outside what buildings have (10–100,000 m², ≤ 2 km), "
                             "usually a wrong --resolution, or a robot file that no real robot "
-                            "matches (usually a unit mistake); overwrite existing output files")
+                            "matches (usually a unit mistake); continue a --simulate --out "
+                            "folder with another --seed or settings, as collect --force; "
+                            "overwrite existing output files")
     group.add_argument("--max-pixels", type=int, metavar="N",
                        help=f"refuse images of more than N pixels before decoding them "
                             f"(default {DEFAULT_MAX_PIXELS:,}; about 33 bytes of memory per "

@@ -67,6 +67,11 @@ def json_plain(value: Any) -> Any:
     return json.loads(json.dumps(value))
 
 
+UNITS = {"laser.range_max": "m", "laser.range_min": "m", "laser.noise_std": "m",
+         "laser.rate_hz": "Hz", "robot.footprint_side": "m", "robot.max_vel_x": "m/s",
+         "robot.max_vel_theta": "rad/s", "gmapping.maxRange": "m", "gmapping.maxUrange": "m"}
+
+
 def differences(old: Any, new: Any, prefix: str = "") -> list[str]:
     """Key paths where two JSON-like trees differ, as ``'path: old -> new'``."""
     if isinstance(old, dict) and isinstance(new, dict):
@@ -85,7 +90,11 @@ def differences(old: Any, new: Any, prefix: str = "") -> list[str]:
 
 def shown(path: str, value: Any) -> str:
     """A settings value as a robot file writes it: the laser's fov in degrees, its mounting yaw
-    and the odometry's yaw error in degrees (per radian); anything else as it is."""
+    and the odometry's yaw error in degrees (per radian), the robot file's other values with
+    their unit (:data:`UNITS`); anything else as it is."""
+    unit = next((u for key, u in UNITS.items() if path.endswith(key)), None)
+    if unit and isinstance(value, (int, float)) and not isinstance(value, bool):
+        return f"{value!r} {unit}"
     try:
         if path.endswith("laser.fov"):
             return f"{math.degrees(value):.6g} deg"
@@ -115,7 +124,8 @@ def mismatch(recorded: dict[str, Any], current: dict[str, Any]) -> str | None:
     if recorded.get("ros") != current.get("ros"):
         return ros_mismatch(recorded.get("ros"), current.get("ros"))
     found = differences(recorded.get("settings"), current["settings"])
-    if found:
+    if found:   # the robot's own values (sim) before what follows from them (gmapping, nav)
+        found.sort(key=lambda text: not text.startswith("sim."))
         return f"the settings differ from the campaign's: {describe(found)}"
     return None
 

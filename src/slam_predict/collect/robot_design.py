@@ -19,6 +19,7 @@ base robot's; the beams are ``fov / resolution_deg + 1`` (Stage's beam rule).
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 import os
 from collections.abc import Mapping, Sequence
@@ -31,12 +32,14 @@ import yaml
 from slam_predict.atomic import write_text
 from slam_predict.config import from_dict, load_yaml, to_dict
 from slam_predict.errors import InputError, require_file
+from slam_predict.robot_checks import implausible_laser
 from slam_predict.robot_file import RobotDescription
 
 FACTORS = ("range_max", "fov", "odom_xy_scale", "odom_yaw_scale")
 UNITS = {"range_max": "m", "fov": "deg", "odom_xy_scale": "x base", "odom_yaw_scale": "x base"}
 DEFAULT_BOUNDS = {"range_max": (3.5, 30.0), "fov": (180.0, 360.0),
                   "odom_xy_scale": (0.0, 2.0), "odom_yaw_scale": (0.0, 2.0)}
+LOG = logging.getLogger(__name__)
 LOG_FACTORS = ("range_max",)   # spread evenly in log space
 CANDIDATES = 200   # Latin hypercubes drawn; the one with the largest smallest distance is kept
 DESIGN_KIND = "robots"
@@ -164,6 +167,31 @@ def configured_robot(base: RobotDescription, factors: Mapping[str, float],
     return dataclasses.replace(base, name=f"{base.name}-{name}", laser=laser,
                                odom_error=(x * xy, y * xy, yaw * rot),
                                description=f"design configuration {name} of {base.name}")
+
+
+def implausible_configs(design: RobotDesign) -> list[tuple[str, str, str]]:
+    """(configuration, key, sentence) for each laser no real robot has among ``design``'s
+    configurations (:func:`~slam_predict.robot_checks.implausible_laser`: usually bounds in
+    radians or millimetres, or a coarse resolution), in configuration order. The odometry is
+    not checked: its factors are multiples of the base robot's, whose file was checked."""
+    return [(config, key, sentence) for config in design.configs
+            for key, sentence in implausible_laser(design.robot(config))]
+
+
+def check_plausible(design: RobotDesign, force: bool, where: os.PathLike | str | None = None,
+                    sources: Mapping[str, str] | None = None) -> None:
+    """InputError (naming ``where``) on the first implausible configuration of ``design``
+    (:func:`implausible_configs`), unless ``force``: then each is logged. ``sources`` maps a
+    key (``laser.fov``) to the input it came from (``--fov 3 6.28``), named in the message."""
+    sources = sources or {}
+    problems = [f"configuration {config}: {sentence}"
+                + (f" (from {sources[key]})" if key in sources else "")
+                for config, key, sentence in implausible_configs(design)]
+    if problems and not force:
+        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+        raise InputError(f"{problems[0]}{more}; --force uses it as written", where)
+    for problem in problems:
+        LOG.warning("%s: %s (used as written: --force)", where or "design", problem)
 
 
 def scaled(factor: str, u: float, bounds: tuple[float, float]) -> float:

@@ -125,6 +125,7 @@ def load_settings(path: os.PathLike | str | None = None,
     path = Path(path or DEFAULT_SETTINGS)
     files = from_dict(CollectFiles, read_settings_tree(path), str(path))
     robot_file = Path(files.robot)
+    _refuse_robot_description(robot_file, path)
     if files.sim_overrides:
         sim_tree = merge_trees(load_yaml(robot_file).get("sim", {}) or {}, files.sim_overrides)
         sim = from_dict(SimConfig, sim_tree, f"{robot_file} + {path} sim_overrides")
@@ -141,6 +142,16 @@ def load_settings(path: os.PathLike | str | None = None,
     from slam_predict.robot_file import load_robot, robot_path
 
     return with_robot(settings, load_robot(robot, force=force_robot), robot_path(robot))
+
+
+def _refuse_robot_description(sim_file: Path, settings_path: Path) -> None:
+    """InputError when the settings' ``robot:`` (the simulator config, a ``sim:`` section) names
+    a robot description file, which belongs to ``--robot``."""
+    data = load_yaml(sim_file) if sim_file.is_file() else None
+    if isinstance(data, dict) and "sim" not in data and "laser" in data:
+        raise InputError(f"'robot: {sim_file}' is a robot description file; the settings' "
+                         f"robot: names the simulator config (a file with a sim: section, "
+                         f"config/robot.yaml): give a robot description as --robot", settings_path)
 
 
 def with_robot(settings: CollectSettings, robot, robot_path: str) -> CollectSettings:
