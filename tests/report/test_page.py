@@ -42,11 +42,11 @@ def test_summary_table_numbers(page):
         row = rows[world]
         assert row["runs"] == str(len(errors))
         assert row["trans_mean [m]"] == f"{trans.mean():.4f}"
-        assert row["trans_std [m]"] == f"{trans.std():.4f}"
+        assert row["std of trans_mean over runs [m]"] == f"{trans.std():.4f}"
         assert row["rot_mean [rad]"] == f"{rot.mean():.5f}"
         assert row["rot_mean [deg]"] == f"{math.degrees(rot.mean()):.3f}"
-        assert row["rot_std [rad]"] == f"{rot.std():.5f}"
-        assert row["rot_std [deg]"] == f"{math.degrees(rot.std()):.3f}"
+        assert row["std of rot_mean over runs [rad]"] == f"{rot.std():.5f}"
+        assert row["std of rot_mean over runs [deg]"] == f"{math.degrees(rot.std()):.3f}"
         assert row["path length [m]"] == f"{40 + np.arange(len(errors)).mean():.1f}"
         assert row["coverage"] == f"{0.9 + 0.01 * np.arange(len(errors)).mean():.3f}"
 

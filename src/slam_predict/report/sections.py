@@ -50,6 +50,11 @@ def overview(campaign: Campaign) -> str:
              ("complete runs", len(runs)),
              ("runs per world", f"{min(per_world)}–{max(per_world)}" if per_world else H.MISSING),
              ("settings files", counted("settings_file", " runs")),
+             ("robots", "; ".join(f"{v} ({n} runs)" for v, n in
+                                  _counts([robot_text(r.value("sensor")) for r in runs]))),
+             ("SLAM back-ends", "; ".join(f"{v} ({n} runs)" for v, n in
+                                          _counts([r.value("slam", "type") or "gmapping"
+                                                   for r in runs]))),
              ("odometry error models", counted("odometry_model", " runs")),
              ("code versions", counted("code_version", " runs")),
              ("simulated time", _hours(sim)),
@@ -91,17 +96,39 @@ def stop_table(campaign: Campaign) -> str:
     return H.table(["world", *reasons], rows)
 
 
-SUMMARY_HEADER = ["world", "runs", "trans_mean [m]", "trans_std [m]", "rot_mean [rad]",
-                  "rot_mean [deg]", "rot_std [rad]", "rot_std [deg]", "path length [m]",
-                  "rotation [rad]", "coverage", "sim time [s]"]
+SUMMARY_HEADER = ["world", "runs", "trans_mean [m]", "std of trans_mean over runs [m]",
+                  "rot_mean [rad]", "rot_mean [deg]", "std of rot_mean over runs [rad]",
+                  "std of rot_mean over runs [deg]", "path length [m]", "rotation [rad]",
+                  "coverage", "sim time [s]"]
+ONE_RUN = "n/a (1 run)"
+
+
+def robot_text(sensor) -> str:
+    """A run's robot from its run.json ``sensor``: the laser (range, fov, beams) and the
+    odometry error model and bounds, in a robot file's units; '—' without one."""
+    try:
+        laser, odom = sensor["laser"], sensor["odom"]
+        x, y, yaw = odom["error"]
+        return (f"laser {laser['range_max']:g} m, {math.degrees(laser['fov']):.0f}°, "
+                f"{laser['samples']} beams; odometry {odom['model']} {x:g}, {y:g} m/m, "
+                f"{math.degrees(yaw):.3g} °/rad")
+    except (TypeError, KeyError, ValueError):
+        return H.MISSING
+
+
+def _spread(row: dict, key: str, digits: int, degrees: bool = False):
+    """The std over runs of one component, or "n/a (1 run)" where one run has none."""
+    if row.get("runs") == 1:
+        return ONE_RUN
+    return H.num_cell(_deg(row[key]) if degrees else row[key], digits)
 
 
 def summary_cells(row: dict) -> list:
-    """One per-building row (means over runs; std over runs with ddof 0)."""
+    """One per-building row (means over runs; std over runs with ddof 0, n/a for one run)."""
     return [row["world"], H.num_cell(row["runs"], 0),
-            H.num_cell(row["trans_mean"], 4), H.num_cell(row["trans_std"], 4),
+            H.num_cell(row["trans_mean"], 4), _spread(row, "trans_std", 4),
             H.num_cell(row["rot_mean"], 5), H.num_cell(_deg(row["rot_mean"]), 3),
-            H.num_cell(row["rot_std"], 5), H.num_cell(_deg(row["rot_std"]), 3),
+            _spread(row, "rot_std", 5), _spread(row, "rot_std", 3, degrees=True),
             H.num_cell(row["path_length_mean"], 1), H.num_cell(row["rotation_mean"], 1),
             H.num_cell(row["coverage_mean"], 3), H.num_cell(row["sim_time_mean_s"], 0)]
 
@@ -111,7 +138,10 @@ def summary(campaign: Campaign) -> str:
     text = ("<p>Per building, over its runs: mean and standard deviation (ddof 0) of each run's "
             "mean absolute relation error (Kümmerle metric), translation in m, rotation in rad "
             "and deg; path length and rotation of the ground-truth path; explored share of the "
-            "reachable free area; simulated duration.</p>")
+            "reachable free area; simulated duration. The standard deviations here are the "
+            "spread <em>over runs</em> (the model components trans_std and rot_std); the "
+            "per-run tables below give each run's spread <em>over its relations</em>, another "
+            "quantity. One run has no spread over runs: n/a.</p>")
     rows = [summary_cells(row) for row in campaign.summary_rows()]
     return H.section("Per-building summary", text + H.table(SUMMARY_HEADER, rows,
                                                               table_id="summary"),
@@ -119,8 +149,9 @@ def summary(campaign: Campaign) -> str:
 
 
 RUN_HEADER = ["run", "seed", "stop reason", "sim [s]", "wall [s]", "distance [m]",
-              "rotation [rad]", "coverage", "trans_mean [m]", "trans_std [m]", "rot_mean [rad]",
-              "rot_mean [deg]", "rot_std [rad]", "relations", "map", "trajectories"]
+              "rotation [rad]", "coverage", "trans_mean [m]", "std over relations [m]",
+              "rot_mean [rad]", "rot_mean [deg]", "std over relations [rad]", "relations", "map",
+              "trajectories"]
 
 
 def run_cells(run: Run) -> list:
@@ -199,6 +230,8 @@ def world_section(world: WorldRuns) -> str:
     figure, notes = map_figure(world)
     body = figure
     if world.runs:
+        robots = _counts([robot_text(r.value("sensor")) for r in world.runs])
+        body += H.key_values([("robot", "; ".join(f"{v} ({n} runs)" for v, n in robots))])
         body += H.table(RUN_HEADER, [run_cells(r) for r in world.runs])
     without_map = [r.run_id for r in world.runs if not (r.has_map and r.has_trajectories)]
     if without_map and len(without_map) < len(world.runs):
