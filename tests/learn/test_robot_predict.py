@@ -176,7 +176,7 @@ def test_bad_folders_are_refused(trained, tmp_path):
     card = json.loads((plan_only / CARD).read_text())
     del card["kind"]
     (plan_only / CARD).write_text(json.dumps(card))
-    with pytest.raises(InputError, match="not a robot-aware model"):
+    with pytest.raises(InputError, match=r"is a plan-only model \(kind plan\)"):
         RobotModel.load(plan_only)
     old = tmp_path / "old"
     shutil.copytree(trained[0], old)

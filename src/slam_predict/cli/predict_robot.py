@@ -21,10 +21,8 @@ from pathlib import Path
 from typing import Any
 
 from slam_predict.errors import InputError
-
-DEFAULT_MODEL = "own-robots"
-TRAIN_HINT = ("train one with 'slam-predict learn robots DATA_DIR... --features CSV --design "
-              "config/robot_campaign/design.yaml --name own-robots' (docs/learning.md)")
+from slam_predict.learn.card import DEFAULT_ROBOT_MODEL as DEFAULT_MODEL
+from slam_predict.learn.card import ROBOT_TRAIN_HINT as TRAIN_HINT
 
 
 def model_path(model: str, models_dir: str | None) -> Path:
@@ -41,9 +39,8 @@ def load_model(args: argparse.Namespace, required: bool):
     """The robot-aware :class:`RobotModel` for ``--robot``, or None when ``required`` is
     False (``--simulate``) and there is none (no folder, or a plan-only one): then the
     plan-only prediction is shown with a note. InputError (one line) otherwise."""
-    from slam_predict.learn.robot_plain import KIND
+    from slam_predict.learn.card import CARD, ROBOT_KIND, check_kind, kind_of, read_card
     from slam_predict.learn.robot_predict import RobotModel
-    from slam_predict.learn.store import CARD, read_card
 
     path = model_path(args.model, args.models_dir)
     if not (path / CARD).is_file():
@@ -51,13 +48,10 @@ def load_model(args: argparse.Namespace, required: bool):
             return None
         raise InputError(f"no robot-aware model folder {path} (needed by --robot): "
                          f"{TRAIN_HINT}")
-    kind = read_card(path).get("kind", "plan")
-    if kind != KIND:
-        if not required:
-            return None
-        raise InputError(f"model {path.name} is a plan-only model (kind {kind}): --robot needs "
-                         f"a robot-aware one (kind {KIND}), default {DEFAULT_MODEL}; "
-                         f"{TRAIN_HINT}", path / CARD)
+    card = read_card(path)
+    if kind_of(card) != ROBOT_KIND and not required:
+        return None
+    check_kind(card, ROBOT_KIND, path / CARD)
     model = RobotModel.load(path)
     model.check_feature_version()
     if args.setting:

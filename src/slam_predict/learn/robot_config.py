@@ -14,13 +14,13 @@ from slam_predict.config import (
     TWO_OR_MORE,
     Range,
 )
+from slam_predict.learn.card import PROTOCOLS
 from slam_predict.learn.config import BoostingConfig, ElasticNetConfig
 
 ROBOT_MODEL_KINDS = ("elasticnet", "gradient_boosting", "trend_boosting", "gaussian_process")
 # trend_boosting, not gradient_boosting: the same trees inside the training sizes, and not flat
 # past them (bench/bench_size_extrapolation.py)
 DEFAULT_MODELS = ("elasticnet", "trend_boosting", "gaussian_process")
-PROTOCOLS = ("buildings", "configs", "both")
 # Plan features by default: the building's size (area: the best single feature of the shipped
 # plan-only models), the thesis' traversal length (what the odometry error accumulates over),
 # the sight lines' isotropy (features/scan_conditioning.py: how evenly the walls a 30 m

@@ -29,9 +29,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from slam_predict.errors import InputError
+from slam_predict.learn.card import PROTOCOLS
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.evaluate import percentage_errors, scores
-from slam_predict.learn.robot_config import PROTOCOLS, RobotLearningConfig
+from slam_predict.learn.robot_config import RobotLearningConfig
 from slam_predict.learn.robot_dataset import RobotTables
 from slam_predict.learn.robot_models import fit_component, group_folds, is_std
 from slam_predict.learn.tables import SYMBOLS, err, fmt, markdown

@@ -32,8 +32,6 @@ import numpy as np
 
 from slam_predict.learn.intervals import cv_plus_interval
 
-KIND = "robots"                       # card kind of a robot-aware model folder
-POINTS_FILE = "training_points.csv"   # its training POINT rows
 MEANS = ("trans_mean", "rot_mean")
 STDS = ("trans_std", "rot_std")
 TOLERANCE = 1e-9   # plain vs fitted, on the log scale (absolute) and relative

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
+from slam_predict.learn.card import CARD, POINTS_FILE, ROBOT_KIND, check_kind, input_names
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.robot_inputs import (
     DERIVED_INPUTS,
@@ -34,13 +35,11 @@ from slam_predict.learn.robot_inputs import (
     reads_sight_lines,
 )
 from slam_predict.learn.robot_plain import (
-    KIND,
-    POINTS_FILE,
     LogScaleModel,
     PlainComponentModel,
     is_std,
 )
-from slam_predict.learn.store import CARD, ModelStore
+from slam_predict.learn.store import ModelStore
 
 
 class RobotModel:
@@ -61,14 +60,7 @@ class RobotModel:
         """The model folder at ``path``; InputError (one line) on a missing or corrupt folder,
         a checksum mismatch, a folder of another kind or another scikit-learn major version."""
         store = ModelStore(path)   # card, versions and every file's checksum
-        card_path = Path(path) / CARD
-        if store.card.get("kind") != KIND:
-            raise InputError(f"not a robot-aware model (kind {store.card.get('kind')!r}, "
-                             f"expected '{KIND}')", card_path)
-        for key in ("max_urange_m", "input_ranges", "design"):
-            if key not in store.card:
-                raise InputError(f"corrupt model card (missing '{key}'); retrain with "
-                                 "'slam-predict learn robots'", card_path)
+        check_kind(store.card, ROBOT_KIND, Path(path) / CARD)
         models = {component: _component_model(store, component, entry.get("best"))
                   for component, entry in store.card["components"].items()}
         points, worlds = _read_points(Path(path) / POINTS_FILE, input_names(store.card))
@@ -277,12 +269,6 @@ class RobotModel:
                              self.store.path / CARD)
         return np.array([[blind_fraction(curves[w], r) for w in self.point_worlds]
                          for r in ranges_m])
-
-
-def input_names(card: Mapping[str, Any]) -> list[str]:
-    """The model's input columns: plan features, derived inputs, robot inputs."""
-    return (list(card["features"]) + list(card.get("derived_inputs") or [])
-            + list(ROBOT_INPUTS))
 
 
 def _component_model(store: ModelStore, component: str, kind: str | None) -> LogScaleModel:

@@ -28,6 +28,7 @@ import numpy as np
 
 from slam_predict.config import to_dict
 from slam_predict.errors import InputError
+from slam_predict.learn.card import POINTS_FILE, ROBOT_KIND
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.robot_config import RobotLearningConfig
 from slam_predict.learn.robot_dataset import RobotDataset, RobotTables, points_csv
@@ -39,7 +40,7 @@ from slam_predict.learn.robot_inputs import (
     reads_sight_lines,
 )
 from slam_predict.learn.robot_models import fit_component
-from slam_predict.learn.robot_plain import KIND, POINTS_FILE, plain_component
+from slam_predict.learn.robot_plain import plain_component
 from slam_predict.learn.store import save_store
 
 LOG = logging.getLogger(__name__)
@@ -122,8 +123,8 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
             "models": {kind: {"metrics": _metrics(summary, component, kind)}
                        for kind in fitted[component]}}
     return {
-        "name": meta["name"], "kind": KIND, "description": meta.get("description", ""),
-        "created": datetime.date.today().isoformat(), "priority": 0, "setting": KIND,
+        "name": meta["name"], "kind": ROBOT_KIND, "description": meta.get("description", ""),
+        "created": datetime.date.today().isoformat(), "priority": 0, "setting": ROBOT_KIND,
         "slam_config_hash": ",".join(hashes.get("gmapping", [])), "config_hashes": hashes,
         "feature_version": data.feature_version,
         "feature_config": dict(meta.get("feature_config") or {}), "features": plan,

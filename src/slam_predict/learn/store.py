@@ -26,12 +26,10 @@ from typing import Any
 
 from slam_predict.atomic import atomic_dir
 from slam_predict.errors import InputError, did_you_mean
+from slam_predict.learn.card import CARD, FORMAT, PLAN_KIND, check_kind, kind_of, read_card
 
 LOG = logging.getLogger(__name__)
-FORMAT = 1
-CARD = "card.json"
-REQUIRED = ("format", "name", "setting", "feature_version", "features", "components",
-            "versions", "files", "training_buildings")
+__all__ = ["CARD", "FORMAT", "ModelStore", "read_card", "resolve_store", "save_store"]
 
 
 def installed(package: str) -> str:
@@ -107,31 +105,6 @@ def save_store(path: os.PathLike | str, card: dict[str, Any],
         (tmp / CARD).write_text(json.dumps(card, indent=2, sort_keys=False) + "\n")
     LOG.info("model %s written to %s", card.get("name"), path)
     return path
-
-
-def read_card(path: os.PathLike | str) -> dict[str, Any]:
-    """The validated card of a model folder."""
-    folder = Path(path)
-    card_path = folder / CARD
-    if not folder.is_dir():
-        raise InputError("model folder not found", folder)
-    if not card_path.is_file():
-        raise InputError("not a model folder (no card.json)", folder)
-    try:
-        card = json.loads(card_path.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"corrupt model card ({exc.__class__.__name__}: {exc})",
-                         card_path) from None
-    if not isinstance(card, dict):
-        raise InputError("corrupt model card (not a JSON object)", card_path)
-    missing = [k for k in REQUIRED if k not in card]
-    if missing:
-        raise InputError(f"corrupt model card (missing '{missing[0]}')", card_path)
-    if card["format"] != FORMAT:
-        raise InputError(f"model format {card['format']} is not supported (this slam_predict "
-                         f"reads format {FORMAT}); retrain with 'slam-predict learn train'",
-                         card_path)
-    return card
 
 
 def check_compatible(card: dict[str, Any], card_path: Path,
@@ -266,10 +239,7 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
             raise InputError(f"no model named '{name}' in {models_dir}" + did_you_mean(name, names)
                              + (f" (available: {', '.join(names)})" if names else ""))
         store = ModelStore(path, feature_version)
-        if store.card.get("kind", "plan") != "plan":
-            raise InputError(f"model '{store.name}' is a robot-aware model (kind "
-                             f"{store.card['kind']}): it needs robot inputs; load it with "
-                             "slam_predict.learn.robot_predict.RobotModel", path / CARD)
+        check_kind(store.card, PLAN_KIND, path / CARD)
         if setting is not None and store.card["setting"] != setting:
             raise InputError(f"model was trained for the {store.card['setting']} setting, not "
                              f"{setting}", path / CARD)
@@ -281,7 +251,7 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
         except InputError as exc:
             LOG.warning("skipping %s", exc.one_line())
             continue
-        if card.get("kind", "plan") == "plan" and (setting is None
+        if kind_of(card) == PLAN_KIND and (setting is None
                                                    or card["setting"] == setting):
             candidates.append((-int(card.get("priority", 0)),
                                -len(card["training_buildings"]), path.name, path))

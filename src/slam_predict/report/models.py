@@ -54,10 +54,10 @@ def load_models(path) -> list[ModelEntry]:
 def load_entry(folder: Path) -> ModelEntry:
     """Read one model folder; problems become notes. ``store``: a ModelStore, or for a
     robot-aware folder a RobotModel."""
+    from slam_predict.learn.card import is_robot_card
     from slam_predict.learn.predict import check_feature_version
     from slam_predict.learn.robot_predict import RobotModel
     from slam_predict.learn.store import ModelStore, read_card
-    from slam_predict.report.robot_models import is_robot_card
 
     entry = ModelEntry(folder)
     try:
@@ -144,7 +144,8 @@ def card_section(entry: ModelEntry) -> str:
     """The model card: overview, metrics table (scores of the evaluation on the training
     buildings: repeated random splits and leave-one-building-out) and the folder's notes; a
     robot-aware folder's is :func:`slam_predict.report.robot_models.robot_card_section`."""
-    from slam_predict.report.robot_models import is_robot_card, robot_card_section
+    from slam_predict.learn.card import is_robot_card
+    from slam_predict.report.robot_models import robot_card_section
 
     if is_robot_card(entry.card):
         return robot_card_section(entry)
