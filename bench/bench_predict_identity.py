@@ -139,6 +139,7 @@ def thesis_features(ref: Path, cache: Path) -> Path:
 def run_thesis(tree: Path, folder: Path, features: Path) -> dict:
     """The files ``learn dataset`` + ``learn train`` write for both thesis settings."""
     thesis = SHARED / "data" / "thesis"
+    folder.mkdir(parents=True, exist_ok=True)
     for setting in ("realistic", "optimistic"):
         data = folder / f"thesis-{setting}.csv"
         run_cli(tree, ["learn", "dataset", "--errors", str(thesis / f"stats_{setting}.csv"),
@@ -232,7 +233,8 @@ def main() -> int:
     ref_tree, sha = reference_tree(args.ref, cache)
     features = thesis_features(ref_tree, cache) if args.thesis else None
     ref = outputs(ref_tree, cache / f"ref-{sha}", args, features, reuse=True)
-    new = outputs(Path(args.new).resolve(), cache / "new", args, features, reuse=False)
+    new_tree = Path(args.new).resolve()
+    new = outputs(new_tree, cache / f"new-{new_tree.name}", args, features, reuse=False)
     if args.show:
         for side in (ref, new):
             print(json.dumps(side["predict"].get(args.show), indent=1))

@@ -45,10 +45,12 @@ from slam_predict.learn.robot_predict import RobotModel
 model = RobotModel.load(sys.argv[3])
 model.check_feature_version()
 t2 = time.perf_counter()
-from slam_predict.learn.featurize import compute
+from slam_predict.features.plan import compute
 features = compute(world, model.feature_config)
 t3a = time.perf_counter()
-features.update(model.sightline_features(world))
+if model.sightline_config is not None:
+    from slam_predict.features.sightline import SightlineConfig, sightline_features
+    features.update(sightline_features(world, SightlineConfig(**model.sightline_config)))
 t3 = time.perf_counter()
 from slam_predict.learn.robot_inputs import angular_resolution_deg, sensor_dict
 from slam_predict.robot_file import load_robot

@@ -244,7 +244,7 @@ def train_model(folder: Path, name: str = "own-robots", config=None, best=None,
     default feature configuration and version, so that ``predict --robot`` can use it on real
     plans (the numbers mean nothing there). ``config``: a RobotLearningConfig (default
     :func:`fast_config` with elasticnet and gradient boosting); ``best``: component → kind."""
-    from slam_predict.learn.featurize import full_feature_config, version_of
+    from slam_predict.features.plan import full_feature_config, version_of
     from slam_predict.learn.robot_domain import design_ranges
     from slam_predict.learn.robot_train import train_robot_store
 

@@ -213,8 +213,8 @@ def test_plan_features_from_worlds_add_the_sightline_curve(tmp_path):
     """--worlds: each plan's features and its sight-line curve, from one load of the plan."""
     from pathlib import Path
 
+    from slam_predict.features.plan import compute, full_feature_config
     from slam_predict.features.sightline import curve_columns, sightline_features
-    from slam_predict.learn.featurize import compute, full_feature_config
     from slam_predict.world.load import load_plan
 
     shipped = Path(__file__).resolve().parents[2] / "worlds"

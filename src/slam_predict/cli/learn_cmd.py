@@ -129,7 +129,8 @@ def run_dataset(args: argparse.Namespace) -> int:
     if any(not row.setting for row in errors):
         raise InputError("the table has no setting column: give --setting", args.errors)
     if args.worlds:
-        from slam_predict.learn.featurize import features_from_worlds, full_feature_config
+        from slam_predict.features.plan import full_feature_config
+        from slam_predict.learn.featurize import features_from_worlds
 
         feature_config = full_feature_config(_feature_config(args.feature_config))
         features, version = features_from_worlds(args.worlds, [r.world for r in errors],

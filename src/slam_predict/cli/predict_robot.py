@@ -39,8 +39,8 @@ def load_model(args: argparse.Namespace, required: bool):
     """The robot-aware :class:`RobotModel` for ``--robot``, or None when ``required`` is
     False (``--simulate``) and there is none (no folder, or a plan-only one): then the
     plan-only prediction is shown with a note. InputError (one line) otherwise."""
-    from slam_predict.learn.card import CARD, ROBOT_KIND, check_kind, kind_of, read_card
-    from slam_predict.learn.robot_predict import RobotModel
+    from slam_predict.learn.card import CARD, ROBOT_KIND, kind_of, read_card
+    from slam_predict.learn.model import load_model as load_folder
 
     path = model_path(args.model, args.models_dir)
     if not (path / CARD).is_file():
@@ -48,11 +48,9 @@ def load_model(args: argparse.Namespace, required: bool):
             return None
         raise InputError(f"no robot-aware model folder {path} (needed by --robot): "
                          f"{TRAIN_HINT}")
-    card = read_card(path)
-    if kind_of(card) != ROBOT_KIND and not required:
+    if kind_of(read_card(path)) != ROBOT_KIND and not required:
         return None
-    check_kind(card, ROBOT_KIND, path / CARD)
-    model = RobotModel.load(path)
+    model = load_folder(path, ROBOT_KIND)
     model.check_feature_version()
     if args.setting:
         raise InputError(f"--setting applies to the plan-only models: the robot-aware model "
@@ -83,10 +81,14 @@ def robot_summary(robot, robot_path: str, model, inputs: dict[str, float]) -> di
 
 def predict(world, model, robot, robot_path: str, component: str = "all") -> dict[str, Any]:
     """The robot-aware prediction for ``world`` (a loaded, checked plan) and ``robot`` (a
-    :class:`~slam_predict.robot_file.RobotDescription` read from ``robot_path``)."""
-    from slam_predict.learn.predict import components_of, free_space
+    :class:`~slam_predict.robot_file.RobotDescription` read from ``robot_path``): world/
+    (free space) → features/ (every feature the model reads) → learn/."""
+    from slam_predict.features.plan import plan_features
+    from slam_predict.learn.predict import components_of
+    from slam_predict.world.plausibility import free_space
 
-    features = model.plan_features(world)
+    space, unreachable = free_space(world)
+    features = plan_features(world, model.feature_config, model.sightline_config)
     inputs = model.inputs(robot)
     confidence = float(model.card.get("confidence", 0.9))
     raw = model.predict(features, inputs, confidence)
@@ -100,7 +102,7 @@ def predict(world, model, robot, robot_path: str, component: str = "all") -> dic
                               "robot": summary, "confidence": confidence}
     for comp in components_of(component):
         result[comp] = _entry(raw[comp])
-    result["free_space"], unreachable = free_space(world)
+    result["free_space"] = space
     odom_note = model.odom_model_warning(robot.odom_model)
     result["warnings"] = unreachable + list(model.store.notes) + \
         model.domain_warnings(features, inputs, summary["angular_resolution_deg"]) + \

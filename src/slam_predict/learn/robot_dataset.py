@@ -271,8 +271,9 @@ def plan_features(worlds: Sequence[str], features_csv: os.PathLike | str | None 
     from slam_predict.learn import dataset as ds
 
     if worlds_dir is not None:
+        from slam_predict.features.plan import full_feature_config
         from slam_predict.features.sightline import sightline_features
-        from slam_predict.learn.featurize import features_from_worlds, full_feature_config
+        from slam_predict.learn.featurize import features_from_worlds
 
         config = full_feature_config(feature_config)
         features, version = features_from_worlds(worlds_dir, worlds, config, n_jobs,

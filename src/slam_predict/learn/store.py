@@ -26,7 +26,7 @@ from typing import Any
 
 from slam_predict.atomic import atomic_dir
 from slam_predict.errors import InputError, did_you_mean
-from slam_predict.learn.card import CARD, FORMAT, PLAN_KIND, check_kind, kind_of, read_card
+from slam_predict.learn.card import CARD, FORMAT, PLAN_KIND, kind_of, read_card
 
 LOG = logging.getLogger(__name__)
 __all__ = ["CARD", "FORMAT", "ModelStore", "read_card", "resolve_store", "save_store"]
@@ -238,8 +238,9 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
             names = [p.name for p in list_stores(models_dir)]
             raise InputError(f"no model named '{name}' in {models_dir}" + did_you_mean(name, names)
                              + (f" (available: {', '.join(names)})" if names else ""))
-        store = ModelStore(path, feature_version)
-        check_kind(store.card, PLAN_KIND, path / CARD)
+        from slam_predict.learn.model import load_model
+
+        store = load_model(path, PLAN_KIND, feature_version).store
         if setting is not None and store.card["setting"] != setting:
             raise InputError(f"model was trained for the {store.card['setting']} setting, not "
                              f"{setting}", path / CARD)
@@ -258,4 +259,6 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
     if not candidates:
         raise InputError(f"no trained model for the {setting} setting in {models_dir}; train one "
                          "with 'slam-predict learn train'")
-    return ModelStore(sorted(candidates)[0][3], feature_version)
+    from slam_predict.learn.model import load_model
+
+    return load_model(sorted(candidates)[0][3], PLAN_KIND, feature_version).store
