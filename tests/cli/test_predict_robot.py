@@ -15,7 +15,7 @@ import pytest
 from slam_predict.cli.main import main
 from slam_predict.features.plan import plan_features
 from slam_predict.features.sightline import blind_fraction
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.learn.robot.predict import RobotModel
 from slam_predict.robot_file import load_robot
 from slam_predict.world.load import load_plan
 

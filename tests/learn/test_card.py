@@ -18,7 +18,7 @@ from slam_predict.learn.card import (
     kind_of,
     read_card,
 )
-from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+from slam_predict.learn.robot.inputs import ROBOT_INPUTS
 
 MODELS = Path(__file__).resolve().parents[2] / "models"
 

@@ -11,7 +11,7 @@ from slam_predict.features.sightline import SightlineConfig, sightline_features
 from slam_predict.learn.card import PLAN_KIND, ROBOT_KIND
 from slam_predict.learn.model import PlanModel, check_slam, load_model
 from slam_predict.learn.predict import predict_features
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.learn.robot.predict import RobotModel
 from slam_predict.learn.store import ModelStore
 from slam_predict.world.load import load_plan
 
@@ -64,3 +64,13 @@ def test_robot_model_features_add_the_sight_lines_it_reads():
     assert set(model.names) - set(model.derived) - set(features) == {
         "laser_range_max_m", "laser_fov_deg", "odom_xy_error", "odom_yaw_error"}
 
+
+def test_pickles_of_older_robot_folders_load_under_the_new_module_names():
+    import sys
+
+    from slam_predict.learn.robot.plain import LogScaleModel
+
+    store = ModelStore(MODELS / "own-robots")
+    for component in ("trans_mean", "rot_std"):
+        assert isinstance(store.estimator(component), LogScaleModel)
+    assert not [name for name in sys.modules if name.startswith("slam_predict.learn.robot_")]

@@ -5,7 +5,7 @@ import json
 
 import pytest
 
-from slam_predict.learn.robot_agreement import agreement_rows, error_bars
+from slam_predict.learn.robot.agreement import agreement_rows, error_bars
 
 
 def scale_features(plan):

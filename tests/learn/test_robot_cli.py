@@ -7,7 +7,7 @@ import json
 import pytest
 
 from slam_predict.cli.main import main
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.learn.robot.predict import RobotModel
 
 from . import robot_synthetic as syn
 
@@ -164,7 +164,7 @@ def test_bad_inputs(inputs, tmp_path, capsys):
 
 
 def test_shipped_configuration_is_the_documented_defaults(root):
-    from slam_predict.learn.robot_config import RobotLearningConfig, load_robot_learning_config
+    from slam_predict.learn.robot.config import RobotLearningConfig, load_robot_learning_config
 
     assert load_robot_learning_config(root / "config" / "robot_learning.yaml") == \
         RobotLearningConfig()

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.learn.robot_dataset import (
+from slam_predict.learn.robot.dataset import (
     build_dataset,
     plan_features,
     points_csv,

@@ -14,8 +14,8 @@ from slam_predict.features.sightline import (
     curve_columns,
     sightline_features,
 )
-from slam_predict.learn.robot_inputs import ROBOT_INPUTS
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+from slam_predict.learn.robot.predict import RobotModel
 from slam_predict.learn.store import CARD
 
 from . import robot_synthetic as syn
@@ -85,7 +85,7 @@ def test_model_predicts_and_plots_with_the_blind_fraction(robot_models_dir):
 
 @pytest.mark.parametrize("feature", ["sightline_isotropy", "floor_elongation"])
 def test_a_sampling_feature_alone_makes_the_card_keep_the_sampling(campaign, feature):
-    from slam_predict.learn.robot_train import _sightline_entries
+    from slam_predict.learn.robot.train import _sightline_entries
 
     data, _ = campaign
     assert _sightline_entries(data, [], ["building_area"]) == {}

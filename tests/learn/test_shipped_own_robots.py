@@ -7,7 +7,7 @@ import math
 import pytest
 
 from slam_predict.features.plan import plan_features
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.learn.robot.predict import RobotModel
 from slam_predict.robot_file import load_robot
 from slam_predict.world.load import load_plan
 
@@ -56,7 +56,7 @@ def test_seed_robot_agrees_with_the_fidelity_campaign(model, root, shared_data):
     (data/campaigns/fidelity_seed_study, plans rebuilt from ../shared/data) within issue #16's
     bars (all but path length)."""
     from slam_predict.collect.fidelity import Comparison
-    from slam_predict.learn.robot_agreement import agreement_rows, error_bars
+    from slam_predict.learn.robot.agreement import agreement_rows, error_bars
     from slam_predict.world.thesis import read_environments, thesis_world
 
     envs = {e.env: e for e in read_environments(shared_data / "thesis" / "environments.csv")}

@@ -63,7 +63,7 @@ def default_config_path() -> Path:
 def load_config(args: argparse.Namespace):
     """The configuration file (or the defaults) with the command line's changes."""
     from slam_predict.config import from_dict, to_dict
-    from slam_predict.learn.robot_config import load_robot_learning_config
+    from slam_predict.learn.robot.config import load_robot_learning_config
 
     path = args.config or (str(default_config_path()) if default_config_path().is_file()
                            else None)
@@ -74,7 +74,7 @@ def load_config(args: argparse.Namespace):
     for key in ("models", "folds", "repeats", "seed"):
         if getattr(args, key) is not None:
             changes[key] = getattr(args, key)
-    from slam_predict.learn.robot_config import RobotLearningConfig
+    from slam_predict.learn.robot.config import RobotLearningConfig
 
     return from_dict(RobotLearningConfig, changes, "command line")
 
@@ -140,8 +140,8 @@ def _header(data, tables, config, plan: list[str], outcomes: dict | None = None)
 
 def _ceilings(tables) -> list[str]:
     """The header line on the R² that run-to-run noise leaves reachable (means only)."""
-    from slam_predict.learn.robot_evaluate import replicate_r2_ceiling
-    from slam_predict.learn.robot_plain import MEANS
+    from slam_predict.learn.robot.evaluate import replicate_r2_ceiling
+    from slam_predict.learn.robot.plain import MEANS
     from slam_predict.learn.tables import SYMBOLS
 
     parts = []
@@ -161,9 +161,9 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
     configuration) is reusable as ``--features``."""
     from slam_predict.atomic import atomic_dir
     from slam_predict.learn import dataset as ds
-    from slam_predict.learn.robot_dataset import points_csv, runs_csv
-    from slam_predict.learn.robot_evaluate import report_markdown
-    from slam_predict.learn.robot_inputs import DERIVED_INPUTS, ROBOT_INPUTS
+    from slam_predict.learn.robot.dataset import points_csv, runs_csv
+    from slam_predict.learn.robot.evaluate import report_markdown
+    from slam_predict.learn.robot.inputs import DERIVED_INPUTS, ROBOT_INPUTS
     from slam_predict.learn.tables import csv_text
 
     plan = [n for n in tables.names if n not in ROBOT_INPUTS]
@@ -192,9 +192,9 @@ def _designs(paths: list[str] | None):
 
 
 def run(args: argparse.Namespace) -> int:
-    from slam_predict.learn.robot_dataset import build_dataset, plan_features, read_runs
-    from slam_predict.learn.robot_evaluate import best_models, evaluate, summarize
-    from slam_predict.learn.robot_outcomes import exploration_outcomes
+    from slam_predict.learn.robot.dataset import build_dataset, plan_features, read_runs
+    from slam_predict.learn.robot.evaluate import best_models, evaluate, summarize
+    from slam_predict.learn.robot.outcomes import exploration_outcomes
     from slam_predict.paths import portable_path
 
     target = _check_outputs(args)
@@ -213,7 +213,7 @@ def run(args: argparse.Namespace) -> int:
     outcomes = exploration_outcomes(args.data, config.min_coverage)
     bounds = None
     if args.design:
-        from slam_predict.learn.robot_domain import design_ranges
+        from slam_predict.learn.robot.domain import design_ranges
 
         bounds = design_ranges(args.design, data.max_urange_m, data.configs)
     tables = data.tables(config.plan_features, config.sightline_input)
@@ -231,7 +231,7 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         print(f"evaluation written to {args.out}")
     if target is not None:
-        from slam_predict.learn.robot_train import train_robot_store
+        from slam_predict.learn.robot.train import train_robot_store
 
         sources = {"data": [portable_path(d) for d in args.data],
                    "features_from": portable_path(args.worlds or args.features),

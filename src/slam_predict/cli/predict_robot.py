@@ -1,7 +1,7 @@
 """``slam-predict predict PLAN --robot FILE``: the prediction of a robot-aware model.
 
 With a robot description file the four components come from a robot-aware model folder (card
-``kind: robots``, :class:`~slam_predict.learn.robot_predict.RobotModel`): ``--model NAME`` (a
+``kind: robots``, :class:`~slam_predict.learn.robot.predict.RobotModel`): ``--model NAME`` (a
 folder under ``--models-dir``, or a path), by default ``own-robots``. The robot enters as its
 laser range capped at the card's GMapping maxUrange, its field of view and its odometry error
 bounds; the output says so and adds the model's domain warnings (robot or plan outside the
@@ -71,7 +71,7 @@ def _entry(raw: dict[str, Any]) -> dict[str, Any]:
 def robot_summary(robot, robot_path: str, model, inputs: dict[str, float]) -> dict[str, Any]:
     """The ``robot`` entry of the result: file, name, the model's inputs, the laser's own
     range (m), GMapping's maxUrange (m) and the laser's angular resolution (deg)."""
-    from slam_predict.learn.robot_inputs import angular_resolution_deg, sensor_dict
+    from slam_predict.learn.robot.inputs import angular_resolution_deg, sensor_dict
 
     return {"file": robot_path, "name": robot.name, "inputs": inputs,
             "laser_range_max_m": float(robot.laser.range_max),
@@ -94,7 +94,7 @@ def predict(world, model, robot, robot_path: str, component: str = "all") -> dic
     raw = model.predict(features, inputs, confidence)
     summary = robot_summary(robot, robot_path, model, inputs)
     if model.derived:
-        from slam_predict.learn.robot_inputs import derived_inputs
+        from slam_predict.learn.robot.inputs import derived_inputs
 
         summary["derived"] = derived_inputs(features, inputs)
     result: dict[str, Any] = {"world": world.name, "setting": model.card.get("setting"),

@@ -11,7 +11,7 @@ Optional: ``kind`` (:data:`PLAN_KIND`, the default, or :data:`ROBOT_KIND`), ``de
 
 Plan-only cards (:mod:`~slam_predict.learn.train`) add ``feature_ranges``, ``runs``,
 ``slam_config_hash`` and ``learning_config``; each model entry has ``features_used`` and
-``chosen``. Robot-aware cards (:mod:`~slam_predict.learn.robot_train`) add the
+``chosen``. Robot-aware cards (:mod:`~slam_predict.learn.robot.train`) add the
 :data:`ROBOT_REQUIRED` keys ``max_urange_m`` (GMapping's maxUrange, m, or null),
 ``input_ranges`` (input → [low, high]) and ``design`` (the training configurations), plus
 ``robot_inputs``, ``robot_units``, ``derived_inputs``, ``sightline``/``sightline_curves``,
@@ -104,7 +104,7 @@ def input_names(card: Mapping[str, Any]) -> list[str]:
     inputs."""
     if not is_robot_card(card):
         return list(card["features"])
-    from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+    from slam_predict.learn.robot.inputs import ROBOT_INPUTS
 
     return (list(card["features"]) + list(card.get("derived_inputs") or [])
             + list(ROBOT_INPUTS))

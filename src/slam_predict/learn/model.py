@@ -9,7 +9,7 @@ plan features itself. Both families take an optional SLAM algorithm name, which 
 - :class:`PlanModel` (card kind ``plan``): :meth:`PlanModel.predict` gives the report form of
   each component (:func:`slam_predict.learn.predict.predict_features`); a robot is not an
   input (:attr:`takes_robot` False).
-- :class:`~slam_predict.learn.robot_predict.RobotModel` (card kind ``robots``): raw values and
+- :class:`~slam_predict.learn.robot.predict.RobotModel` (card kind ``robots``): raw values and
   intervals per component from the features and the robot inputs.
 """
 from __future__ import annotations
@@ -80,14 +80,14 @@ class PlanModel:
 def load_model(path: os.PathLike | str, kind: str | None = None,
                feature_version: str | None = None):
     """The model folder at ``path`` as a :class:`PlanModel` or a
-    :class:`~slam_predict.learn.robot_predict.RobotModel`, by its card's kind; ``kind``
+    :class:`~slam_predict.learn.robot.predict.RobotModel`, by its card's kind; ``kind``
     (``plan`` or ``robots``) refuses the other family with a one-line InputError naming it.
     Checks the card, every file's checksum and scikit-learn's major version."""
     card = read_card(path)
     if kind is not None:
         check_kind(card, kind, Path(path) / CARD)
     if kind_of(card) == ROBOT_KIND:
-        from slam_predict.learn.robot_predict import RobotModel
+        from slam_predict.learn.robot.predict import RobotModel
 
         return RobotModel.load(path)
     check_kind(card, PLAN_KIND, Path(path) / CARD)

@@ -14,6 +14,7 @@ loaded, so only load models from sources you trust.
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.metadata
 import json
@@ -26,7 +27,7 @@ from typing import Any
 
 from slam_predict.atomic import atomic_dir
 from slam_predict.errors import InputError, did_you_mean
-from slam_predict.learn.card import CARD, FORMAT, PLAN_KIND, kind_of, read_card
+from slam_predict.learn.card import CARD, FORMAT, PLAN_KIND, is_robot_card, kind_of, read_card
 
 LOG = logging.getLogger(__name__)
 __all__ = ["CARD", "FORMAT", "ModelStore", "read_card", "resolve_store", "save_store"]
@@ -207,13 +208,24 @@ class ModelStore:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # minor-version pickles: reported in notes
-                models = joblib.load(file)
+                with _pickle_names(self.card):
+                    models = joblib.load(file)
         except Exception as exc:  # noqa: BLE001 — any unpickling failure means unusable
             raise InputError(f"corrupt model file ({exc.__class__.__name__})", file) from None
         if not isinstance(models, dict):
             raise InputError("corrupt model file (not a model dictionary)", file)
         self._loaded[component] = models
         return models
+
+
+def _pickle_names(card: dict[str, Any]):
+    """The module names a pickle of this card's family may use (robot-aware folders written
+    before ``learn/robot/`` name its modules ``learn.robot_<module>``)."""
+    if not is_robot_card(card):
+        return contextlib.nullcontext()
+    from slam_predict.learn.robot import legacy_module_names
+
+    return legacy_module_names()
 
 
 def list_stores(models_dir: os.PathLike | str) -> list[Path]:

@@ -57,7 +57,7 @@ class RobotBoostingConfig(BoostingConfig):
 
     ``monotone``: the trees respect the directions known before any data
     (:data:`MONOTONE_INCREASING`, :data:`MONOTONE_DECREASING`, for the inputs the model has;
-    :mod:`slam_predict.learn.robot_monotone`); without it the trees are scikit-learn's
+    :mod:`slam_predict.learn.robot.monotone`); without it the trees are scikit-learn's
     GradientBoostingRegressor. ``min_samples_leaf``: rows per leaf at least.
     """
 
@@ -111,7 +111,7 @@ class RobotLearningConfig:
             design configuration than ``joint_factor`` × the design's widest gap.
         max_urange_m: GMapping's maxUrange the runs were collected with, m (the range input is
             min(range_max, maxUrange)); None = read from each run's settings file, checked
-            against its recorded GMapping config hash (learn/robot_domain.py).
+            against its recorded GMapping config hash (learn/robot/domain.py).
         sightline_input: also take the plan's blind fraction at the laser's range
             (``laser_blind_fraction``, features/sightline.py) as an input.
     """
@@ -140,7 +140,7 @@ class RobotLearningConfig:
         "joint_factor": AT_LEAST_ONE, "max_urange_m": POSITIVE}
 
     def __post_init__(self) -> None:
-        from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+        from slam_predict.learn.robot.inputs import ROBOT_INPUTS
 
         if not self.models:
             raise ValueError("models must name at least one model kind")

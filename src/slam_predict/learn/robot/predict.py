@@ -1,10 +1,10 @@
 """Prediction with a robot-aware model folder: plan features + robot inputs → four components.
 
-:class:`RobotModel` loads ``models/<name>`` written by :mod:`robot_train` (card, checksums,
+:class:`RobotModel` loads ``models/<name>`` written by :mod:`train` (card, checksums,
 scikit-learn major version checked, as :class:`~slam_predict.learn.store.ModelStore`), then
 predicts without refitting anything: per component the best model's value and its CV+
 interval. Each best model is read from its plain form (``<component>.plain.json``,
-:mod:`~slam_predict.learn.robot_plain`: numpy only) when it has one, else unpickled (which
+:mod:`~slam_predict.learn.robot.plain`: numpy only) when it has one, else unpickled (which
 imports scikit-learn, ≈ 1.5 s). The plan features are computed by the caller with
 :attr:`RobotModel.feature_config` and :attr:`RobotModel.sightline_config`
 (:func:`slam_predict.features.plan.plan_features`), as for the plan-only models; the robot
@@ -26,7 +26,7 @@ import numpy as np
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.card import CARD, POINTS_FILE, ROBOT_KIND, check_kind, input_names
 from slam_predict.learn.dataset import COMPONENTS, UNITS
-from slam_predict.learn.robot_inputs import (
+from slam_predict.learn.robot.inputs import (
     DERIVED_INPUTS,
     DERIVED_UNITS,
     DESIGN_RESOLUTION_DEG,
@@ -35,7 +35,7 @@ from slam_predict.learn.robot_inputs import (
     derived_inputs,
     reads_sight_lines,
 )
-from slam_predict.learn.robot_plain import (
+from slam_predict.learn.robot.plain import (
     LogScaleModel,
     PlainComponentModel,
     is_std,
@@ -92,7 +92,7 @@ class RobotModel:
     def inputs(self, robot) -> dict[str, float]:
         """The robot inputs of a :class:`~slam_predict.robot_file.RobotDescription`, its
         laser range capped at :attr:`max_urange_m`."""
-        from slam_predict.learn.robot_inputs import inputs_from_robot
+        from slam_predict.learn.robot.inputs import inputs_from_robot
 
         return inputs_from_robot(robot, self.max_urange_m)
 
@@ -199,8 +199,8 @@ class RobotModel:
 
     def exploration_warning(self, robot: Mapping[str, float]) -> str | None:
         """A line when training runs with a laser range near the robot's failed to explore
-        (card ``exploration``, :mod:`~slam_predict.learn.robot_outcomes`), else None."""
-        from slam_predict.learn.robot_outcomes import failure_warning
+        (card ``exploration``, :mod:`~slam_predict.learn.robot.outcomes`), else None."""
+        from slam_predict.learn.robot.outcomes import failure_warning
 
         return failure_warning(self.card.get("exploration"), float(robot["laser_range_max_m"]))
 

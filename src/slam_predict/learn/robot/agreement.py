@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from slam_predict.learn.robot_plain import MEANS
+from slam_predict.learn.robot.plain import MEANS
 
 
 def agreement_rows(model, robot: Mapping[str, float], campaign: os.PathLike | str,
