@@ -1,10 +1,12 @@
-"""``slam-predict learn robots``: robot-aware models from campaign run records (issue #18).
+"""``slam-predict learn evaluate|train --runs``: robot-aware models from campaign run records.
 
-``learn robots DATA_DIR [DATA_DIR...] (--worlds DIR | --features CSV) [--design YAML...]
-[--out EVAL_DIR] [--name NAME [--models-dir DIR]]`` reads every ``<world>/run_NNN/run.json``,
-builds the RUN and POINT tables (the range capped at the runs' GMapping maxUrange), joins the
-plan features, evaluates the models (leave buildings out, leave configurations out, both) and
-writes ``EVAL_DIR/robots_eval.md`` + CSVs; with ``--name`` it fits the models on every run and
+``learn evaluate --runs DATA_DIR... (--worlds DIR | --features CSV) [--design YAML...] --out
+EVAL_DIR`` and ``learn train --runs ... --name NAME [--evaluation-out EVAL_DIR]`` (older
+spelling, deprecated: ``learn robots DATA_DIR... [--out EVAL_DIR] [--name NAME]``) read
+every ``<world>/run_NNN/run.json``, build the RUN and POINT tables (the range capped at the
+runs' GMapping maxUrange), join the plan features, evaluate the models (leave buildings out,
+leave configurations out, both) and write ``EVAL_DIR/robots_eval.md`` + CSVs; with
+``--name`` they fit the models on every run and
 writes the model folder, whose robot inputs' training ranges are the design files' bounds with
 ``--design`` (checked against the runs). Dispatched from :mod:`learn_cmd`.
 """
@@ -19,7 +21,18 @@ from pathlib import Path
 from slam_predict.cli.guards import add_force_argument, check_at_least, check_out_dir
 from slam_predict.errors import InputError
 
-HELP = "robot-aware models: plan features + robot inputs from campaign runs (issue #18)"
+HELP = "robot-aware models: plan features + robot inputs from campaign runs"
+HELP_OLD = HELP + " (deprecated: use 'learn evaluate|train --runs DATA_DIR...')"
+DEPRECATED = ("slam-predict learn: warning: 'learn robots' is deprecated and goes in the next "
+              "release; use 'learn evaluate --runs DATA_DIR... --out EVAL_DIR' or 'learn "
+              "train --runs DATA_DIR... --name NAME [--evaluation-out EVAL_DIR]'")
+# options of the folded spelling that only robot-aware learning reads (attribute → option)
+ROBOT_ONLY = {"worlds": "--worlds", "features": "--features",
+              "feature_version": "--feature-version", "design": "--design",
+              "feature_config": "--feature-config", "folds": "--folds",
+              "repeats": "--repeats", "seed": "--seed"}
+PLAN_ONLY = {"splits": "--splits", "no_loo": "--no-loo",
+             "reference_features": "--reference-features"}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -52,6 +65,63 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, help="seed of folds, trees and the GP optimiser")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     add_force_argument(parser)
+
+
+def add_robot_options(parser: argparse.ArgumentParser) -> None:
+    """The robot-aware options of ``learn evaluate|train`` (``--runs`` selects that family;
+    ``--config`` then names a robot learning configuration and ``--models`` its kinds)."""
+    group = parser.add_argument_group(
+        "robot-aware models (plan features + the robot's laser and odometry as inputs)")
+    group.add_argument("--runs", nargs="+", metavar="DATA_DIR",
+                       help="campaign folder(s) holding WORLD/run_NNN/run.json, instead of "
+                            "DATASET (--config: default config/robot_learning.yaml)")
+    group.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
+    group.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
+    group.add_argument("--feature-version", help="feature version of a --features table")
+    group.add_argument("--design", metavar="YAML", nargs="+",
+                       help="the campaigns' design file(s): the card's robot input ranges "
+                            "become their bounds")
+    group.add_argument("--feature-config", metavar="YAML",
+                       help="with --worlds: feature configuration (section 'features')")
+    group.add_argument("--folds", type=int, metavar="N", help="folds of each protocol")
+    group.add_argument("--repeats", type=int, metavar="N",
+                       help="evaluate on N shufflings of the groups; scores are their mean")
+    group.add_argument("--seed", type=int, help="seed of folds, trees and the GP optimiser")
+
+
+def _check_family(args: argparse.Namespace) -> None:
+    """InputError for DATASET and --runs together (or neither) and for options of the other
+    family."""
+    if args.dataset and args.runs:
+        raise InputError("give either DATASET or --runs DATA_DIR..., not both")
+    if not args.dataset and not args.runs:
+        raise InputError("give a DATASET (from 'learn dataset') or --runs DATA_DIR... "
+                         "(robot-aware models)")
+    wrong = PLAN_ONLY if args.runs else ROBOT_ONLY
+    given = [option for key, option in wrong.items() if getattr(args, key, None)]
+    if given:
+        family = "plan-only models (DATASET)" if args.runs else "robot-aware models (--runs)"
+        raise InputError(f"{given[0]} applies to {family} only")
+    if args.runs and bool(args.worlds) == bool(args.features):
+        raise InputError("with --runs give one of --worlds DIR or --features CSV")
+
+
+def run_folded(args: argparse.Namespace, train: bool) -> bool:
+    """Run ``learn evaluate|train --runs`` as the robot-aware learning; False (nothing done)
+    for a DATASET, after checking that no robot-aware option was given with it."""
+    _check_family(args)
+    if not args.runs:
+        return False
+    run(argparse.Namespace(
+        data=args.runs, worlds=args.worlds, features=args.features,
+        feature_version=args.feature_version, design=args.design,
+        feature_config=args.feature_config,
+        out=args.evaluation_out if train else args.out, name=args.name if train else None,
+        models_dir=args.models_dir if train else None,
+        description=args.description if train else "", config=args.config,
+        models=args.models, folds=args.folds, repeats=args.repeats, seed=args.seed,
+        jobs=args.jobs, force=args.force))
+    return True
 
 
 def default_config_path() -> Path:
