@@ -35,18 +35,32 @@ PLAN_ONLY = {"splits": "--splits", "no_loo": "--no-loo",
              "reference_features": "--reference-features"}
 
 
+def _add_sources(group) -> None:
+    """--worlds | --features (a mutually exclusive group of the old spelling)."""
+    group.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
+    group.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
+
+
+def _add_learning_options(group) -> None:
+    """The options every spelling of robot-aware learning reads besides the sources."""
+    group.add_argument("--feature-version", help="feature version of a --features table")
+    group.add_argument("--design", metavar="YAML", nargs="+",
+                       help="the campaigns' design file(s) (e.g. config/robot_campaign/"
+                            "design.yaml): the card's robot input ranges become their bounds")
+    group.add_argument("--feature-config", metavar="YAML",
+                       help="with --worlds: feature configuration (section 'features')")
+    group.add_argument("--folds", type=int, metavar="N", help="folds of each protocol")
+    group.add_argument("--repeats", type=int, metavar="N",
+                       help="evaluate on N shufflings of the groups; scores are their mean")
+    group.add_argument("--seed", type=int, help="seed of folds, trees and the GP optimiser")
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of the old spelling ``learn robots``."""
     parser.add_argument("data", nargs="+", metavar="DATA_DIR",
                         help="campaign folder(s) holding WORLD/run_NNN/run.json")
-    src = parser.add_mutually_exclusive_group(required=True)
-    src.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
-    src.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
-    parser.add_argument("--feature-version", help="feature version of a --features table")
-    parser.add_argument("--design", metavar="YAML", nargs="+",
-                        help="the campaigns' design file(s) (e.g. config/robot_campaign/"
-                             "design.yaml): the card's robot input ranges become their bounds")
-    parser.add_argument("--feature-config", metavar="YAML",
-                        help="with --worlds: feature configuration (section 'features')")
+    _add_sources(parser.add_mutually_exclusive_group(required=True))
+    _add_learning_options(parser)
     parser.add_argument("--out", metavar="EVAL_DIR",
                         help="evaluation folder (robots_eval.md, robots_eval.csv, tables)")
     parser.add_argument("--name", help="also train on every run and write models/NAME")
@@ -59,10 +73,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--models", nargs="+", metavar="KIND",
                         help="model kinds (elasticnet gradient_boosting trend_boosting "
                              "gaussian_process)")
-    parser.add_argument("--folds", type=int, metavar="N", help="folds of each protocol")
-    parser.add_argument("--repeats", type=int, metavar="N",
-                        help="evaluate on N shufflings of the groups; scores are their mean")
-    parser.add_argument("--seed", type=int, help="seed of folds, trees and the GP optimiser")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     add_force_argument(parser)
 
@@ -75,18 +85,8 @@ def add_robot_options(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--runs", nargs="+", metavar="DATA_DIR",
                        help="campaign folder(s) holding WORLD/run_NNN/run.json, instead of "
                             "DATASET (--config: default config/robot_learning.yaml)")
-    group.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
-    group.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
-    group.add_argument("--feature-version", help="feature version of a --features table")
-    group.add_argument("--design", metavar="YAML", nargs="+",
-                       help="the campaigns' design file(s): the card's robot input ranges "
-                            "become their bounds")
-    group.add_argument("--feature-config", metavar="YAML",
-                       help="with --worlds: feature configuration (section 'features')")
-    group.add_argument("--folds", type=int, metavar="N", help="folds of each protocol")
-    group.add_argument("--repeats", type=int, metavar="N",
-                       help="evaluate on N shufflings of the groups; scores are their mean")
-    group.add_argument("--seed", type=int, help="seed of folds, trees and the GP optimiser")
+    _add_sources(group)
+    _add_learning_options(group)
 
 
 def _check_family(args: argparse.Namespace) -> None:
