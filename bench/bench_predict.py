@@ -44,11 +44,8 @@ def run_cli(plan: str, model: str, setting: str, cache: str,
 
 def breakdown(plan: str, model: str, resolution: float | None = None) -> dict:
     """Seconds spent loading, computing features and predicting, in this (warm) process."""
-    from slam_predict.learn.predict import (
-        check_feature_version,
-        compute_plan_features,
-        predict_features,
-    )
+    from slam_predict.features.plan import compute
+    from slam_predict.learn.predict import check_feature_version, predict_features
     from slam_predict.learn.store import default_models_dir, resolve_store
     from slam_predict.world.load import load_plan
 
@@ -57,7 +54,7 @@ def breakdown(plan: str, model: str, resolution: float | None = None) -> dict:
     t1 = time.perf_counter()
     store = resolve_store(default_models_dir(), model, None, None)
     check_feature_version(store)
-    features = compute_plan_features(world, store.card)
+    features = compute(world, store.card.get("feature_config") or {})
     t2 = time.perf_counter()
     predict_features(features, store)
     t3 = time.perf_counter()

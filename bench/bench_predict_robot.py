@@ -41,16 +41,18 @@ t0 = time.perf_counter()
 from slam_predict.world.load import load_plan
 world = load_plan(sys.argv[1])
 t1 = time.perf_counter()
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.learn.robot.predict import RobotModel
 model = RobotModel.load(sys.argv[3])
 model.check_feature_version()
 t2 = time.perf_counter()
-from slam_predict.learn.featurize import compute
+from slam_predict.features.plan import compute
 features = compute(world, model.feature_config)
 t3a = time.perf_counter()
-features.update(model.sightline_features(world))
+if model.sightline_config is not None:
+    from slam_predict.features.sightline import SightlineConfig, sightline_features
+    features.update(sightline_features(world, SightlineConfig(**model.sightline_config)))
 t3 = time.perf_counter()
-from slam_predict.learn.robot_inputs import angular_resolution_deg, sensor_dict
+from slam_predict.learn.robot.inputs import angular_resolution_deg, sensor_dict
 from slam_predict.robot_file import load_robot
 robot = load_robot(sys.argv[2])
 inputs = model.inputs(robot)
@@ -70,7 +72,7 @@ def train(folder: Path) -> tuple[Path, float]:
     sys.path.insert(0, str(ROOT / "tests" / "learn"))
     import robot_synthetic as syn
 
-    from slam_predict.learn.robot_config import load_robot_learning_config
+    from slam_predict.learn.robot.config import load_robot_learning_config
 
     config = load_robot_learning_config(ROOT / "config" / "robot_learning.yaml")
     start = time.perf_counter()

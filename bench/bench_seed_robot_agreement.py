@@ -40,8 +40,8 @@ def parse_args(argv=None) -> argparse.Namespace:
 def comparison_rows(args: argparse.Namespace) -> tuple[list[dict], str]:
     """Per building: runs, free area, model prediction (ours) and campaign mean (theirs)."""
     from slam_predict.learn.featurize import find_plan
-    from slam_predict.learn.robot_agreement import agreement_rows
-    from slam_predict.learn.robot_predict import RobotModel
+    from slam_predict.learn.robot.agreement import agreement_rows
+    from slam_predict.learn.robot.predict import RobotModel
     from slam_predict.robot_file import load_robot
     from slam_predict.world.load import load_plan
 
@@ -58,7 +58,7 @@ def comparison_rows(args: argparse.Namespace) -> tuple[list[dict], str]:
 
 def main(argv=None) -> int:
     from slam_predict.collect.fidelity import Comparison, bootstrap_intervals
-    from slam_predict.learn.robot_agreement import error_bars
+    from slam_predict.learn.robot.agreement import error_bars
 
     args = parse_args(argv)
     rows, name = comparison_rows(args)

@@ -42,7 +42,7 @@ def parse_args(argv=None) -> argparse.Namespace:
 
 
 def load_tables(args: argparse.Namespace, config):
-    from slam_predict.learn.robot_dataset import build_dataset, plan_features, read_runs
+    from slam_predict.learn.robot.dataset import build_dataset, plan_features, read_runs
 
     runs, skipped = read_runs(args.data, config.min_coverage, config.max_urange_m)
     worlds = sorted({r.world for r in runs})
@@ -71,8 +71,8 @@ def scores(pred: np.ndarray, truth: np.ndarray, area: np.ndarray) -> dict[str, f
 
 
 def main(argv=None) -> int:
-    from slam_predict.learn.robot_config import load_robot_learning_config
-    from slam_predict.learn.robot_models import MEANS, fit_component
+    from slam_predict.learn.robot.config import load_robot_learning_config
+    from slam_predict.learn.robot.models import MEANS, fit_component
 
     args = parse_args(argv)
     config = load_robot_learning_config(args.config)

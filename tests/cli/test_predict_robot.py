@@ -13,9 +13,9 @@ import sys
 import pytest
 
 from slam_predict.cli.main import main
+from slam_predict.features.plan import plan_features
 from slam_predict.features.sightline import blind_fraction
-from slam_predict.learn.featurize import compute
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.learn.robot.predict import RobotModel
 from slam_predict.robot_file import load_robot
 from slam_predict.world.load import load_plan
 
@@ -49,7 +49,7 @@ def test_json_has_the_four_components_of_the_robot_aware_model(lds, root, robot_
     model = RobotModel.load(robot_models_dir / "own-robots")
     robot = load_robot(root / ROBOTS / "lds_360_3p5.yaml")
     plan = load_plan(root / WORLD)
-    features = dict(compute(plan, model.feature_config), **model.sightline_features(plan))
+    features = plan_features(plan, model.feature_config, model.sightline_config)
     expected = model.predict(features, model.inputs(robot))
     for comp in COMPONENTS:
         entry = lds[comp]

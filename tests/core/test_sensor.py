@@ -128,9 +128,9 @@ def test_feature_version_of_the_shipped_models_is_kept():
     """Models trained before laser_fov (rad) replaced laser_fov_deg keep their version."""
     import json
 
+    from slam_predict.features.plan import full_feature_config, version_of
     from slam_predict.features.vector import feature_version
     from slam_predict.learn.config import yaml_section
-    from slam_predict.learn.featurize import full_feature_config, version_of
 
     card = json.loads((ROOT / "models" / "thesis-realistic" / "card.json").read_text())
     assert card["feature_config"]["traversal"]["laser_fov_deg"] == 270.0

@@ -187,7 +187,7 @@ FAST = {"conformal_folds": 3, "folds": 3, "plan_features": list(FAST_FEATURES),
 def fast_config(**changes):
     """A RobotLearningConfig with small grids and few folds (tests)."""
     from slam_predict.config import from_dict
-    from slam_predict.learn.robot_config import RobotLearningConfig
+    from slam_predict.learn.robot.config import RobotLearningConfig
 
     return from_dict(RobotLearningConfig, {**FAST, **changes}, "test")
 
@@ -195,7 +195,7 @@ def fast_config(**changes):
 def load(folder: Path, worlds: dict[str, dict], min_coverage: float = 0.9,
          version: str = "synthetic-v1"):
     """The RobotDataset of a synthetic campaign folder with its true plan features."""
-    from slam_predict.learn.robot_dataset import build_dataset, read_runs
+    from slam_predict.learn.robot.dataset import build_dataset, read_runs
 
     runs, skipped = read_runs([folder], min_coverage)
     features = {w: {k: v for k, v in f.items()} for w, f in worlds.items()}
@@ -244,9 +244,9 @@ def train_model(folder: Path, name: str = "own-robots", config=None, best=None,
     default feature configuration and version, so that ``predict --robot`` can use it on real
     plans (the numbers mean nothing there). ``config``: a RobotLearningConfig (default
     :func:`fast_config` with elasticnet and gradient boosting); ``best``: component → kind."""
-    from slam_predict.learn.featurize import full_feature_config, version_of
-    from slam_predict.learn.robot_domain import design_ranges
-    from slam_predict.learn.robot_train import train_robot_store
+    from slam_predict.features.plan import full_feature_config, version_of
+    from slam_predict.learn.robot.domain import design_ranges
+    from slam_predict.learn.robot.train import train_robot_store
 
     worlds, robots, _ = campaign(folder / "data", n_worlds, n_configs)
     design = write_design(folder / "design.yaml", worlds, robots)

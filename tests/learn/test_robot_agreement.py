@@ -5,16 +5,17 @@ import json
 
 import pytest
 
-from slam_predict.learn.robot_agreement import agreement_rows, error_bars
+from slam_predict.learn.robot.agreement import agreement_rows, error_bars
+
+
+def scale_features(plan):
+    return {"scale": plan}
 
 
 class FixedModel:
     """Predicts the plan's 'scale' times the robot's 'gain' (m and rad)."""
 
     card = {"training_buildings": ["a"]}
-
-    def plan_features(self, plan):
-        return {"scale": plan}
 
     def predict(self, features, robot):
         value = features["scale"] * robot["gain"]
@@ -42,7 +43,8 @@ def campaign(tmp_path):
 
 def test_rows_hold_predictions_and_means_of_usable_runs(campaign):
     plans = {"a": 2.0, "b": 4.0, "c": 1.0}
-    rows = agreement_rows(FixedModel(), {"gain": 0.5}, campaign, plans.get)
+    rows = agreement_rows(FixedModel(), {"gain": 0.5}, campaign, plans.get,
+                          features_of=scale_features)
     assert [r["world"] for r in rows] == ["a", "b"]
     a = rows[0]
     assert a["runs"] == 2 and a["trained_on"] and a["free_area_m2"] == pytest.approx(110.0)
@@ -54,8 +56,10 @@ def test_rows_hold_predictions_and_means_of_usable_runs(campaign):
 def test_unseen_and_coverage_filters(campaign):
     plans = {"a": 2.0, "b": 4.0, "c": 1.0}
     assert [r["world"] for r in agreement_rows(FixedModel(), {"gain": 1.0}, campaign,
-                                               plans.get, unseen=True)] == ["b"]
-    rows = agreement_rows(FixedModel(), {"gain": 1.0}, campaign, plans.get, min_coverage=0.0)
+                                               plans.get, unseen=True,
+                                               features_of=scale_features)] == ["b"]
+    rows = agreement_rows(FixedModel(), {"gain": 1.0}, campaign, plans.get, min_coverage=0.0,
+                          features_of=scale_features)
     assert [r["runs"] for r in rows] == [3, 1, 1]
 
 

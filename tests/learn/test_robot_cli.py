@@ -6,8 +6,9 @@ import json
 
 import pytest
 
+from slam_predict.cli.learn_robots_cmd import DEPRECATED
 from slam_predict.cli.main import main
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.learn.robot.predict import RobotModel
 
 from . import robot_synthetic as syn
 
@@ -105,9 +106,52 @@ def test_features_of_the_evaluation_folder_are_reusable(inputs, tmp_path):
 
 def run_error(argv, capsys) -> str:
     code = main(argv)
-    err = capsys.readouterr().err.strip()
-    assert code == 2 and len(err.splitlines()) == 1, err
-    return err
+    lines = [line for line in capsys.readouterr().err.strip().splitlines()
+             if line != DEPRECATED]
+    assert code == 2 and len(lines) == 1, lines
+    return lines[0]
+
+
+def test_evaluate_and_train_verbs_with_runs_match_the_old_spelling(inputs, tmp_path, capsys):
+    folder, _ = inputs
+    common = ["--features", str(folder / "features.csv"), "--config", str(folder / "fast.yaml"),
+              "--seed", "3", "--design", str(folder / "design.yaml")]
+    old_out, old_models = tmp_path / "old_ev", tmp_path / "old_models"
+    assert main(["learn", "robots", str(folder / "data"), *common, "--out", str(old_out),
+                 "--name", "own-robots", "--models-dir", str(old_models)]) == 0
+    assert capsys.readouterr().err.strip() == DEPRECATED
+    new_out, new_models = tmp_path / "new_ev", tmp_path / "new_models"
+    assert main(["learn", "evaluate", "--runs", str(folder / "data"), *common,
+                 "--out", str(new_out)]) == 0
+    assert main(["learn", "train", "--runs", str(folder / "data"), *common, "--name",
+                 "own-robots", "--models-dir", str(new_models),
+                 "--evaluation-out", str(tmp_path / "train_ev")]) == 0
+    assert "deprecated" not in capsys.readouterr().err
+    for name in ("robots_eval.md", "robots_eval.csv", "best.json", "points.csv"):
+        old_text = (old_out / name).read_text()
+        assert (new_out / name).read_text() == old_text == (tmp_path / "train_ev" / name
+                                                            ).read_text(), name
+    old_card = json.loads((old_models / "own-robots" / "card.json").read_text())
+    new_card = json.loads((new_models / "own-robots" / "card.json").read_text())
+    assert new_card == old_card
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["learn", "evaluate", "--out", "{tmp}/ev"], "give a DATASET (from 'learn dataset') or "
+                                                 "--runs DATA_DIR..."),
+    (["learn", "evaluate", "d.csv", "--runs", "x", "--out", "{tmp}/ev"],
+     "give either DATASET or --runs DATA_DIR..., not both"),
+    (["learn", "evaluate", "d.csv", "--folds", "3", "--out", "{tmp}/ev"],
+     "--folds applies to robot-aware models (--runs) only"),
+    (["learn", "train", "--runs", "x", "--features", "f.csv", "--splits", "3", "--name", "n"],
+     "--splits applies to plan-only models (DATASET) only"),
+    (["learn", "evaluate", "--runs", "x", "--out", "{tmp}/ev"],
+     "with --runs give one of --worlds DIR or --features CSV"),
+])
+def test_evaluate_and_train_refuse_a_mix_of_families(argv, message, tmp_path, capsys):
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    assert message in run_error(argv, capsys)
+    assert not (tmp_path / "ev").exists()
 
 
 @pytest.mark.parametrize("extra, message", [
@@ -164,7 +208,7 @@ def test_bad_inputs(inputs, tmp_path, capsys):
 
 
 def test_shipped_configuration_is_the_documented_defaults(root):
-    from slam_predict.learn.robot_config import RobotLearningConfig, load_robot_learning_config
+    from slam_predict.learn.robot.config import RobotLearningConfig, load_robot_learning_config
 
     assert load_robot_learning_config(root / "config" / "robot_learning.yaml") == \
         RobotLearningConfig()

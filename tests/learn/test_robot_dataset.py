@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.learn.robot_dataset import (
+from slam_predict.learn.robot.dataset import (
     build_dataset,
     plan_features,
     points_csv,
@@ -213,8 +213,8 @@ def test_plan_features_from_worlds_add_the_sightline_curve(tmp_path):
     """--worlds: each plan's features and its sight-line curve, from one load of the plan."""
     from pathlib import Path
 
+    from slam_predict.features.plan import compute, full_feature_config
     from slam_predict.features.sightline import curve_columns, sightline_features
-    from slam_predict.learn.featurize import compute, full_feature_config
     from slam_predict.world.load import load_plan
 
     shipped = Path(__file__).resolve().parents[2] / "worlds"

@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.learn.robot_domain import (
+from slam_predict.learn.robot.domain import (
     MaxUrangeSource,
     common_max_urange,
     design_ranges,
     settings_cap,
 )
-from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+from slam_predict.learn.robot.inputs import ROBOT_INPUTS
 from slam_predict.slam.gmapping.params import GMappingParams
 
 from . import robot_synthetic as syn

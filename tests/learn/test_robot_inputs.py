@@ -7,7 +7,7 @@ import math
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.learn.robot_inputs import (
+from slam_predict.learn.robot.inputs import (
     ROBOT_INPUTS,
     ROBOT_UNITS,
     angular_resolution_deg,

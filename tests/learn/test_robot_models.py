@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from slam_predict.learn.robot_config import PROTOCOLS
-from slam_predict.learn.robot_evaluate import best_models, evaluate, protocol_splits, summarize
-from slam_predict.learn.robot_models import chi2_log_bias, fit_component, group_folds
+from slam_predict.learn.card import PROTOCOLS
+from slam_predict.learn.robot.evaluate import best_models, evaluate, protocol_splits, summarize
+from slam_predict.learn.robot.models import chi2_log_bias, fit_component, group_folds
 
 from . import robot_synthetic as syn
 

@@ -8,8 +8,8 @@ from sklearn.ensemble import GradientBoostingRegressor
 
 from slam_predict.errors import InputError
 from slam_predict.learn.plain import evaluate_model, plain_model
-from slam_predict.learn.robot_monotone import MonotoneBoosting, monotonic_vector
-from slam_predict.learn.robot_trend import TrendTailBoosting
+from slam_predict.learn.robot.monotone import MonotoneBoosting, monotonic_vector
+from slam_predict.learn.robot.trend import TrendTailBoosting
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""Failed explorations per configuration (learn/robot_outcomes.py) and their warning."""
+"""Failed explorations per configuration (learn/robot/outcomes.py) and their warning."""
 from __future__ import annotations
 
 import json
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.learn.robot_outcomes import exploration_outcomes, failure_warning
+from slam_predict.learn.robot.outcomes import exploration_outcomes, failure_warning
 
 from . import robot_synthetic as syn
 

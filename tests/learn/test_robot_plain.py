@@ -10,8 +10,8 @@ import sys
 import numpy as np
 import pytest
 
-from slam_predict.learn.robot_models import fit_component
-from slam_predict.learn.robot_plain import (
+from slam_predict.learn.robot.models import fit_component
+from slam_predict.learn.robot.plain import (
     PlainComponentModel,
     matches,
     plain_component,
@@ -84,8 +84,8 @@ def test_predict_imports_neither_scikit_learn_nor_joblib(robot_models_dir, root)
     predicting stays numpy-only (importing scikit-learn costs 1.5 s of predict's 3)."""
     code = f"""
 import sys
-from slam_predict.learn.robot_predict import RobotModel
-from slam_predict.learn.robot_plain import PlainComponentModel
+from slam_predict.learn.robot.predict import RobotModel
+from slam_predict.learn.robot.plain import PlainComponentModel
 model = RobotModel.load({str(robot_models_dir / 'own-robots')!r})
 from slam_predict.features.sightline import CURVE_RANGES_M, curve_columns
 plan = {{"building_area": 800.0, "building_perimeter": 130.0,
@@ -118,7 +118,7 @@ def test_trend_boosting_plain_form_predicts_without_scikit_learn(tables, tmp_pat
     code = f"""
 import json, sys
 import numpy as np
-from slam_predict.learn.robot_plain import PlainComponentModel
+from slam_predict.learn.robot.plain import PlainComponentModel
 plain = PlainComponentModel.from_form(json.load(open({str(tmp_path / 'form.json')!r})))
 out = plain.predict(np.load({str(tmp_path / 'X.npy')!r}))
 print(json.dumps([out.tolist(),

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.learn.robot_plain import PlainComponentModel
-from slam_predict.learn.robot_predict import RobotModel
-from slam_predict.learn.robot_train import build_card, fit_all, plain_forms, save_robot_store
+from slam_predict.learn.robot.plain import PlainComponentModel
+from slam_predict.learn.robot.predict import RobotModel
+from slam_predict.learn.robot.train import build_card, fit_all, plain_forms, save_robot_store
 from slam_predict.learn.store import CARD, resolve_store
 
 from . import robot_synthetic as syn
@@ -36,7 +36,7 @@ def trained(tmp_path_factory):
     fitted = fit_all(tables, config)
     card = build_card(data, tables, config, [], BEST, fitted,
                       {"name": "own-robots", "feature_config": {"some": "config"}})
-    from slam_predict.learn.robot_dataset import points_csv
+    from slam_predict.learn.robot.dataset import points_csv
 
     save_robot_store(folder / "models" / "own-robots", card, fitted,
                      points_csv(data, config.plan_features), plain_forms(fitted, tables.point_X))
@@ -176,7 +176,7 @@ def test_bad_folders_are_refused(trained, tmp_path):
     card = json.loads((plan_only / CARD).read_text())
     del card["kind"]
     (plan_only / CARD).write_text(json.dumps(card))
-    with pytest.raises(InputError, match="not a robot-aware model"):
+    with pytest.raises(InputError, match=r"is a plan-only model \(kind plan\)"):
         RobotModel.load(plan_only)
     old = tmp_path / "old"
     shutil.copytree(trained[0], old)

@@ -8,9 +8,14 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.features.sightline import blind_fraction, curve_columns
-from slam_predict.learn.robot_inputs import ROBOT_INPUTS
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.features.sightline import (
+    SightlineConfig,
+    blind_fraction,
+    curve_columns,
+    sightline_features,
+)
+from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+from slam_predict.learn.robot.predict import RobotModel
 from slam_predict.learn.store import CARD
 
 from . import robot_synthetic as syn
@@ -80,7 +85,7 @@ def test_model_predicts_and_plots_with_the_blind_fraction(robot_models_dir):
 
 @pytest.mark.parametrize("feature", ["sightline_isotropy", "floor_elongation"])
 def test_a_sampling_feature_alone_makes_the_card_keep_the_sampling(campaign, feature):
-    from slam_predict.learn.robot_train import _sightline_entries
+    from slam_predict.learn.robot.train import _sightline_entries
 
     data, _ = campaign
     assert _sightline_entries(data, [], ["building_area"]) == {}
@@ -96,11 +101,12 @@ def test_a_model_reading_the_isotropy_computes_the_sight_lines(robot_models_dir)
     world = Plan(12.0, 12.0, 0.05).room("hall", (1.0, 1.0, 11.0, 11.0)).world()   # square
     model = RobotModel.load(robot_models_dir / "own-robots")
     model.derived = []
-    assert model.sightline_features(world) == {}
+    assert model.sightline_config is None
     model.names = [*model.names, "sightline_isotropy"]
-    features = model.sightline_features(world)
+    features = sightline_features(world, SightlineConfig(**model.sightline_config))
     assert 0.8 < features["sightline_isotropy"] <= 1.0 and set(curve_columns()) <= set(features)
     model.names = [n for n in model.names if n != "sightline_isotropy"]
-    assert model.sightline_features(world) == {}
+    assert model.sightline_config is None
     model.names = [*model.names, "floor_elongation"]
-    assert model.sightline_features(world)["floor_elongation"] == pytest.approx(1.0)
+    features = sightline_features(world, SightlineConfig(**model.sightline_config))
+    assert features["floor_elongation"] == pytest.approx(1.0)

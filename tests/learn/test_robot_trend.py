@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from sklearn.ensemble import GradientBoostingRegressor
 
-from slam_predict.learn.robot_trend import TrendTailBoosting, least_squares_trend, tail
+from slam_predict.learn.robot.trend import TrendTailBoosting, least_squares_trend, tail
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,8 @@ import math
 
 import pytest
 
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.features.plan import plan_features
+from slam_predict.learn.robot.predict import RobotModel
 from slam_predict.robot_file import load_robot
 from slam_predict.world.load import load_plan
 
@@ -38,7 +39,8 @@ def test_shorter_laser_and_larger_building_predict_larger_error(model, root):
     robot = model.inputs(load_robot(root / SEED_ROBOT))
     means = {}
     for name in ("office_500", "office_1500"):
-        features = model.plan_features(load_plan(root / "worlds" / f"{name}.world"))
+        features = plan_features(load_plan(root / "worlds" / f"{name}.world"),
+                                 model.feature_config, model.sightline_config)
         for range_m in (3.5, 10.0, 30.0):
             result = model.predict(features, dict(robot, laser_range_max_m=range_m))
             entry = result["trans_mean"]
@@ -54,7 +56,7 @@ def test_seed_robot_agrees_with_the_fidelity_campaign(model, root, shared_data):
     (data/campaigns/fidelity_seed_study, plans rebuilt from ../shared/data) within issue #16's
     bars (all but path length)."""
     from slam_predict.collect.fidelity import Comparison
-    from slam_predict.learn.robot_agreement import agreement_rows, error_bars
+    from slam_predict.learn.robot.agreement import agreement_rows, error_bars
     from slam_predict.world.thesis import read_environments, thesis_world
 
     envs = {e.env: e for e in read_environments(shared_data / "thesis" / "environments.csv")}
@@ -75,7 +77,8 @@ def test_error_keeps_growing_past_the_largest_training_building(model, root):
     robot = model.inputs(load_robot(root / SEED_ROBOT))
     area, value = {}, {}
     for name in ("office_1500", "school_2500", "school_6000"):
-        features = model.plan_features(load_plan(root / "worlds" / f"{name}.world"))
+        features = plan_features(load_plan(root / "worlds" / f"{name}.world"),
+                                 model.feature_config, model.sightline_config)
         area[name] = features["building_area"]
         value[name] = model.predict(features, robot)["trans_mean"]["value"]
     assert area["school_2500"] > model.card["input_ranges"]["building_area"][1]
@@ -95,7 +98,8 @@ def test_mean_error_moves_with_each_robot_input_the_way_physics_says(model, root
     import numpy as np
 
     robot = model.inputs(load_robot(root / SEED_ROBOT))
-    features = model.plan_features(load_plan(root / "worlds" / f"{name}.world"))
+    features = plan_features(load_plan(root / "worlds" / f"{name}.world"),
+                                 model.feature_config, model.sightline_config)
     sweeps = {"laser_range_max_m": (np.geomspace(3.5, 30.0, 25), -1),
               "laser_fov_deg": (np.linspace(180.0, 360.0, 25), -1),
               "odom_xy_error": (np.linspace(0.0, 0.02, 25), 1),

@@ -105,7 +105,7 @@ def model_dir(tmp_path_factory):
     import json
     import shutil
 
-    from slam_predict.learn.featurize import version_of
+    from slam_predict.features.plan import version_of
     from slam_predict.learn.store import default_models_dir
 
     source = default_models_dir() / "thesis-realistic"

@@ -10,8 +10,8 @@ import cv2
 import numpy as np
 import pytest
 
-from slam_predict.learn.robot_inputs import ROBOT_INPUTS
-from slam_predict.learn.robot_predict import RobotModel
+from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+from slam_predict.learn.robot.predict import RobotModel
 from slam_predict.report.build import build_report
 from slam_predict.report.robot_models import curves
 

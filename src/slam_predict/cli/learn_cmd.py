@@ -6,8 +6,9 @@
   out) and writes tables, CSVs and figures.
 * ``learn train DATASET --name NAME`` evaluates, fits the best models on every building and
   writes ``models/NAME`` with its card.
-* ``learn robots DATA_DIR... (--worlds DIR | --features CSV)`` builds robot-aware models from
-  campaign run records (:mod:`slam_predict.cli.learn_robots_cmd`).
+* ``learn evaluate|train --runs DATA_DIR... (--worlds DIR | --features CSV)``: the same verbs
+  for robot-aware models from campaign run records (:mod:`slam_predict.cli.learn_robots_cmd`);
+  ``learn robots`` is their older spelling, kept for one release with a warning on stderr.
 """
 from __future__ import annotations
 
@@ -64,15 +65,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     ds.add_argument("--out", required=True, metavar="CSV", help="dataset file to write")
     ds.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     add_force_argument(ds)
+    from slam_predict.cli import learn_robots_cmd
+
     ev = sub.add_parser("evaluate", help="repeated splits + leave-one-out → tables and plots")
-    ev.add_argument("dataset", metavar="DATASET", help="dataset CSV from 'learn dataset'")
+    ev.add_argument("dataset", metavar="DATASET", nargs="?",
+                    help="dataset CSV from 'learn dataset' (or --runs: robot-aware models)")
     ev.add_argument("--out", required=True, metavar="DIR", help="output folder")
     ev.add_argument("--title", default="Evaluation", help="title of tables.md")
     ev.add_argument("--reference-features", nargs="+", metavar="COLUMN",
                     help="use the dataset's ref_* columns as the only features (development)")
     _common(ev)
+    learn_robots_cmd.add_robot_options(ev)
     tr = sub.add_parser("train", help="evaluate, fit the best models and write models/NAME")
-    tr.add_argument("dataset", metavar="DATASET", help="dataset CSV from 'learn dataset'")
+    tr.add_argument("dataset", metavar="DATASET", nargs="?",
+                    help="dataset CSV from 'learn dataset' (or --runs: robot-aware models)")
     tr.add_argument("--name", required=True, help="model folder name")
     tr.add_argument("--models-dir", metavar="DIR", help="where model folders go (default models/)")
     tr.add_argument("--description", default="", help="one sentence for the card")
@@ -80,9 +86,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                     help="rank among models of the same setting for '--model best'")
     tr.add_argument("--evaluation-out", metavar="DIR", help="also write the evaluation here")
     _common(tr)
-    from slam_predict.cli import learn_robots_cmd
-
-    rb = sub.add_parser("robots", help=learn_robots_cmd.HELP, description=learn_robots_cmd.HELP)
+    learn_robots_cmd.add_robot_options(tr)
+    rb = sub.add_parser("robots", help=learn_robots_cmd.HELP_OLD,
+                        description=learn_robots_cmd.HELP_OLD)
     learn_robots_cmd.add_arguments(rb)
 
 
@@ -134,7 +140,8 @@ def run_dataset(args: argparse.Namespace) -> int:
     if any(not row.setting for row in errors):
         raise InputError("the table has no setting column: give --setting", args.errors)
     if args.worlds:
-        from slam_predict.learn.featurize import features_from_worlds, full_feature_config
+        from slam_predict.features.plan import full_feature_config
+        from slam_predict.learn.featurize import features_from_worlds
 
         feature_config = full_feature_config(_feature_config(args.feature_config))
         features, version = features_from_worlds(args.worlds, [r.world for r in errors],
@@ -171,8 +178,12 @@ def _read(path: str, reference=None):
 
 
 def run_evaluate(args: argparse.Namespace) -> int:
+    from slam_predict.cli.learn_robots_cmd import run_folded
     from slam_predict.learn.results import run_evaluation, write_evaluation
     from slam_predict.learn.tables import best_table
+
+    if run_folded(args, train=False):
+        return 0
 
     check_at_least(args.jobs, 1, "--jobs")
     check_out_dir(args.out, args.force, inputs=(args.dataset, args.config))
@@ -186,10 +197,14 @@ def run_evaluate(args: argparse.Namespace) -> int:
 
 
 def run_train(args: argparse.Namespace) -> int:
+    from slam_predict.cli.learn_robots_cmd import run_folded
     from slam_predict.learn.dataset import read_meta
     from slam_predict.learn.results import run_evaluation, write_evaluation
     from slam_predict.learn.store import default_models_dir
     from slam_predict.learn.train import check_trainable, train_store
+
+    if run_folded(args, train=True):
+        return 0
 
     check_at_least(args.jobs, 1, "--jobs")
     check_out_dir(os.path.join(args.models_dir or default_models_dir(), args.name), args.force,
@@ -215,8 +230,13 @@ def run_train(args: argparse.Namespace) -> int:
 
 
 def run_robots(args: argparse.Namespace) -> int:
+    """The old spelling of ``learn evaluate|train --runs``: kept for one release."""
+    import sys
+
+    from slam_predict.cli.learn_robots_cmd import DEPRECATED
     from slam_predict.cli.learn_robots_cmd import run as run_learn_robots
 
+    print(DEPRECATED, file=sys.stderr)
     return run_learn_robots(args)
 
 

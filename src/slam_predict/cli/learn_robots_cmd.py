@@ -1,10 +1,12 @@
-"""``slam-predict learn robots``: robot-aware models from campaign run records (issue #18).
+"""``slam-predict learn evaluate|train --runs``: robot-aware models from campaign run records.
 
-``learn robots DATA_DIR [DATA_DIR...] (--worlds DIR | --features CSV) [--design YAML...]
-[--out EVAL_DIR] [--name NAME [--models-dir DIR]]`` reads every ``<world>/run_NNN/run.json``,
-builds the RUN and POINT tables (the range capped at the runs' GMapping maxUrange), joins the
-plan features, evaluates the models (leave buildings out, leave configurations out, both) and
-writes ``EVAL_DIR/robots_eval.md`` + CSVs; with ``--name`` it fits the models on every run and
+``learn evaluate --runs DATA_DIR... (--worlds DIR | --features CSV) [--design YAML...] --out
+EVAL_DIR`` and ``learn train --runs ... --name NAME [--evaluation-out EVAL_DIR]`` (older
+spelling, deprecated: ``learn robots DATA_DIR... [--out EVAL_DIR] [--name NAME]``) read
+every ``<world>/run_NNN/run.json``, build the RUN and POINT tables (the range capped at the
+runs' GMapping maxUrange), join the plan features, evaluate the models (leave buildings out,
+leave configurations out, both) and write ``EVAL_DIR/robots_eval.md`` + CSVs; with
+``--name`` they fit the models on every run and
 writes the model folder, whose robot inputs' training ranges are the design files' bounds with
 ``--design`` (checked against the runs). Dispatched from :mod:`learn_cmd`.
 """
@@ -21,20 +23,45 @@ from slam_predict.cli.guards import add_force_argument, check_at_least, check_ou
 from slam_predict.errors import InputError
 
 HELP = "robot-aware models: plan features + robot inputs from campaign runs"
+HELP_OLD = HELP + " (deprecated: use 'learn evaluate|train --runs DATA_DIR...')"
+DEPRECATED = ("slam-predict learn: warning: 'learn robots' is deprecated and goes in the next "
+              "release; use 'learn evaluate --runs DATA_DIR... --out EVAL_DIR' or 'learn "
+              "train --runs DATA_DIR... --name NAME [--evaluation-out EVAL_DIR]'")
+# options of the folded spelling that only robot-aware learning reads (attribute → option)
+ROBOT_ONLY = {"worlds": "--worlds", "features": "--features",
+              "feature_version": "--feature-version", "design": "--design",
+              "feature_config": "--feature-config", "folds": "--folds",
+              "repeats": "--repeats", "seed": "--seed"}
+PLAN_ONLY = {"splits": "--splits", "no_loo": "--no-loo",
+             "reference_features": "--reference-features"}
+
+
+def _add_sources(group) -> None:
+    """--worlds | --features (a mutually exclusive group of the old spelling)."""
+    group.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
+    group.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
+
+
+def _add_learning_options(group) -> None:
+    """The options every spelling of robot-aware learning reads besides the sources."""
+    group.add_argument("--feature-version", help="feature version of a --features table")
+    group.add_argument("--design", metavar="YAML", nargs="+",
+                       help="the campaigns' design file(s) (e.g. config/robot_campaign/"
+                            "design.yaml): the card's robot input ranges become their bounds")
+    group.add_argument("--feature-config", metavar="YAML",
+                       help="with --worlds: feature configuration (section 'features')")
+    group.add_argument("--folds", type=int, metavar="N", help="folds of each protocol")
+    group.add_argument("--repeats", type=int, metavar="N",
+                       help="evaluate on N shufflings of the groups; scores are their mean")
+    group.add_argument("--seed", type=int, help="seed of folds, trees and the GP optimiser")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of the old spelling ``learn robots``."""
     parser.add_argument("data", nargs="+", metavar="DATA_DIR",
                         help="campaign folder(s) holding WORLD/run_NNN/run.json")
-    src = parser.add_mutually_exclusive_group(required=True)
-    src.add_argument("--worlds", metavar="DIR", help="folder of worlds to compute features on")
-    src.add_argument("--features", metavar="CSV", help="precomputed features (world, ...)")
-    parser.add_argument("--feature-version", help="feature version of a --features table")
-    parser.add_argument("--design", metavar="YAML", nargs="+",
-                        help="the campaigns' design file(s) (e.g. config/robot_campaign/"
-                             "design.yaml): the card's robot input ranges become their bounds")
-    parser.add_argument("--feature-config", metavar="YAML",
-                        help="with --worlds: feature configuration (section 'features')")
+    _add_sources(parser.add_mutually_exclusive_group(required=True))
+    _add_learning_options(parser)
     parser.add_argument("--out", metavar="EVAL_DIR",
                         help="evaluation folder (robots_eval.md, robots_eval.csv, tables)")
     parser.add_argument("--name", help="also train on every run and write models/NAME")
@@ -48,12 +75,55 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                 help="estimator kinds (elasticnet gradient_boosting "
                                      "trend_boosting gaussian_process)")
     add_renamed_option(parser, "--models", kinds)
-    parser.add_argument("--folds", type=int, metavar="N", help="folds of each protocol")
-    parser.add_argument("--repeats", type=int, metavar="N",
-                        help="evaluate on N shufflings of the groups; scores are their mean")
-    parser.add_argument("--seed", type=int, help="seed of folds, trees and the GP optimiser")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     add_force_argument(parser)
+
+
+def add_robot_options(parser: argparse.ArgumentParser) -> None:
+    """The robot-aware options of ``learn evaluate|train`` (``--runs`` selects that family;
+    ``--config`` then names a robot learning configuration and ``--estimators`` its kinds)."""
+    group = parser.add_argument_group(
+        "robot-aware models (plan features + the robot's laser and odometry as inputs)")
+    group.add_argument("--runs", nargs="+", metavar="DATA_DIR",
+                       help="campaign folder(s) holding WORLD/run_NNN/run.json, instead of "
+                            "DATASET (--config: default config/robot_learning.yaml)")
+    _add_sources(group)
+    _add_learning_options(group)
+
+
+def _check_family(args: argparse.Namespace) -> None:
+    """InputError for DATASET and --runs together (or neither) and for options of the other
+    family."""
+    if args.dataset and args.runs:
+        raise InputError("give either DATASET or --runs DATA_DIR..., not both")
+    if not args.dataset and not args.runs:
+        raise InputError("give a DATASET (from 'learn dataset') or --runs DATA_DIR... "
+                         "(robot-aware models)")
+    wrong = PLAN_ONLY if args.runs else ROBOT_ONLY
+    given = [option for key, option in wrong.items() if getattr(args, key, None)]
+    if given:
+        family = "plan-only models (DATASET)" if args.runs else "robot-aware models (--runs)"
+        raise InputError(f"{given[0]} applies to {family} only")
+    if args.runs and bool(args.worlds) == bool(args.features):
+        raise InputError("with --runs give one of --worlds DIR or --features CSV")
+
+
+def run_folded(args: argparse.Namespace, train: bool) -> bool:
+    """Run ``learn evaluate|train --runs`` as the robot-aware learning; False (nothing done)
+    for a DATASET, after checking that no robot-aware option was given with it."""
+    _check_family(args)
+    if not args.runs:
+        return False
+    run(argparse.Namespace(
+        data=args.runs, worlds=args.worlds, features=args.features,
+        feature_version=args.feature_version, design=args.design,
+        feature_config=args.feature_config,
+        out=args.evaluation_out if train else args.out, name=args.name if train else None,
+        models_dir=args.models_dir if train else None,
+        description=args.description if train else "", config=args.config,
+        models=args.models, folds=args.folds, repeats=args.repeats, seed=args.seed,
+        jobs=args.jobs, force=args.force))
+    return True
 
 
 def default_config_path() -> Path:
@@ -65,7 +135,7 @@ def default_config_path() -> Path:
 def load_config(args: argparse.Namespace):
     """The configuration file (or the defaults) with the command line's changes."""
     from slam_predict.config import from_dict, to_dict
-    from slam_predict.learn.robot_config import load_robot_learning_config
+    from slam_predict.learn.robot.config import load_robot_learning_config
 
     path = args.config or (str(default_config_path()) if default_config_path().is_file()
                            else None)
@@ -76,7 +146,7 @@ def load_config(args: argparse.Namespace):
     for key in ("models", "folds", "repeats", "seed"):
         if getattr(args, key) is not None:
             changes[key] = getattr(args, key)
-    from slam_predict.learn.robot_config import RobotLearningConfig
+    from slam_predict.learn.robot.config import RobotLearningConfig
 
     return from_dict(RobotLearningConfig, changes, "command line")
 
@@ -142,8 +212,8 @@ def _header(data, tables, config, plan: list[str], outcomes: dict | None = None)
 
 def _ceilings(tables) -> list[str]:
     """The header line on the R² that run-to-run noise leaves reachable (means only)."""
-    from slam_predict.learn.robot_evaluate import replicate_r2_ceiling
-    from slam_predict.learn.robot_plain import MEANS
+    from slam_predict.learn.robot.evaluate import replicate_r2_ceiling
+    from slam_predict.learn.robot.plain import MEANS
     from slam_predict.learn.tables import SYMBOLS
 
     parts = []
@@ -163,9 +233,9 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
     configuration) is reusable as ``--features``."""
     from slam_predict.atomic import atomic_dir
     from slam_predict.learn import dataset as ds
-    from slam_predict.learn.robot_dataset import points_csv, runs_csv
-    from slam_predict.learn.robot_evaluate import report_markdown
-    from slam_predict.learn.robot_inputs import DERIVED_INPUTS, ROBOT_INPUTS
+    from slam_predict.learn.robot.dataset import points_csv, runs_csv
+    from slam_predict.learn.robot.evaluate import report_markdown
+    from slam_predict.learn.robot.inputs import DERIVED_INPUTS, ROBOT_INPUTS
     from slam_predict.learn.tables import csv_text
 
     plan = [n for n in tables.names if n not in ROBOT_INPUTS]
@@ -194,9 +264,9 @@ def _designs(paths: list[str] | None):
 
 
 def run(args: argparse.Namespace) -> int:
-    from slam_predict.learn.robot_dataset import build_dataset, plan_features, read_runs
-    from slam_predict.learn.robot_evaluate import best_models, evaluate, summarize
-    from slam_predict.learn.robot_outcomes import exploration_outcomes
+    from slam_predict.learn.robot.dataset import build_dataset, plan_features, read_runs
+    from slam_predict.learn.robot.evaluate import best_models, evaluate, summarize
+    from slam_predict.learn.robot.outcomes import exploration_outcomes
     from slam_predict.paths import portable_path
 
     target = _check_outputs(args)
@@ -215,7 +285,7 @@ def run(args: argparse.Namespace) -> int:
     outcomes = exploration_outcomes(args.data, config.min_coverage)
     bounds = None
     if args.design:
-        from slam_predict.learn.robot_domain import design_ranges
+        from slam_predict.learn.robot.domain import design_ranges
 
         bounds = design_ranges(args.design, data.max_urange_m, data.configs)
     tables = data.tables(config.plan_features, config.sightline_input)
@@ -233,7 +303,7 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         print(f"evaluation written to {args.out}")
     if target is not None:
-        from slam_predict.learn.robot_train import train_robot_store
+        from slam_predict.learn.robot.train import train_robot_store
 
         sources = {"data": [portable_path(d) for d in args.data],
                    "features_from": portable_path(args.worlds or args.features),

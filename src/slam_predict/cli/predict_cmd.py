@@ -93,8 +93,29 @@ def load_world(args: argparse.Namespace):
     return load_plan_from_args(args)
 
 
+def predict_plan(world, args: argparse.Namespace, setting: str | None) -> dict:
+    """The plan-only prediction for ``world`` (a loaded, checked plan): world/ (free space) →
+    features/ (the card's feature configuration) → learn/ (the ``--model`` folder)."""
+    from slam_predict.features.plan import plan_features
+    from slam_predict.learn.model import PlanModel
+    from slam_predict.learn.store import default_models_dir, resolve_store
+    from slam_predict.world.plausibility import free_space
+
+    model = PlanModel(resolve_store(args.models_dir or default_models_dir(), args.model,
+                                    setting, None))
+    model.check_feature_version()
+    space, unreachable = free_space(world)
+    features = plan_features(world, model.feature_config)
+    result = model.predict(features, component=args.component)
+    result["free_space"] = space
+    result["warnings"] = unreachable + result["warnings"]
+    result["world"] = world.name
+    result["features"] = features
+    return result
+
+
 def run(args: argparse.Namespace) -> int:
-    from slam_predict.learn.predict import components_of, predict_plan
+    from slam_predict.learn.predict import components_of
 
     components = components_of(args.component)  # before the (slow) feature computation
     predict_simulate.check_options(args)
@@ -110,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
         plan_checks.show_progress()
         if robot_model is not None:
             return predict_robot.predict(world, robot_model, robot, args.robot, args.component)
-        return predict_plan(world, args.model, setting, args.component, args.models_dir)
+        return predict_plan(world, args, setting)
 
     world = plan_checks.load_checked(load_world, args)
     plan = plan_checks.plan_used(world, args)

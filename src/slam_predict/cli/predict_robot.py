@@ -1,7 +1,7 @@
 """``slam-predict predict PLAN --robot FILE``: the prediction of a robot-aware model.
 
 With a robot description file the four components come from a robot-aware model folder (card
-``kind: robots``, :class:`~slam_predict.learn.robot_predict.RobotModel`): ``--model NAME`` (a
+``kind: robots``, :class:`~slam_predict.learn.robot.predict.RobotModel`): ``--model NAME`` (a
 folder under ``--models-dir``, or a path), by default ``own-robots``. The robot enters as its
 laser range capped at the card's GMapping maxUrange, its field of view and its odometry error
 bounds; the output says so and adds the model's domain warnings (robot or plan outside the
@@ -21,10 +21,8 @@ from pathlib import Path
 from typing import Any
 
 from slam_predict.errors import InputError
-
-DEFAULT_MODEL = "own-robots"
-TRAIN_HINT = ("train one with 'slam-predict learn robots DATA_DIR... --features CSV --design "
-              "config/robot_campaign/design.yaml --name own-robots' (docs/learning.md)")
+from slam_predict.learn.card import DEFAULT_ROBOT_MODEL as DEFAULT_MODEL
+from slam_predict.learn.card import ROBOT_TRAIN_HINT as TRAIN_HINT
 
 
 def model_path(model: str, models_dir: str | None) -> Path:
@@ -41,9 +39,8 @@ def load_model(args: argparse.Namespace, required: bool):
     """The robot-aware :class:`RobotModel` for ``--robot``, or None when ``required`` is
     False (``--simulate``) and there is none (no folder, or a plan-only one): then the
     plan-only prediction is shown with a note. InputError (one line) otherwise."""
-    from slam_predict.learn.robot_plain import KIND
-    from slam_predict.learn.robot_predict import RobotModel
-    from slam_predict.learn.store import CARD, read_card
+    from slam_predict.learn.card import CARD, ROBOT_KIND, kind_of, read_card
+    from slam_predict.learn.model import load_model as load_folder
 
     path = model_path(args.model, args.models_dir)
     if not (path / CARD).is_file():
@@ -51,14 +48,9 @@ def load_model(args: argparse.Namespace, required: bool):
             return None
         raise InputError(f"no robot-aware model folder {path} (needed by --robot): "
                          f"{TRAIN_HINT}")
-    kind = read_card(path).get("kind", "plan")
-    if kind != KIND:
-        if not required:
-            return None
-        raise InputError(f"model {path.name} is a plan-only model (kind {kind}): --robot needs "
-                         f"a robot-aware one (kind {KIND}), default {DEFAULT_MODEL}; "
-                         f"{TRAIN_HINT}", path / CARD)
-    model = RobotModel.load(path)
+    if kind_of(read_card(path)) != ROBOT_KIND and not required:
+        return None
+    model = load_folder(path, ROBOT_KIND)
     model.check_feature_version()
     if args.setting:
         raise InputError(f"--thesis-setting applies to the plan-only models: the robot-aware model "
@@ -79,7 +71,7 @@ def _entry(raw: dict[str, Any]) -> dict[str, Any]:
 def robot_summary(robot, robot_path: str, model, inputs: dict[str, float]) -> dict[str, Any]:
     """The ``robot`` entry of the result: file, name, the model's inputs, the laser's own
     range (m), GMapping's maxUrange (m) and the laser's angular resolution (deg)."""
-    from slam_predict.learn.robot_inputs import angular_resolution_deg, sensor_dict
+    from slam_predict.learn.robot.inputs import angular_resolution_deg, sensor_dict
 
     return {"file": robot_path, "name": robot.name, "inputs": inputs,
             "laser_range_max_m": float(robot.laser.range_max),
@@ -89,16 +81,20 @@ def robot_summary(robot, robot_path: str, model, inputs: dict[str, float]) -> di
 
 def predict(world, model, robot, robot_path: str, component: str = "all") -> dict[str, Any]:
     """The robot-aware prediction for ``world`` (a loaded, checked plan) and ``robot`` (a
-    :class:`~slam_predict.robot_file.RobotDescription` read from ``robot_path``)."""
-    from slam_predict.learn.predict import components_of, free_space
+    :class:`~slam_predict.robot_file.RobotDescription` read from ``robot_path``): world/
+    (free space) → features/ (every feature the model reads) → learn/."""
+    from slam_predict.features.plan import plan_features
+    from slam_predict.learn.predict import components_of
+    from slam_predict.world.plausibility import free_space
 
-    features = model.plan_features(world)
+    space, unreachable = free_space(world)
+    features = plan_features(world, model.feature_config, model.sightline_config)
     inputs = model.inputs(robot)
     confidence = float(model.card.get("confidence", 0.9))
     raw = model.predict(features, inputs, confidence)
     summary = robot_summary(robot, robot_path, model, inputs)
     if model.derived:
-        from slam_predict.learn.robot_inputs import derived_inputs
+        from slam_predict.learn.robot.inputs import derived_inputs
 
         summary["derived"] = derived_inputs(features, inputs)
     result: dict[str, Any] = {"world": world.name, "setting": model.card.get("setting"),
@@ -106,7 +102,7 @@ def predict(world, model, robot, robot_path: str, component: str = "all") -> dic
                               "robot": summary, "confidence": confidence}
     for comp in components_of(component):
         result[comp] = _entry(raw[comp])
-    result["free_space"], unreachable = free_space(world)
+    result["free_space"] = space
     odom_note = model.odom_model_warning(robot.odom_model)
     result["warnings"] = unreachable + list(model.store.notes) + \
         model.domain_warnings(features, inputs, summary["angular_resolution_deg"]) + \

@@ -12,7 +12,7 @@ match against.
 The plan's *curve* is the blind fraction at the fixed ranges :data:`CURVE_RANGES_M` (columns
 :func:`curve_columns`); :func:`blind_fraction` reads it at any range (interpolated linearly in
 log range and log fraction, floored at :data:`BLIND_FLOOR`). The robot-aware models take the
-blind fraction at the laser's range as an input (:mod:`slam_predict.learn.robot_inputs`).
+blind fraction at the laser's range as an input (:mod:`slam_predict.learn.robot.inputs`).
 The same sight lines give the plan feature ``sightline_isotropy``: how evenly the walls a
 laser sees face every way (:mod:`slam_predict.features.scan_conditioning`); their floor
 points give ``floor_elongation``, how long and thin the floor is

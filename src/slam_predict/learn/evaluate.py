@@ -159,7 +159,8 @@ def _choices(group: Sequence[SplitResult]) -> dict:
 
 
 def best_models(summary: Sequence[dict], single_only: bool = False) -> dict[str, str]:
-    """Component → model id with the highest mean test R² (reference models excluded).
+    """Component → model id with the highest mean test R² (reference models excluded): the
+    plan-only family's rule of "best" (docs/learning.md, "Which model is best").
 
     Only models with a mean test R² > 0 compete: a model no better than the training mean is
     never the best, so a component where none beats it has no entry.

@@ -4,7 +4,8 @@ Each building ``NAME`` is the plan file ``DIR/NAME.world`` (else ``DIR/NAME.<any
 else ``DIR/NAME/NAME.world``); features are computed with
 :func:`slam_predict.features.vector.compute_features` in worker processes. The feature
 version is ``features.vector.feature_version``: the definition version plus the hash of the
-full feature configuration, so models refuse feature vectors computed differently.
+full feature configuration, so models refuse feature vectors computed differently (the
+configuration helpers live in :mod:`slam_predict.features.plan`).
 """
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from slam_predict.errors import InputError
+from slam_predict.features.plan import compute, full_feature_config, version_of
 from slam_predict.world.load import PLAN_SUFFIXES
 
 LOG = logging.getLogger(__name__)
@@ -29,47 +31,6 @@ def find_plan(folder: Path, name: str) -> Path | None:
         if (folder / f"{name}{suffix}").is_file():
             return folder / f"{name}{suffix}"
     return None
-
-
-def feature_config(overrides: Mapping[str, Any] | None = None, source: str = "features"):
-    """A :class:`FeaturesConfig` from a plain dict (defaults for missing keys)."""
-    from slam_predict.config import from_dict
-    from slam_predict.features.vector import FeaturesConfig
-
-    return from_dict(FeaturesConfig, dict(overrides or {}), source)
-
-
-def full_feature_config(overrides: Mapping[str, Any] | None = None) -> dict[str, Any]:
-    """The complete feature configuration (defaults + ``overrides``) as a plain dict."""
-    from slam_predict.config import to_dict
-
-    return to_dict(feature_config(overrides))
-
-
-def stored_feature_config(config_dict: Mapping[str, Any]):
-    """A :class:`FeaturesConfig` from a configuration the code stored (model card, dataset
-    sidecar); keys renamed since are read silently (the user's files warn instead)."""
-    from slam_predict.features.traversal import upgrade_stored
-
-    config = dict(config_dict)
-    if isinstance(config.get("traversal"), Mapping):
-        config["traversal"] = upgrade_stored(config["traversal"])
-    return feature_config(config)
-
-
-def version_of(config_dict: Mapping[str, Any]) -> str:
-    """The feature version (definition + configuration hash) of a stored feature configuration."""
-    from slam_predict.features.vector import feature_version
-
-    return feature_version(stored_feature_config(config_dict))
-
-
-def compute(world, config_dict: Mapping[str, Any]) -> dict[str, float]:
-    """The feature vector of ``world`` under the stored configuration ``config_dict``."""
-    from slam_predict.features.vector import compute_features
-
-    values = compute_features(world, stored_feature_config(config_dict))
-    return {k: float(v) for k, v in values.items()}
 
 
 def _one(path: str, config_dict: Mapping[str, Any],

@@ -51,7 +51,7 @@ def _ensemble(estimator) -> dict[str, Any] | None:
         base = float(np.ravel(getattr(estimator.init_, "constant_", [np.nan]))[0])
         return {"kind": "trees", "combine": "sum", "base": base,
                 "scale": float(estimator.learning_rate), "trees": [_tree(t) for t in trees[:, 0]]}
-    if name == "MonotoneBoosting":   # learn/robot_monotone.py: base + rate · Σ trees
+    if name == "MonotoneBoosting":   # learn/robot/monotone.py: base + rate · Σ trees
         return {"kind": "trees", "combine": "sum", "base": float(estimator.base_),
                 "scale": float(estimator.learning_rate), "trees": [_tree(t) for t in trees]}
     return None

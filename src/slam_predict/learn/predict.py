@@ -1,7 +1,8 @@
-"""Floor plan → features → the four error components with conformal intervals.
+"""Plan features → the four error components with conformal intervals (plan-only models).
 
-:func:`predict_plan` computes the plan's features with the feature configuration stored in
-the model card, then evaluates each component's best model (:func:`component_entry`):
+:func:`predict_features` evaluates each component's best model on a feature vector computed
+with the card's feature configuration (:func:`slam_predict.features.plan.plan_features`;
+:func:`component_entry`):
 
 - the interval always contains the prediction (CV+ bounds come from the fold models, the
   value from the model fitted on every building, so the value can fall outside them: the
@@ -25,12 +26,7 @@ import numpy as np
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.plain import predict_plain
-from slam_predict.learn.store import (
-    ModelStore,
-    default_models_dir,
-    evaluation_r2,
-    resolve_store,
-)
+from slam_predict.learn.store import ModelStore, evaluation_r2
 
 LOG = logging.getLogger(__name__)
 
@@ -153,66 +149,13 @@ def predict_features(features: dict[str, float], store: ModelStore,
     return result
 
 
-def compute_plan_features(world, card: dict[str, Any]) -> dict[str, float]:
-    """The plan's features with the card's feature configuration."""
-    from slam_predict.learn.featurize import compute
-
-    return compute(world, card.get("feature_config") or {})
-
-
-def predictable_features(world, feature_config: dict[str, Any] | None) -> dict[str, float]:
-    """The plan's features with ``feature_config``; InputError when they are degenerate (no
-    Voronoi graph, no rooms: nothing to predict from)."""
-    from slam_predict.features.vector import degenerate_reason
-    from slam_predict.learn.featurize import compute
-
-    features = compute(world, feature_config or {})
-    reason = degenerate_reason(features)
-    if reason:
-        raise InputError(f"{reason}: nothing to predict from", world.provenance.get("source"))
-    return features
-
-
-def free_space(world) -> tuple[dict[str, float], list[str]]:
-    """A prediction's ``free_space`` entry (m², share) and its unreachable-space warning (none
-    or one line)."""
-    from slam_predict.world.plausibility import reachability, unreachable_warning
-
-    reach = reachability(world)
-    note = unreachable_warning(world)
-    return ({"free_m2": reach.free_m2, "reachable_m2": reach.reachable_m2,
-             "reachable_share": reach.share}, [note] if note else [])
-
-
 def check_feature_version(store: ModelStore, retrain: str = "slam-predict learn train") -> None:
     """InputError unless this installation computes the card's feature version (the message
     names the ``retrain`` command)."""
-    from slam_predict.learn.featurize import version_of
+    from slam_predict.features.plan import version_of
 
     current = version_of(store.card.get("feature_config") or {})
     if current != store.card["feature_version"]:
         raise InputError(f"model uses feature version {store.card['feature_version']}, this "
                          f"slam_predict computes {current}; retrain with '{retrain}'",
                          store.path / "card.json")
-
-
-def predict_plan(world, model: str = "best", setting: str | None = "realistic",
-                 component: str = "all", models_dir=None) -> dict[str, Any]:
-    """Predict the error components of ``world`` (a :class:`World`).
-
-    Args:
-        model: a model folder name under ``models_dir`` (or a path), or ``best``.
-        setting: robot setting the model must have been trained for (None: any).
-        component: ``all`` or one of COMPONENTS.
-        models_dir: where model folders live (default: the package's ``models/``).
-    """
-    components_of(component)
-    store = resolve_store(models_dir or default_models_dir(), model, setting, None)
-    check_feature_version(store)
-    features = predictable_features(world, store.card.get("feature_config"))
-    result = predict_features(features, store, component)
-    result["free_space"], unreachable = free_space(world)
-    result["warnings"] = unreachable + result["warnings"]
-    result["world"] = world.name
-    result["features"] = features
-    return result

@@ -14,6 +14,7 @@ loaded, so only load models from sources you trust.
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.metadata
 import json
@@ -26,12 +27,10 @@ from typing import Any
 
 from slam_predict.atomic import atomic_dir
 from slam_predict.errors import InputError, did_you_mean
+from slam_predict.learn.card import CARD, FORMAT, PLAN_KIND, is_robot_card, kind_of, read_card
 
 LOG = logging.getLogger(__name__)
-FORMAT = 1
-CARD = "card.json"
-REQUIRED = ("format", "name", "setting", "feature_version", "features", "components",
-            "versions", "files", "training_buildings")
+__all__ = ["CARD", "FORMAT", "ModelStore", "read_card", "resolve_store", "save_store"]
 
 
 def installed(package: str) -> str:
@@ -107,31 +106,6 @@ def save_store(path: os.PathLike | str, card: dict[str, Any],
         (tmp / CARD).write_text(json.dumps(card, indent=2, sort_keys=False) + "\n")
     LOG.info("model %s written to %s", card.get("name"), path)
     return path
-
-
-def read_card(path: os.PathLike | str) -> dict[str, Any]:
-    """The validated card of a model folder."""
-    folder = Path(path)
-    card_path = folder / CARD
-    if not folder.is_dir():
-        raise InputError("model folder not found", folder)
-    if not card_path.is_file():
-        raise InputError("not a model folder (no card.json)", folder)
-    try:
-        card = json.loads(card_path.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"corrupt model card ({exc.__class__.__name__}: {exc})",
-                         card_path) from None
-    if not isinstance(card, dict):
-        raise InputError("corrupt model card (not a JSON object)", card_path)
-    missing = [k for k in REQUIRED if k not in card]
-    if missing:
-        raise InputError(f"corrupt model card (missing '{missing[0]}')", card_path)
-    if card["format"] != FORMAT:
-        raise InputError(f"model format {card['format']} is not supported (this slam_predict "
-                         f"reads format {FORMAT}); retrain with 'slam-predict learn train'",
-                         card_path)
-    return card
 
 
 def check_compatible(card: dict[str, Any], card_path: Path,
@@ -234,13 +208,24 @@ class ModelStore:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # minor-version pickles: reported in notes
-                models = joblib.load(file)
+                with _pickle_names(self.card):
+                    models = joblib.load(file)
         except Exception as exc:  # noqa: BLE001 — any unpickling failure means unusable
             raise InputError(f"corrupt model file ({exc.__class__.__name__})", file) from None
         if not isinstance(models, dict):
             raise InputError("corrupt model file (not a model dictionary)", file)
         self._loaded[component] = models
         return models
+
+
+def _pickle_names(card: dict[str, Any]):
+    """The module names a pickle of this card's family may use (robot-aware folders written
+    before ``learn/robot/`` name its modules ``learn.robot_<module>``)."""
+    if not is_robot_card(card):
+        return contextlib.nullcontext()
+    from slam_predict.learn.robot import legacy_module_names
+
+    return legacy_module_names()
 
 
 def list_stores(models_dir: os.PathLike | str) -> list[Path]:
@@ -265,11 +250,9 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
             names = [p.name for p in list_stores(models_dir)]
             raise InputError(f"no model named '{name}' in {models_dir}" + did_you_mean(name, names)
                              + (f" (available: {', '.join(names)})" if names else ""))
-        store = ModelStore(path, feature_version)
-        if store.card.get("kind", "plan") != "plan":
-            raise InputError(f"model '{store.name}' is a robot-aware model (kind "
-                             f"{store.card['kind']}): it needs robot inputs; load it with "
-                             "slam_predict.learn.robot_predict.RobotModel", path / CARD)
+        from slam_predict.learn.model import load_model
+
+        store = load_model(path, PLAN_KIND, feature_version).store
         if setting is not None and store.card["setting"] != setting:
             raise InputError(f"model was trained for the {store.card['setting']} setting, not "
                              f"{setting}", path / CARD)
@@ -281,11 +264,13 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
         except InputError as exc:
             LOG.warning("skipping %s", exc.one_line())
             continue
-        if card.get("kind", "plan") == "plan" and (setting is None
+        if kind_of(card) == PLAN_KIND and (setting is None
                                                    or card["setting"] == setting):
             candidates.append((-int(card.get("priority", 0)),
                                -len(card["training_buildings"]), path.name, path))
     if not candidates:
         raise InputError(f"no trained model for the {setting} setting in {models_dir}; train one "
                          "with 'slam-predict learn train'")
-    return ModelStore(sorted(candidates)[0][3], feature_version)
+    from slam_predict.learn.model import load_model
+
+    return load_model(sorted(candidates)[0][3], PLAN_KIND, feature_version).store

@@ -32,9 +32,9 @@ def contents(campaign: Campaign, with_models: bool) -> str:
 
 def learning(campaign: Campaign, models_path, feature_fn=None) -> str:
     """Model cards and their predictions for the campaign's worlds."""
+    from slam_predict.learn.card import is_robot_card
     from slam_predict.report.models import card_section, load_models
     from slam_predict.report.predictions import FeatureCache, predictions_section
-    from slam_predict.report.robot_models import is_robot_card
 
     entries = load_models(models_path)
     cache = FeatureCache(campaign, feature_fn)

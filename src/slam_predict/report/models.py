@@ -3,8 +3,8 @@
 ``--models-dir`` names either one model folder (``card.json`` inside) or a folder of them (like
 the shipped ``models/``). A card that cannot be read, or a folder whose files fail the store's
 checks (checksums, scikit-learn major version), is reported on the page; the other models are
-still shown. A robot-aware folder (card ``kind: robots``) is loaded as a
-:class:`~slam_predict.learn.robot_predict.RobotModel` and shown by
+still shown. Every folder is loaded with :func:`slam_predict.learn.model.load_model`; a
+robot-aware one (card ``kind: robots``) is shown by
 :mod:`slam_predict.report.robot_models` (its card, evaluation and partial-dependence plots).
 """
 from __future__ import annotations
@@ -30,7 +30,7 @@ class ModelEntry:
 
     path: Path
     card: dict[str, Any] | None = None
-    store: Any = None
+    store: Any = None     # the loaded model: PlanModel or RobotModel
     notes: list[str] = field(default_factory=list)
 
     @property
@@ -52,29 +52,21 @@ def load_models(path) -> list[ModelEntry]:
 
 
 def load_entry(folder: Path) -> ModelEntry:
-    """Read one model folder; problems become notes. ``store``: a ModelStore, or for a
-    robot-aware folder a RobotModel."""
-    from slam_predict.learn.predict import check_feature_version
-    from slam_predict.learn.robot_predict import RobotModel
-    from slam_predict.learn.store import ModelStore, read_card
-    from slam_predict.report.robot_models import is_robot_card
+    """Read one model folder; problems become notes. ``store``: the loaded model
+    (:func:`slam_predict.learn.model.load_model`)."""
+    from slam_predict.learn.card import read_card
+    from slam_predict.learn.model import load_model
 
     entry = ModelEntry(folder)
     try:
         entry.card = read_card(folder)
-        if is_robot_card(entry.card):
-            store = RobotModel.load(folder)
-            store.check_feature_version()
-            notes = store.store.notes
-        else:
-            store = ModelStore(folder)
-            check_feature_version(store)
-            notes = store.notes
+        model = load_model(folder)
+        model.check_feature_version()
     except InputError as exc:
         entry.notes.append(f"model not usable for predictions: {exc.one_line()}")
         return entry
-    entry.store = store
-    entry.notes += notes
+    entry.store = model
+    entry.notes += model.notes
     return entry
 
 
@@ -144,7 +136,8 @@ def card_section(entry: ModelEntry) -> str:
     """The model card: overview, metrics table (scores of the evaluation on the training
     buildings: repeated random splits and leave-one-building-out) and the folder's notes; a
     robot-aware folder's is :func:`slam_predict.report.robot_models.robot_card_section`."""
-    from slam_predict.report.robot_models import is_robot_card, robot_card_section
+    from slam_predict.learn.card import is_robot_card
+    from slam_predict.report.robot_models import robot_card_section
 
     if is_robot_card(entry.card):
         return robot_card_section(entry)

@@ -3,8 +3,8 @@
 The world of a campaign is found from its run records' ``world_file`` (as written, relative to
 the current folder, to the campaign folder or its parents), else as ``<world>.world`` in the
 package's ``worlds/`` folder. Features are computed once per world and feature configuration
-(:func:`slam_predict.learn.predict.compute_plan_features`), then each model's best estimator per
-component predicts (:func:`slam_predict.learn.predict.predict_features`). A world that cannot
+(:func:`slam_predict.features.plan.compute`), then each model's best estimator per
+component predicts (:meth:`slam_predict.learn.model.PlanModel.predict`). A world that cannot
 be found or featurised is a note on the page.
 """
 from __future__ import annotations
@@ -115,7 +115,7 @@ class FeatureCache:
         return self._values[key]
 
     def _plan_features(self, name: str, card: dict) -> dict[str, float]:
-        from slam_predict.learn.predict import compute_plan_features
+        from slam_predict.features.plan import compute
         from slam_predict.world.load import load_plan
 
         if name not in self._worlds:
@@ -125,7 +125,7 @@ class FeatureCache:
                                  f"{SHIPPED_WORLDS / (name + '.world')})")
             self._worlds[name] = load_plan(path)
         LOG.info("features of %s", name)
-        return compute_plan_features(self._worlds[name], card)
+        return compute(self._worlds[name], card.get("feature_config") or {})
 
 
 def recorded_runs(row: dict) -> int:
@@ -137,13 +137,11 @@ def recorded_runs(row: dict) -> int:
 def predict_campaign(entry: ModelEntry, campaign: Campaign,
                      cache: FeatureCache) -> ModelPredictions:
     """Predictions of ``entry`` for every campaign world that has a summary row."""
-    from slam_predict.learn.predict import predict_features
-
     out = ModelPredictions()
     for row in campaign.summary_rows():
         name = row["world"]
         try:
-            result = predict_features(cache.features(name, entry.card), entry.store)
+            result = entry.store.predict(cache.features(name, entry.card))
         except InputError as exc:
             out.notes.append(f"{name}: no prediction ({exc.one_line()})")
             continue

@@ -5,7 +5,7 @@ features, the robot inputs with their units and training ranges, GMapping's maxU
 design), the evaluation figures of every model under every protocol, and partial-dependence
 plots — per component, the model's prediction averaged over the training points (buildings ×
 configurations) as one robot input sweeps its range
-(:meth:`~slam_predict.learn.robot_predict.RobotModel.partial_dependence`), the training range
+(:meth:`~slam_predict.learn.robot.predict.RobotModel.partial_dependence`), the training range
 shaded, the design's configurations as ticks. Predictions for the campaign's worlds are not
 shown: they need the robot of each run.
 """
@@ -16,22 +16,16 @@ from typing import Any
 
 import numpy as np
 
+from slam_predict.learn.card import PROTOCOLS
 from slam_predict.learn.dataset import COMPONENTS, UNITS
-from slam_predict.learn.robot_inputs import ROBOT_INPUTS, ROBOT_UNITS
+from slam_predict.learn.robot.inputs import ROBOT_INPUTS, ROBOT_UNITS
 from slam_predict.report import html as H
 from slam_predict.report.labels import LABELS
 
-KIND = "robots"
-PROTOCOLS = ("buildings", "configs", "both")
 PROTOCOL_LABELS = {"buildings": "held-out buildings", "configs": "held-out configurations",
                    "both": "held-out buildings × configurations"}
 GRID_POINTS = 25
 WIDEN = 0.1    # the plots reach 10 % of the training span beyond it (not past 0 or maxUrange)
-
-
-def is_robot_card(card: dict[str, Any] | None) -> bool:
-    """True for the card of a robot-aware model folder."""
-    return bool(card) and card.get("kind") == KIND
 
 
 def _range_text(values) -> str:

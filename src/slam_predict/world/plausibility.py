@@ -113,3 +113,12 @@ def unreachable_warning(world: World) -> str | None:
             f"{reach.free_m2:.0f} m²) is reachable from the start ({x:.2f}, {y:.2f}) m: a "
             "robot starting there never maps the rest (a door drawn closed?); check the plan "
             "or --start")
+
+
+def free_space(world: World) -> tuple[dict[str, float], list[str]]:
+    """A prediction's ``free_space`` entry (m², share) and its unreachable-space warning (none
+    or one line)."""
+    reach = reachability(world)
+    note = unreachable_warning(world)
+    return ({"free_m2": reach.free_m2, "reachable_m2": reach.reachable_m2,
+             "reachable_share": reach.share}, [note] if note else [])

@@ -6,11 +6,11 @@
   configuration fold b) tests the points of a × b with models trained on the rows that share
   neither a building of a nor a configuration of b; each point is tested exactly once.
 
-Folds deal the shuffled groups (seeded) in turn, as :func:`robot_models.group_folds`. With
+Folds deal the shuffled groups (seeded) in turn, as :func:`models.group_folds`. With
 ``repeats`` R > 1 every protocol is run R times on R seeded shufflings of its groups (repeated
 grouped K-fold): with 21 buildings one shuffling moves a median error by 2–3 points, so the
 scores are the mean (± sd) of the R repeats' scores. Every
-model is fitted as it would be shipped (:func:`robot_models.fit_component`, including its
+model is fitted as it would be shipped (:func:`models.fit_component`, including its
 building-grouped CV+ calibration) on the training part only. Scores per protocol, component
 and model, on the test POINT values: median percentage error |ŷ − y| / y, R² of the point
 values, coverage of the intervals (default 90 %; a std's interval is for the point's own run
@@ -29,11 +29,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from slam_predict.errors import InputError
+from slam_predict.learn.card import PROTOCOLS
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.evaluate import percentage_errors, scores
-from slam_predict.learn.robot_config import PROTOCOLS, RobotLearningConfig
-from slam_predict.learn.robot_dataset import RobotTables
-from slam_predict.learn.robot_models import fit_component, group_folds, is_std
+from slam_predict.learn.robot.config import RobotLearningConfig
+from slam_predict.learn.robot.dataset import RobotTables
+from slam_predict.learn.robot.models import fit_component, group_folds, is_std
 from slam_predict.learn.tables import SYMBOLS, err, fmt, markdown
 
 LOG = logging.getLogger(__name__)
@@ -205,7 +206,8 @@ def summarize(rows: Sequence[dict]) -> list[dict]:
 
 def best_models(summary: Sequence[dict], config: RobotLearningConfig) -> dict[str, str]:
     """Per component the model kind with the lowest median % error under the configured
-    protocol (else the first protocol evaluated); ties → higher R²."""
+    protocol (else the first protocol evaluated); ties → higher R²: the robot-aware family's
+    rule of "best" (docs/learning.md, "Which model is best")."""
     have = [p for p in PROTOCOLS if any(r["protocol"] == p for r in summary)]
     if not have:
         return {}

@@ -1,14 +1,15 @@
 """Prediction with a robot-aware model folder: plan features + robot inputs → four components.
 
-:class:`RobotModel` loads ``models/<name>`` written by :mod:`robot_train` (card, checksums,
+:class:`RobotModel` loads ``models/<name>`` written by :mod:`train` (card, checksums,
 scikit-learn major version checked, as :class:`~slam_predict.learn.store.ModelStore`), then
 predicts without refitting anything: per component the best model's value and its CV+
 interval. Each best model is read from its plain form (``<component>.plain.json``,
-:mod:`~slam_predict.learn.robot_plain`: numpy only) when it has one, else unpickled (which
+:mod:`~slam_predict.learn.robot.plain`: numpy only) when it has one, else unpickled (which
 imports scikit-learn, ≈ 1.5 s). The plan features are computed by the caller with
-:attr:`RobotModel.feature_config` (:func:`slam_predict.learn.featurize.compute`), as
-``predict`` does for the plan-only models; the robot inputs with :meth:`RobotModel.inputs`
-(the laser range capped at the card's GMapping maxUrange).
+:attr:`RobotModel.feature_config` and :attr:`RobotModel.sightline_config`
+(:func:`slam_predict.features.plan.plan_features`), as for the plan-only models; the robot
+inputs with :meth:`RobotModel.inputs` (the laser range capped at the card's GMapping
+maxUrange). Load it with :func:`slam_predict.learn.model.load_model`.
 """
 from __future__ import annotations
 
@@ -23,8 +24,9 @@ from typing import Any
 import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
+from slam_predict.learn.card import CARD, POINTS_FILE, ROBOT_KIND, check_kind, input_names
 from slam_predict.learn.dataset import COMPONENTS, UNITS
-from slam_predict.learn.robot_inputs import (
+from slam_predict.learn.robot.inputs import (
     DERIVED_INPUTS,
     DERIVED_UNITS,
     DESIGN_RESOLUTION_DEG,
@@ -33,18 +35,18 @@ from slam_predict.learn.robot_inputs import (
     derived_inputs,
     reads_sight_lines,
 )
-from slam_predict.learn.robot_plain import (
-    KIND,
-    POINTS_FILE,
+from slam_predict.learn.robot.plain import (
     LogScaleModel,
     PlainComponentModel,
     is_std,
 )
-from slam_predict.learn.store import CARD, ModelStore
+from slam_predict.learn.store import ModelStore
 
 
 class RobotModel:
     """A loaded robot-aware model folder (see the module doc); use :meth:`load`."""
+
+    takes_robot = True
 
     def __init__(self, store: ModelStore, models: dict[str, LogScaleModel],
                  points: np.ndarray, point_worlds: list[str] | None = None):
@@ -61,14 +63,7 @@ class RobotModel:
         """The model folder at ``path``; InputError (one line) on a missing or corrupt folder,
         a checksum mismatch, a folder of another kind or another scikit-learn major version."""
         store = ModelStore(path)   # card, versions and every file's checksum
-        card_path = Path(path) / CARD
-        if store.card.get("kind") != KIND:
-            raise InputError(f"not a robot-aware model (kind {store.card.get('kind')!r}, "
-                             f"expected '{KIND}')", card_path)
-        for key in ("max_urange_m", "input_ranges", "design"):
-            if key not in store.card:
-                raise InputError(f"corrupt model card (missing '{key}'); retrain with "
-                                 "'slam-predict learn robots'", card_path)
+        check_kind(store.card, ROBOT_KIND, Path(path) / CARD)
         models = {component: _component_model(store, component, entry.get("best"))
                   for component, entry in store.card["components"].items()}
         points, worlds = _read_points(Path(path) / POINTS_FILE, input_names(store.card))
@@ -97,36 +92,32 @@ class RobotModel:
     def inputs(self, robot) -> dict[str, float]:
         """The robot inputs of a :class:`~slam_predict.robot_file.RobotDescription`, its
         laser range capped at :attr:`max_urange_m`."""
-        from slam_predict.learn.robot_inputs import inputs_from_robot
+        from slam_predict.learn.robot.inputs import inputs_from_robot
 
         return inputs_from_robot(robot, self.max_urange_m)
+
+    @property
+    def notes(self) -> list[str]:
+        """Warnings of the loading (another scikit-learn minor version…)."""
+        return self.store.notes
+
+    @property
+    def sightline_config(self) -> dict[str, Any] | None:
+        """The sight-line sampling (a :class:`~slam_predict.features.sightline.SightlineConfig`
+        as a dict) when the model reads the plan's sight-line columns (a derived input or a
+        feature of ``sightline.PLAN_COLUMNS``), else None: give it to
+        :func:`slam_predict.features.plan.plan_features`."""
+        if not reads_sight_lines(self.derived, self.names):
+            return None
+        stored = dict(self.card.get("sightline") or {})
+        stored.pop("ranges_m", None)
+        return stored
 
     def check_feature_version(self) -> None:
         """InputError unless this installation computes the card's feature version."""
         from slam_predict.learn.predict import check_feature_version
 
         check_feature_version(self.store, retrain="slam-predict learn robots")
-
-    def sightline_features(self, world) -> dict[str, float]:
-        """The plan's sight-line columns (curve, isotropy, elongation) when the model reads
-        them: a derived input or a feature of ``sightline.PLAN_COLUMNS`` (add them to the plan
-        features given to :meth:`predict`), else {}."""
-        if not reads_sight_lines(self.derived, self.names):
-            return {}
-        from slam_predict.features.sightline import SightlineConfig, sightline_features
-
-        stored = dict(self.card.get("sightline") or {})
-        stored.pop("ranges_m", None)
-        return sightline_features(world, SightlineConfig(**stored))
-
-    def plan_features(self, world) -> dict[str, float]:
-        """Everything :meth:`predict` needs of a loaded plan: its features with the card's
-        feature configuration (InputError when degenerate) and :meth:`sightline_features`."""
-        from slam_predict.learn.predict import predictable_features
-
-        features = predictable_features(world, self.feature_config)
-        features.update(self.sightline_features(world))
-        return features
 
     def row(self, plan_features: Mapping[str, float], robot: Mapping[str, float]) -> np.ndarray:
         """The (1, d) raw input row; InputError naming a missing or non-finite input."""
@@ -137,8 +128,8 @@ class RobotModel:
                 derived = derived_inputs(plan_features, robot)
             except KeyError as exc:
                 raise InputError(f"model {self.name} needs the plan's sight-line curve and "
-                                 f"the laser range (missing {exc.args[0]}): add "
-                                 "RobotModel.sightline_features(world)") from None
+                                 f"the laser range (missing {exc.args[0]}): compute the "
+                                 "features with model.sightline_config") from None
         for name in self.names:
             source = (robot if name in ROBOT_INPUTS else derived if name in DERIVED_INPUTS
                       else plan_features)
@@ -153,14 +144,18 @@ class RobotModel:
         return np.array([values])
 
     def predict(self, plan_features: Mapping[str, float], robot: Mapping[str, float],
-                confidence: float = 0.9) -> dict[str, dict]:
+                confidence: float = 0.9, slam: str | None = None) -> dict[str, dict]:
         """{component: {"value", "low", "high", "unit", "model"}} for the four components.
 
         Means: the point's expected run error and the interval of its mean over the design's
         run count; stds: the run-to-run std σ and the interval of the sample std over that
         many runs (``card["interval_runs"]``, 2 by design). A component the folder has no
-        model for gets None values. The value always lies inside its interval.
+        model for gets None values. The value always lies inside its interval. ``slam``:
+        None or ``gmapping`` (the training runs' SLAM algorithm).
         """
+        from slam_predict.learn.model import check_slam
+
+        check_slam(slam)
         x = self.row(plan_features, robot)
         out: dict[str, dict] = {}
         runs = int(self.card.get("interval_runs", 2))
@@ -204,8 +199,8 @@ class RobotModel:
 
     def exploration_warning(self, robot: Mapping[str, float]) -> str | None:
         """A line when training runs with a laser range near the robot's failed to explore
-        (card ``exploration``, :mod:`~slam_predict.learn.robot_outcomes`), else None."""
-        from slam_predict.learn.robot_outcomes import failure_warning
+        (card ``exploration``, :mod:`~slam_predict.learn.robot.outcomes`), else None."""
+        from slam_predict.learn.robot.outcomes import failure_warning
 
         return failure_warning(self.card.get("exploration"), float(robot["laser_range_max_m"]))
 
@@ -279,12 +274,6 @@ class RobotModel:
                              self.store.path / CARD)
         return np.array([[blind_fraction(curves[w], r) for w in self.point_worlds]
                          for r in ranges_m])
-
-
-def input_names(card: Mapping[str, Any]) -> list[str]:
-    """The model's input columns: plan features, derived inputs, robot inputs."""
-    return (list(card["features"]) + list(card.get("derived_inputs") or [])
-            + list(ROBOT_INPUTS))
 
 
 def _component_model(store: ModelStore, component: str, kind: str | None) -> LogScaleModel:

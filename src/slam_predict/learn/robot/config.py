@@ -14,13 +14,13 @@ from slam_predict.config import (
     TWO_OR_MORE,
     Range,
 )
+from slam_predict.learn.card import PROTOCOLS
 from slam_predict.learn.config import BoostingConfig, ElasticNetConfig
 
 ROBOT_MODEL_KINDS = ("elasticnet", "gradient_boosting", "trend_boosting", "gaussian_process")
 # trend_boosting, not gradient_boosting: the same trees inside the training sizes, and not flat
 # past them (bench/bench_size_extrapolation.py)
 DEFAULT_MODELS = ("elasticnet", "trend_boosting", "gaussian_process")
-PROTOCOLS = ("buildings", "configs", "both")
 # Plan features by default: the building's size (area: the best single feature of the shipped
 # plan-only models), the thesis' traversal length (what the odometry error accumulates over),
 # the sight lines' isotropy (features/scan_conditioning.py: how evenly the walls a 30 m
@@ -57,7 +57,7 @@ class RobotBoostingConfig(BoostingConfig):
 
     ``monotone``: the trees respect the directions known before any data
     (:data:`MONOTONE_INCREASING`, :data:`MONOTONE_DECREASING`, for the inputs the model has;
-    :mod:`slam_predict.learn.robot_monotone`); without it the trees are scikit-learn's
+    :mod:`slam_predict.learn.robot.monotone`); without it the trees are scikit-learn's
     GradientBoostingRegressor. ``min_samples_leaf``: rows per leaf at least.
     """
 
@@ -110,7 +110,7 @@ class RobotLearningConfig:
             design configuration than ``joint_factor`` × the design's widest gap.
         max_urange_m: GMapping's maxUrange the runs were collected with, m (the range input is
             min(range_max, maxUrange)); None = read from each run's settings file, checked
-            against its recorded GMapping config hash (learn/robot_domain.py).
+            against its recorded GMapping config hash (learn/robot/domain.py).
         sightline_input: also take the plan's blind fraction at the laser's range
             (``laser_blind_fraction``, features/sightline.py) as an input.
     """
@@ -139,7 +139,7 @@ class RobotLearningConfig:
         "joint_factor": AT_LEAST_ONE, "max_urange_m": POSITIVE}
 
     def __post_init__(self) -> None:
-        from slam_predict.learn.robot_inputs import ROBOT_INPUTS
+        from slam_predict.learn.robot.inputs import ROBOT_INPUTS
 
         if not self.models:
             raise ValueError("models must name at least one model kind")

@@ -2,8 +2,8 @@
 
 A campaign folder holds ``<world>/run_NNN/run.json``, one robot configuration per run. A RUN
 row is one run: ``world, run_index, seed, config, point, replicate``, the robot inputs
-(:data:`~slam_predict.learn.robot_inputs.ROBOT_INPUTS`; the range capped at the maxUrange of the
-run's GMapping settings, :mod:`~slam_predict.learn.robot_domain`), ``coverage`` and the run's
+(:data:`~slam_predict.learn.robot.inputs.ROBOT_INPUTS`; the range capped at the maxUrange of the
+run's GMapping settings, :mod:`~slam_predict.learn.robot.domain`), ``coverage`` and the run's
 ``trans_mean`` (m) and ``rot_mean`` (rad) — its mean relation errors. Runs of the design carry
 ``"design": {"config", "point", "replicate"}``; other runs (``collect --robot``) get
 config = :func:`slam_predict.sensor.sensor_hash` of their ``sensor`` dict, point =
@@ -32,7 +32,7 @@ import numpy as np
 
 from slam_predict.errors import InputError
 from slam_predict.learn.dataset import COMPONENTS
-from slam_predict.learn.robot_inputs import (
+from slam_predict.learn.robot.inputs import (
     ROBOT_INPUTS,
     angular_resolution_deg,
     inputs_from_sensor,
@@ -66,7 +66,7 @@ class RunRow:
     config_hashes: dict[str, str] = field(default_factory=dict)
     source: str = ""
     max_urange_m: float | None = None    # GMapping's maxUrange of the run's settings, m
-    odom_model: str = ""                 # the sensor's odometry model (robot_inputs.odom_model_of)
+    odom_model: str = ""                 # the sensor's odometry model (inputs.odom_model_of)
 
 
 @dataclass
@@ -189,8 +189,8 @@ def read_runs(folders: Sequence[os.PathLike | str], min_coverage: float = 0.9,
               max_urange_m: float | None = None) -> tuple[list[RunRow], dict[str, int]]:
     """(RUN rows, {skip reason: count}) of the campaign folders, checked for consistency;
     ``max_urange_m``: GMapping's maxUrange, m, for every run (None: from each run's settings,
-    :class:`~slam_predict.learn.robot_domain.MaxUrangeSource`)."""
-    from slam_predict.learn.robot_domain import MaxUrangeSource, common_max_urange
+    :class:`~slam_predict.learn.robot.domain.MaxUrangeSource`)."""
+    from slam_predict.learn.robot.domain import MaxUrangeSource, common_max_urange
 
     rows: list[RunRow] = []
     skipped: dict[str, int] = {}

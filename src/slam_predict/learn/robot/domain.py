@@ -3,7 +3,7 @@
 **maxUrange.** GMapping never uses a beam beyond ``maxUrange`` (config/gmapping.yaml: 30 m;
 the seed study's robot has an 80 m laser): every reading is cropped there before it is matched
 or marks the map. So the models' range input is min(laser range_max, maxUrange)
-(:func:`~slam_predict.learn.robot_inputs.effective_range`), with the maxUrange of the GMapping
+(:func:`~slam_predict.learn.robot.inputs.effective_range`), with the maxUrange of the GMapping
 settings the runs were collected with — the settings' own value, before the collection caps it
 per robot at range_max − 0.01 (:func:`slam_predict.robot_file.gmapping_caps`). Per run
 (:class:`MaxUrangeSource`) it is ``robot_learning.max_urange_m`` when set, else read from the
@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from slam_predict.errors import InputError
-from slam_predict.learn.robot_inputs import ROBOT_INPUTS, inputs_from_robot
+from slam_predict.learn.robot.inputs import ROBOT_INPUTS, inputs_from_robot
 
 LOG = logging.getLogger(__name__)
 HINT = "set robot_learning.max_urange_m to the maxUrange (m) the runs were collected with"

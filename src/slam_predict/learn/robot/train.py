@@ -1,9 +1,9 @@
 """Fit the robot-aware models on every run and write the model folder (``models/own-robots``).
 
-Folder (learn/store.py conventions, read back by :class:`~slam_predict.learn.robot_predict.
+Folder (learn/store.py conventions, read back by :class:`~slam_predict.learn.robot.predict.
 RobotModel`): ``card.json`` (``"kind": "robots"``), ``<component>.joblib`` =
 ``{model kind: fitted ComponentModel}`` for every evaluated kind, ``<component>.plain.json`` =
-``{model kind: plain form}`` for those that have one (:mod:`~slam_predict.learn.robot_plain`:
+``{model kind: plain form}`` for those that have one (:mod:`~slam_predict.learn.robot.plain`:
 predicting without importing scikit-learn; the card marks them ``"plain": true``), and
 ``training_points.csv`` (the POINT rows the models were trained on: partial dependence and the
 design's coverage). The card holds the plan feature names and configuration, the robot inputs
@@ -28,18 +28,19 @@ import numpy as np
 
 from slam_predict.config import to_dict
 from slam_predict.errors import InputError
+from slam_predict.learn.card import POINTS_FILE, ROBOT_KIND
 from slam_predict.learn.dataset import COMPONENTS, UNITS
-from slam_predict.learn.robot_config import RobotLearningConfig
-from slam_predict.learn.robot_dataset import RobotDataset, RobotTables, points_csv
-from slam_predict.learn.robot_inputs import (
+from slam_predict.learn.robot.config import RobotLearningConfig
+from slam_predict.learn.robot.dataset import RobotDataset, RobotTables, points_csv
+from slam_predict.learn.robot.inputs import (
     DERIVED_INPUTS,
     DESIGN_RESOLUTION_DEG,
     ROBOT_INPUTS,
     ROBOT_UNITS,
     reads_sight_lines,
 )
-from slam_predict.learn.robot_models import fit_component
-from slam_predict.learn.robot_plain import KIND, POINTS_FILE, plain_component
+from slam_predict.learn.robot.models import fit_component
+from slam_predict.learn.robot.plain import plain_component
 from slam_predict.learn.store import save_store
 
 LOG = logging.getLogger(__name__)
@@ -105,7 +106,7 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
     """The card of a robot-aware model folder (without files and versions); ``meta``:
     ``name``, ``description``, ``feature_config``, ``sources``, ``design_bounds`` (robot
     input → [low, high] of the design file, optional), ``exploration`` (failed explorations
-    per configuration, :func:`slam_predict.learn.robot_outcomes.exploration_outcomes`)."""
+    per configuration, :func:`slam_predict.learn.robot.outcomes.exploration_outcomes`)."""
     plan = [n for n in tables.names if n not in ROBOT_INPUTS and n not in DERIVED_INPUTS]
     derived = [n for n in tables.names if n in DERIVED_INPUTS]
     hashes = data.config_hashes()
@@ -122,8 +123,8 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
             "models": {kind: {"metrics": _metrics(summary, component, kind)}
                        for kind in fitted[component]}}
     return {
-        "name": meta["name"], "kind": KIND, "description": meta.get("description", ""),
-        "created": datetime.date.today().isoformat(), "priority": 0, "setting": KIND,
+        "name": meta["name"], "kind": ROBOT_KIND, "description": meta.get("description", ""),
+        "created": datetime.date.today().isoformat(), "priority": 0, "setting": ROBOT_KIND,
         "slam_config_hash": ",".join(hashes.get("gmapping", [])), "config_hashes": hashes,
         "feature_version": data.feature_version,
         "feature_config": dict(meta.get("feature_config") or {}), "features": plan,

@@ -1,17 +1,17 @@
 """Robot-aware models as plain arrays, evaluated with numpy alone (no scikit-learn import).
 
 Importing scikit-learn to unpickle a model costs 1.5–2 s per process, more than the feature
-extraction of a 1,500 m² plan (``predict --robot`` has 3 s). So :mod:`robot_train` also
-stores every fitted :class:`~slam_predict.learn.robot_models.ComponentModel` as plain data in
+extraction of a 1,500 m² plan (``predict --robot`` has 3 s). So :mod:`train` also
+stores every fitted :class:`~slam_predict.learn.robot.models.ComponentModel` as plain data in
 ``<component>.plain.json`` ({model kind: form}): its offset, CV+ calibration (folds,
 residuals) and, for the model fitted on every row and each fold model, the pipeline —
 
 - ``log_columns`` / ``log_floor``: the input columns taken as their log (values raised to the
-  floor first), as :class:`~slam_predict.learn.robot_models.PositiveLog`;
+  floor first), as :class:`~slam_predict.learn.robot.models.PositiveLog`;
 - ``scale``: StandardScaler's ``mean`` and ``scale`` (Gaussian process only), or None;
 - ``model``: a linear form (elasticnet: coefficients and intercept over its inputs), trees
   (gradient boosting: :mod:`slam_predict.learn.plain`; trend boosting adds ``tail``, its
-  power-law slopes past the training range: :mod:`slam_predict.learn.robot_trend`) or a
+  power-law slopes past the training range: :mod:`slam_predict.learn.robot.trend`) or a
   Gaussian process: kernel C · Matern(ν, one length scale per input) + White with a
   normalised target, whose mean at x is ``y_std · Σ_i C·k(x, x_i)·α_i + y_mean`` (x_i the
   training inputs, α the dual coefficients; the white noise does not enter a
@@ -32,8 +32,6 @@ import numpy as np
 
 from slam_predict.learn.intervals import cv_plus_interval
 
-KIND = "robots"                       # card kind of a robot-aware model folder
-POINTS_FILE = "training_points.csv"   # its training POINT rows
 MEANS = ("trans_mean", "rot_mean")
 STDS = ("trans_std", "rot_std")
 TOLERANCE = 1e-9   # plain vs fitted, on the log scale (absolute) and relative
@@ -138,7 +136,7 @@ def _gaussian_process(form: dict[str, Any], X: np.ndarray) -> np.ndarray:
 
 def tail(X: np.ndarray, columns: np.ndarray, slope: np.ndarray, low: np.ndarray,
          high: np.ndarray) -> np.ndarray:
-    """Trend boosting's extrapolation (:mod:`slam_predict.learn.robot_trend`):
+    """Trend boosting's extrapolation (:mod:`slam_predict.learn.robot.trend`):
     Σ_c slope_c · (x_c − clip(x_c, low_c, high_c)) per row of ``X``, 0 inside the range."""
     if len(columns) == 0:
         return np.zeros(len(X))

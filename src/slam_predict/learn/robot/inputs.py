@@ -20,7 +20,7 @@ densities) is refused.
 Two sources give the same numbers: a run record's ``sensor`` dict (:func:`inputs_from_sensor`)
 and a robot description file (:func:`inputs_from_robot`, through its ``to_sensor_config()``),
 both with the maxUrange of the GMapping settings the runs were collected with
-(:mod:`slam_predict.learn.robot_domain`; a model folder's card records it).
+(:mod:`slam_predict.learn.robot.domain`; a model folder's card records it).
 The laser's angular resolution is not a model input: the design keeps it at
 :data:`DESIGN_RESOLUTION_DEG` (:func:`angular_resolution_deg`).
 

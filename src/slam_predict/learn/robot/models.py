@@ -1,6 +1,6 @@
 """Robot-aware models: plan features + robot inputs → the four error components (issue #18).
 
-Inputs: the configured plan features and :data:`~slam_predict.learn.robot_inputs.ROBOT_INPUTS`;
+Inputs: the configured plan features and :data:`~slam_predict.learn.robot.inputs.ROBOT_INPUTS`;
 model side, the plan features that are > 0 on every training building and the laser range
 enter as their log (errors scale as powers of size and range), fov and odometry bounds as they
 are (a bound of 0 is a valid robot).
@@ -10,11 +10,11 @@ Model kinds (all fitted on the LOG of the target):
 - ``elasticnet`` — the linear baseline: :class:`~slam_predict.learn.estimators.ElasticNetGridCV`
   (standardised inputs, l1_ratio/alpha by CV);
 - ``gradient_boosting`` — scikit-learn GradientBoostingRegressor (with ``monotone``: the
-  same boosting of monotone trees, :mod:`~slam_predict.learn.robot_monotone`);
+  same boosting of monotone trees, :mod:`~slam_predict.learn.robot.monotone`);
 - ``trend_boosting`` — boosted trees, by default monotone in the inputs whose direction is
   known, inside the training range of the ``trend_boosting.trend_inputs`` (default: the
   building area), and beyond it their fitted power law
-  (:class:`~slam_predict.learn.robot_trend.TrendTailBoosting`): trees alone stay flat past
+  (:class:`~slam_predict.learn.robot.trend.TrendTailBoosting`): trees alone stay flat past
   their largest training building;
 - ``gaussian_process`` — GaussianProcessRegressor on standardised inputs, kernel
   C · Matern(anisotropic length scales, ν 2.5) + WhiteKernel, normalised target.
@@ -48,10 +48,10 @@ from sklearn.preprocessing import StandardScaler
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from slam_predict.errors import InputError
-from slam_predict.learn.robot_config import RobotLearningConfig
-from slam_predict.learn.robot_dataset import RobotTables
-from slam_predict.learn.robot_inputs import ROBOT_INPUTS
-from slam_predict.learn.robot_plain import (  # noqa: F401  (is_std, MEANS, STDS re-exported)
+from slam_predict.learn.robot.config import RobotLearningConfig
+from slam_predict.learn.robot.dataset import RobotTables
+from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+from slam_predict.learn.robot.plain import (  # noqa: F401  (is_std, MEANS, STDS re-exported)
     MEANS,
     STDS,
     LogScaleModel,
@@ -129,8 +129,8 @@ def _elasticnet(config: RobotLearningConfig):
 def _boosting(kind: str, names: list[str], config: RobotLearningConfig):
     """Boosted trees (monotone in the configured inputs, if any); ``trend_boosting`` with
     power-law tails on its trend inputs."""
-    from slam_predict.learn.robot_config import MONOTONE_DECREASING, MONOTONE_INCREASING
-    from slam_predict.learn.robot_monotone import boosted_trees, monotonic_vector
+    from slam_predict.learn.robot.config import MONOTONE_DECREASING, MONOTONE_INCREASING
+    from slam_predict.learn.robot.monotone import boosted_trees, monotonic_vector
 
     c = config.trend_boosting if kind == "trend_boosting" else config.gradient_boosting
     # the known directions, for the inputs this model has (e.g. no blind fraction with
@@ -139,7 +139,7 @@ def _boosting(kind: str, names: list[str], config: RobotLearningConfig):
         names, [n for n in MONOTONE_INCREASING if n in names],
         [n for n in MONOTONE_DECREASING if n in names])
     if kind == "trend_boosting":
-        from slam_predict.learn.robot_trend import TrendTailBoosting
+        from slam_predict.learn.robot.trend import TrendTailBoosting
 
         missing = [n for n in c.trend_inputs if n not in names]
         if missing:
@@ -239,7 +239,7 @@ def component_data(tables: RobotTables, component: str) -> ComponentData:
 @dataclass
 class ComponentModel(LogScaleModel):
     """A fitted model of one component with its building-grouped CV+ calibration
-    (predictions and intervals: :class:`~slam_predict.learn.robot_plain.LogScaleModel`).
+    (predictions and intervals: :class:`~slam_predict.learn.robot.plain.LogScaleModel`).
 
     Attributes (fitted):
         estimator: the pipeline fitted on every training row.

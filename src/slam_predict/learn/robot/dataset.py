@@ -1,7 +1,7 @@
-"""Robot-aware learning data: RUN and POINT rows (:mod:`slam_predict.learn.robot_records`)
+"""Robot-aware learning data: RUN and POINT rows (:mod:`slam_predict.learn.robot.records`)
 joined with plan features into numeric tables and CSVs (issue #18).
 
-See :mod:`slam_predict.learn.robot_records` for the rows; plan features are joined per world
+See :mod:`slam_predict.learn.robot.records` for the rows; plan features are joined per world
 (a feature table, or computed from plans).
 """
 from __future__ import annotations
@@ -20,8 +20,8 @@ import numpy as np
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.features.sightline import COLUMN_PREFIX, PLAN_COLUMNS, curve_columns
 from slam_predict.learn.dataset import COMPONENTS
-from slam_predict.learn.robot_inputs import DERIVED_INPUTS, ROBOT_INPUTS, derived_inputs
-from slam_predict.learn.robot_records import (  # noqa: F401  (re-exported)
+from slam_predict.learn.robot.inputs import DERIVED_INPUTS, ROBOT_INPUTS, derived_inputs
+from slam_predict.learn.robot.records import (  # noqa: F401  (re-exported)
     POINT_COLUMNS,
     RUN_COLUMNS,
     RUN_TARGETS,
@@ -120,7 +120,7 @@ class RobotDataset:
     @property
     def odom_model(self) -> str:
         """The runs' odometry model (one, checked by :func:`read_runs`; 'none' if all none)."""
-        from slam_predict.learn.robot_records import common_odom_model
+        from slam_predict.learn.robot.records import common_odom_model
 
         return common_odom_model(self.runs) if self.runs else "none"
 
@@ -271,8 +271,9 @@ def plan_features(worlds: Sequence[str], features_csv: os.PathLike | str | None 
     from slam_predict.learn import dataset as ds
 
     if worlds_dir is not None:
+        from slam_predict.features.plan import full_feature_config
         from slam_predict.features.sightline import sightline_features
-        from slam_predict.learn.featurize import features_from_worlds, full_feature_config
+        from slam_predict.learn.featurize import features_from_worlds
 
         config = full_feature_config(feature_config)
         features, version = features_from_worlds(worlds_dir, worlds, config, n_jobs,

@@ -10,7 +10,7 @@ of the trend columns and adds the trend's slope times the distance beyond that r
 
 with b the least-squares coefficients of y on the trend columns (:func:`least_squares_trend`) and
 min_c, max_c the training range. Inside the range it equals its booster (scikit-learn's
-gradient boosting, or with ``monotonic_cst`` :class:`~slam_predict.learn.robot_monotone.
+gradient boosting, or with ``monotonic_cst`` :class:`~slam_predict.learn.robot.monotone.
 MonotoneBoosting`, whose constraint also fixes the sign of a trend column's slope).
 (Boosting the trees on the residuals of the trend instead — the trend as the booster's first
 stage — was measured on 2026-12-04: 31 % median error for buildings held out against 26 %.)
@@ -21,8 +21,8 @@ import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted, validate_data
 
-from slam_predict.learn.robot_monotone import boosted_trees
-from slam_predict.learn.robot_plain import tail
+from slam_predict.learn.robot.monotone import boosted_trees
+from slam_predict.learn.robot.plain import tail
 
 
 def least_squares_trend(values: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, float]:
@@ -37,7 +37,7 @@ class TrendTailBoosting(RegressorMixin, BaseEstimator):
     """Boosted trees inside the training range of ``trend_columns``, their linear trend beyond
     (module doc). Boosting parameters as scikit-learn's; the trees are a
     GradientBoostingRegressor, or with ``monotonic_cst`` (+1 / −1 / 0 per input) a
-    :class:`~slam_predict.learn.robot_monotone.MonotoneBoosting`.
+    :class:`~slam_predict.learn.robot.monotone.MonotoneBoosting`.
 
     Fitted: ``booster_`` (the trees), ``slope_`` (b per trend column), ``low_`` / ``high_``
     (the training range of each trend column, model-side units, i.e. log m² for an area).

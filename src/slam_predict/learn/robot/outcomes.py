@@ -26,7 +26,7 @@ def exploration_outcomes(folders: Sequence[os.PathLike | str],
     """{"min_coverage", "by_config": {config: {"range_m", "runs", "failed"}}} over every run
     record of the campaign folders (range_m: the laser's range_max, m; failed: runs whose
     coverage is below ``min_coverage``)."""
-    from slam_predict.learn.robot_records import (
+    from slam_predict.learn.robot.records import (
         design_entry,
         find_records,
         read_record,

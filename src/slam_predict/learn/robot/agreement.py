@@ -14,18 +14,27 @@ from typing import Any
 
 import numpy as np
 
-from slam_predict.learn.robot_plain import MEANS
+from slam_predict.learn.robot.plain import MEANS
 
 
 def agreement_rows(model, robot: Mapping[str, float], campaign: os.PathLike | str,
                    plan_of: Callable[[str], Any], min_coverage: float = 0.5,
-                   unseen: bool = False) -> list[dict]:
+                   unseen: bool = False,
+                   features_of: Callable[[Any], Mapping[str, float]] | None = None
+                   ) -> list[dict]:
     """One row per building of ``campaign`` with runs of coverage ≥ ``min_coverage`` and a
     plan (``plan_of(world)`` → World, or None to leave the building out): runs, mean free area
     (m²), whether the model was trained on it, and per mean component (``MEANS``) the model's
     prediction for ``robot`` (model inputs, :meth:`RobotModel.inputs`) and the runs' mean
-    (m, rad). ``unseen`` leaves out the buildings the model was trained on."""
+    (m, rad). ``unseen`` leaves out the buildings the model was trained on. ``features_of``
+    (plan → its features) defaults to :func:`slam_predict.features.plan.plan_features` with the
+    model's feature and sight-line configurations."""
     from slam_predict.collect.store import RunStore
+    from slam_predict.features.plan import plan_features
+
+    if features_of is None:
+        def features_of(plan):
+            return plan_features(plan, model.feature_config, model.sightline_config)
 
     trained = set(model.card["training_buildings"])
     store = RunStore(Path(campaign))
@@ -37,7 +46,7 @@ def agreement_rows(model, robot: Mapping[str, float], campaign: os.PathLike | st
         plan = plan_of(world)
         if plan is None:
             continue
-        predicted = model.predict(model.plan_features(plan), robot)
+        predicted = model.predict(features_of(plan), robot)
         row = {"world": world, "runs": len(records), "trained_on": world in trained,
                "free_area_m2": float(np.mean([r["free_area_m2"] for r in records]))}
         for key in MEANS:
