@@ -45,8 +45,9 @@ def run_cli(plan: str, model: str, setting: str, cache: str,
 def breakdown(plan: str, model: str, resolution: float | None = None) -> dict:
     """Seconds spent loading, computing features and predicting, in this (warm) process."""
     from slam_predict.features.plan import compute
+    from slam_predict.learn.model import resolve_store
     from slam_predict.learn.predict import check_feature_version, predict_features
-    from slam_predict.learn.store import default_models_dir, resolve_store
+    from slam_predict.learn.store import default_models_dir
     from slam_predict.world.load import load_plan
 
     t0 = time.perf_counter()

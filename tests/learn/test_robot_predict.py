@@ -10,10 +10,11 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
+from slam_predict.learn.model import resolve_store
 from slam_predict.learn.robot.plain import PlainComponentModel
 from slam_predict.learn.robot.predict import RobotModel
 from slam_predict.learn.robot.train import build_card, fit_all, plain_forms, save_robot_store
-from slam_predict.learn.store import CARD, resolve_store
+from slam_predict.learn.store import CARD
 
 from . import robot_synthetic as syn
 

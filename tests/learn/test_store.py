@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.learn.store import CARD, ModelStore, list_stores, resolve_store
+from slam_predict.learn.model import resolve_store
+from slam_predict.learn.store import CARD, ModelStore, list_stores
 
 from .conftest import synthetic_dataset
 

@@ -97,8 +97,8 @@ def predict_plan(world, args: argparse.Namespace, setting: str | None) -> dict:
     """The plan-only prediction for ``world`` (a loaded, checked plan): world/ (free space) →
     features/ (the card's feature configuration) → learn/ (the ``--model`` folder)."""
     from slam_predict.features.plan import plan_features
-    from slam_predict.learn.model import PlanModel
-    from slam_predict.learn.store import default_models_dir, resolve_store
+    from slam_predict.learn.model import PlanModel, resolve_store
+    from slam_predict.learn.store import default_models_dir
     from slam_predict.world.plausibility import free_space
 
     model = PlanModel(resolve_store(args.models_dir or default_models_dir(), args.model,

@@ -28,7 +28,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from slam_predict.errors import InputError
+from slam_predict.errors import InputError, did_you_mean
 
 FORMAT = 1
 CARD = "card.json"
@@ -113,3 +113,13 @@ def input_names(card: Mapping[str, Any]) -> list[str]:
 def confidence(card: Mapping[str, Any]) -> float:
     """The card's interval confidence (0.9 when absent)."""
     return card.get("confidence", 0.9)
+
+
+SLAM_ALGORITHMS = ("gmapping",)   # the SLAM algorithms the models were trained on
+
+
+def check_slam(slam: str | None) -> None:
+    """InputError unless ``slam`` is None or a SLAM algorithm the models know."""
+    if slam is not None and slam not in SLAM_ALGORITHMS:
+        raise InputError(f"no model of SLAM algorithm '{slam}' (the models know "
+                         f"{', '.join(SLAM_ALGORITHMS)})" + did_you_mean(slam, SLAM_ALGORITHMS))

@@ -14,23 +14,25 @@ plan features itself. Both families take an optional SLAM algorithm name, which 
 """
 from __future__ import annotations
 
+import logging
 import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from slam_predict.errors import InputError, did_you_mean
-from slam_predict.learn.card import CARD, PLAN_KIND, ROBOT_KIND, check_kind, kind_of, read_card
-from slam_predict.learn.store import ModelStore
+from slam_predict.learn.card import (  # noqa: F401  (check_slam re-exported)
+    CARD,
+    PLAN_KIND,
+    ROBOT_KIND,
+    check_kind,
+    check_slam,
+    kind_of,
+    read_card,
+)
+from slam_predict.learn.store import ModelStore, list_stores
 
-SLAM_ALGORITHMS = ("gmapping",)   # the SLAM algorithms the models were trained on
-
-
-def check_slam(slam: str | None) -> None:
-    """InputError unless ``slam`` is None or a SLAM algorithm the models know."""
-    if slam is not None and slam not in SLAM_ALGORITHMS:
-        raise InputError(f"no model of SLAM algorithm '{slam}' (the models know "
-                         f"{', '.join(SLAM_ALGORITHMS)})" + did_you_mean(slam, SLAM_ALGORITHMS))
+LOG = logging.getLogger(__name__)
 
 
 class PlanModel:
@@ -92,3 +94,39 @@ def load_model(path: os.PathLike | str, kind: str | None = None,
         return RobotModel.load(path)
     check_kind(card, PLAN_KIND, Path(path) / CARD)
     return PlanModel(ModelStore(path, feature_version))
+
+
+def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
+                  feature_version: str | None) -> ModelStore:
+    """The model folder ``name`` (a name under ``models_dir`` or a path), or the best one.
+
+    ``best``: among the compatible stores for ``setting``, the highest ``priority`` in the
+    card, then the most training buildings, then the name.
+    """
+    models_dir = Path(models_dir)
+    if name != "best":
+        path = Path(name) if (os.sep in name or Path(name).is_dir()) else models_dir / name
+        if not path.exists() and os.sep not in name:
+            names = [p.name for p in list_stores(models_dir)]
+            raise InputError(f"no model named '{name}' in {models_dir}" + did_you_mean(name, names)
+                             + (f" (available: {', '.join(names)})" if names else ""))
+        store = load_model(path, PLAN_KIND, feature_version).store
+        if setting is not None and store.card["setting"] != setting:
+            raise InputError(f"model was trained for the {store.card['setting']} setting, not "
+                             f"{setting}", path / CARD)
+        return store
+    candidates = []
+    for path in list_stores(models_dir):
+        try:
+            card = read_card(path)
+        except InputError as exc:
+            LOG.warning("skipping %s", exc.one_line())
+            continue
+        if kind_of(card) == PLAN_KIND and (setting is None
+                                                   or card["setting"] == setting):
+            candidates.append((-int(card.get("priority", 0)),
+                               -len(card["training_buildings"]), path.name, path))
+    if not candidates:
+        raise InputError(f"no trained model for the {setting} setting in {models_dir}; train one "
+                         "with 'slam-predict learn train'")
+    return load_model(sorted(candidates)[0][3], PLAN_KIND, feature_version).store

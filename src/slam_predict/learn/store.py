@@ -27,10 +27,10 @@ from typing import Any
 
 from slam_predict.atomic import atomic_dir
 from slam_predict.errors import InputError, did_you_mean
-from slam_predict.learn.card import CARD, FORMAT, PLAN_KIND, is_robot_card, kind_of, read_card
+from slam_predict.learn.card import CARD, FORMAT, is_robot_card, read_card
 
 LOG = logging.getLogger(__name__)
-__all__ = ["CARD", "FORMAT", "ModelStore", "read_card", "resolve_store", "save_store"]
+__all__ = ["CARD", "FORMAT", "ModelStore", "read_card", "save_store"]
 
 
 def installed(package: str) -> str:
@@ -234,43 +234,3 @@ def list_stores(models_dir: os.PathLike | str) -> list[Path]:
     if not models_dir.is_dir():
         return []
     return sorted(p for p in models_dir.iterdir() if (p / CARD).is_file())
-
-
-def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
-                  feature_version: str | None) -> ModelStore:
-    """The model folder ``name`` (a name under ``models_dir`` or a path), or the best one.
-
-    ``best``: among the compatible stores for ``setting``, the highest ``priority`` in the
-    card, then the most training buildings, then the name.
-    """
-    models_dir = Path(models_dir)
-    if name != "best":
-        path = Path(name) if (os.sep in name or Path(name).is_dir()) else models_dir / name
-        if not path.exists() and os.sep not in name:
-            names = [p.name for p in list_stores(models_dir)]
-            raise InputError(f"no model named '{name}' in {models_dir}" + did_you_mean(name, names)
-                             + (f" (available: {', '.join(names)})" if names else ""))
-        from slam_predict.learn.model import load_model
-
-        store = load_model(path, PLAN_KIND, feature_version).store
-        if setting is not None and store.card["setting"] != setting:
-            raise InputError(f"model was trained for the {store.card['setting']} setting, not "
-                             f"{setting}", path / CARD)
-        return store
-    candidates = []
-    for path in list_stores(models_dir):
-        try:
-            card = read_card(path)
-        except InputError as exc:
-            LOG.warning("skipping %s", exc.one_line())
-            continue
-        if kind_of(card) == PLAN_KIND and (setting is None
-                                                   or card["setting"] == setting):
-            candidates.append((-int(card.get("priority", 0)),
-                               -len(card["training_buildings"]), path.name, path))
-    if not candidates:
-        raise InputError(f"no trained model for the {setting} setting in {models_dir}; train one "
-                         "with 'slam-predict learn train'")
-    from slam_predict.learn.model import load_model
-
-    return load_model(sorted(candidates)[0][3], PLAN_KIND, feature_version).store

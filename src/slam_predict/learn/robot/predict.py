@@ -153,7 +153,7 @@ class RobotModel:
         model for gets None values. The value always lies inside its interval. ``slam``:
         None or ``gmapping`` (the training runs' SLAM algorithm).
         """
-        from slam_predict.learn.model import check_slam
+        from slam_predict.learn.card import check_slam
 
         check_slam(slam)
         x = self.row(plan_features, robot)
