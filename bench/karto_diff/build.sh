@@ -13,15 +13,7 @@
 # missing tbb::parallel_do is provided there as tbb::parallel_for_each (same per-element calls).
 # The upstream commit (UPSTREAM_SRC/.commit when present, else "unknown") goes to
 # BUILD_DIR/upstream_commit.
-set -euo pipefail
-if [ $# -ne 2 ]; then
-    echo "usage: $0 UPSTREAM_SRC BUILD_DIR" >&2
-    exit 2
-fi
-SRC=$(cd "$1" && pwd)
-mkdir -p "$2"
-BUILD=$(cd "$2" && pwd)
-HERE=$(cd "$(dirname "$0")" && pwd)
+source "$(dirname "$0")/../diff_build_args.sh"  # strict mode; SRC, BUILD, HERE
 if [ ! -f "$SRC/lib/karto_sdk/src/Mapper.cpp" ] || [ ! -f "$SRC/solvers/ceres_solver.cpp" ]; then
     echo "$SRC: not a slam_toolbox package tree (lib/karto_sdk/src/Mapper.cpp or" \
          "solvers/ceres_solver.cpp missing)" >&2

@@ -1,10 +1,7 @@
 """Karto prepared scans (the differential check's input for the real Karto SDK), the driver's
-JSON output, and the bench script's refusal without an upstream checkout."""
+JSON output, and the bench's pose agreement."""
 import importlib.util
 import json
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -26,21 +23,12 @@ def _scans(rng, n=4, beams=7, range_max=30.0 + 1 / 3):
     return times, odometry, ranges, laser
 
 
-def _parse(text):
-    lines = text.splitlines()
-    header, scans = {}, []
-    for line in lines[1:]:
-        key, *values = line.split()
-        if key == "SCAN":
-            scans.append([float(v) for v in values])
-        else:
-            header[key] = values
-    return lines[0], header, np.array(scans)
 
 
-def test_every_number_reads_back_exactly():
+def test_every_number_reads_back_exactly(parse_prepared):
     times, odometry, ranges, laser = _scans(np.random.default_rng(4))
-    magic, header, scans = _parse(karto_scans_text(times, odometry, ranges, laser, 0.125))
+    text = karto_scans_text(times, odometry, ranges, laser, 0.125)
+    magic, header, scans = parse_prepared(text)
     assert magic == "slam_predict_prepared_scans 1" and header["backend"] == ["karto"]
     assert [float(v) for v in header["laser_pose"]] == list(laser.pose_in_base)
     assert int(header["angles"][0]) == 7
@@ -52,9 +40,9 @@ def test_every_number_reads_back_exactly():
     np.testing.assert_array_equal(scans[:, 4:], ranges)
 
 
-def test_unknown_range_max_is_the_longest_reading():
+def test_unknown_range_max_is_the_longest_reading(parse_prepared):
     times, odometry, ranges, laser = _scans(np.random.default_rng(6), range_max=float("nan"))
-    _, header, _ = _parse(karto_scans_text(times, odometry, ranges, laser))
+    _, header, _ = parse_prepared(karto_scans_text(times, odometry, ranges, laser))
     assert float(header["range_max"][0]) == ranges.max()
 
 
@@ -121,10 +109,3 @@ def test_pose_agreement_counts_real_scans_ours_matched_within_1_cm():
     # scan 0 within 9 mm, 4 off by 11 mm, 7 not accepted by ours, 9 same position
     assert bench.within_tolerance(ours, real) == pytest.approx(0.5)
 
-
-def test_bench_without_upstream_says_how_to_get_it():
-    env = {k: v for k, v in os.environ.items() if k != "SLAM_PREDICT_KARTO_UPSTREAM"}
-    proc = subprocess.run([sys.executable, str(ROOT / "bench" / "bench_karto_diff.py")],
-                          env=env, capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 2
-    assert "slam_toolbox" in proc.stderr and "--upstream" in proc.stderr

@@ -26,8 +26,8 @@ import numpy as np
 
 from slam_predict.atomic import write_text
 from slam_predict.errors import InputError, require_file
+from slam_predict.formats.prepared_scans import MAGIC, checked_scans
 
-MAGIC = "slam_predict_prepared_scans 1"
 DRIVER_FORMAT = "karto_driver 1"
 # evenly spaced beams: largest allowed deviation from the linear fit (rad)
 SPACING_TOLERANCE = 1e-9
@@ -44,14 +44,7 @@ def karto_scans_text(times, odometry, ranges, laser, range_min: float = 0.0) -> 
     """The prepared-scans text of one Karto run; ``laser`` is a
     :class:`slam_predict.slam.LaserGeometry` whose beams must be evenly spaced (Karto describes a
     laser by its first angle and increment)."""
-    times = np.asarray(times, dtype=float)
-    odometry = np.asarray(odometry, dtype=float).reshape(-1, 3)
-    ranges = np.asarray(ranges, dtype=float)
-    if ranges.ndim != 2 or ranges.shape[1] != laser.beams or len(ranges) != len(times):
-        raise ValueError(f"ranges {ranges.shape} do not match {len(times)} scans of "
-                         f"{laser.beams} beams")
-    if len(odometry) != len(times):
-        raise ValueError("odometry and times differ in length")
+    times, odometry, ranges = checked_scans(times, odometry, ranges, laser)
     angles = laser.angles
     if laser.beams < 2:
         raise ValueError("Karto needs at least 2 beams")
