@@ -1,8 +1,6 @@
 """Karto prepared scans (the differential check's input for the real Karto SDK), the driver's
 JSON output, and the bench's pose agreement."""
-import importlib.util
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,8 +8,6 @@ import pytest
 from slam_predict.errors import InputError
 from slam_predict.formats.karto_scans import karto_scans_text, read_karto_driver_output
 from slam_predict.slam import LaserGeometry
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
 def _scans(rng, n=4, beams=7, range_max=30.0 + 1 / 3):
@@ -93,16 +89,8 @@ def test_broken_driver_output_is_an_input_error(tmp_path, text, message):
         read_karto_driver_output(path)
 
 
-def _bench():
-    spec = importlib.util.spec_from_file_location("bench_karto_diff",
-                                                  ROOT / "bench" / "bench_karto_diff.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def test_pose_agreement_counts_real_scans_ours_matched_within_1_cm():
-    bench = _bench()
+def test_pose_agreement_counts_real_scans_ours_matched_within_1_cm(load_bench):
+    bench = load_bench("bench_karto_diff")
     real = {"indices": [0, 4, 7, 9], "poses": [[0, 0, 0], [1, 1, 0], [2, 0, 0], [3, 0, 0]]}
     ours = {"indices": [0, 4, 9, 11],
             "poses": [[0.009, 0, 0], [1, 1.011, 0], [3, 0, 1.0], [5, 0, 0]]}
