@@ -6,15 +6,7 @@
 #   BUILD_DIR     where objects, libgmapping_real.a and the gmapping_diff_driver binary go
 # The flags follow a release build of the upstream CMake (-O3, NDEBUG); the upstream commit (from
 # UPSTREAM_SRC/.commit when present, else "unknown") is written to BUILD_DIR/upstream_commit.
-set -euo pipefail
-if [ $# -ne 2 ]; then
-    echo "usage: $0 UPSTREAM_SRC BUILD_DIR" >&2
-    exit 2
-fi
-SRC=$(cd "$1" && pwd)
-mkdir -p "$2"
-BUILD=$(cd "$2" && pwd)
-HERE=$(cd "$(dirname "$0")" && pwd)
+source "$(dirname "$0")/../diff_build_args.sh"  # strict mode; SRC, BUILD, HERE
 if [ ! -f "$SRC/gridfastslam/gridslamprocessor.cpp" ]; then
     echo "$SRC: not an openslam_gmapping source tree (gridfastslam/gridslamprocessor.cpp missing)" >&2
     exit 2

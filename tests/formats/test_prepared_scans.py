@@ -1,5 +1,5 @@
 """Prepared scans (the differential check's input for the real openslam_gmapping) and the
-driver's output format; the bench script's refusal without an upstream checkout."""
+driver's output format; the differential benches' refusal without an upstream checkout."""
 import os
 import subprocess
 import sys
@@ -29,24 +29,14 @@ def _scans(rng, n=4, beams=5):
     return times, odometry, ranges, laser
 
 
-def _parse(text):
-    lines = text.splitlines()
-    header = {}
-    scans = []
-    for line in lines[1:]:
-        key, *values = line.split()
-        if key == "SCAN":
-            scans.append([float(v) for v in values])
-        else:
-            header[key] = values
-    return lines[0], header, np.array(scans)
 
 
-def test_every_number_reads_back_exactly():
+def test_every_number_reads_back_exactly(parse_prepared):
     rng = np.random.default_rng(4)
     times, odometry, ranges, laser = _scans(rng)
     params = with_ranges(GMappingParams(particles=7, srr=0.0123456789012345), laser.range_max)
-    magic, header, scans = _parse(prepared_scans_text(times, odometry, ranges, laser, params, 9))
+    text = prepared_scans_text(times, odometry, ranges, laser, params, 9)
+    magic, header, scans = parse_prepared(text)
     assert magic == "slam_predict_prepared_scans 1"
     assert header["seed"] == ["9"] and header["angle_mode"] == ["node"]
     assert all(name in header for name in FILTER_PARAMS)
@@ -96,9 +86,13 @@ def test_incomplete_driver_output_is_an_input_error(tmp_path, text, message):
         read_driver_output(path)
 
 
-def test_bench_without_upstream_says_how_to_get_it():
-    env = {k: v for k, v in os.environ.items() if k != "SLAM_PREDICT_GMAPPING_UPSTREAM"}
-    proc = subprocess.run([sys.executable, str(ROOT / "bench" / "bench_gmapping_diff.py")],
+@pytest.mark.parametrize("script, variable, library", [
+    ("bench_gmapping_diff.py", "SLAM_PREDICT_GMAPPING_UPSTREAM", "openslam_gmapping"),
+    ("bench_karto_diff.py", "SLAM_PREDICT_KARTO_UPSTREAM", "slam_toolbox"),
+])
+def test_bench_without_upstream_says_how_to_get_it(script, variable, library):
+    env = {k: v for k, v in os.environ.items() if k != variable}
+    proc = subprocess.run([sys.executable, str(ROOT / "bench" / script)],
                           env=env, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2
-    assert "openslam_gmapping" in proc.stderr and "--upstream" in proc.stderr
+    assert library in proc.stderr and "--upstream" in proc.stderr

@@ -42,14 +42,9 @@ def _text(value) -> str:
     return repr(float(value)) if not isinstance(value, (int, np.integer)) else str(int(value))
 
 
-def prepared_scans_text(times, odometry, ranges, laser, params, seed: int,
-                        angle_mode: str = "node") -> str:
-    """The prepared-scans text of one run. ``params`` must have maxRange/maxUrange resolved
-    (``params.with_ranges``); ``laser`` is a :class:`slam_predict.slam.LaserGeometry`."""
-    if angle_mode not in ANGLE_MODES:
-        raise ValueError(f"angle_mode must be one of {ANGLE_MODES}, not {angle_mode!r}")
-    if params.maxRange is None or params.maxUrange is None:
-        raise ValueError("maxRange/maxUrange must be resolved (params.with_ranges)")
+def checked_scans(times, odometry, ranges, laser):
+    """(times (N,), odometry (N, 3), ranges (N, B)) as float arrays; ValueError when their
+    lengths or the beam count of ``laser`` disagree."""
     times = np.asarray(times, dtype=float)
     odometry = np.asarray(odometry, dtype=float).reshape(-1, 3)
     ranges = np.asarray(ranges, dtype=float)
@@ -58,6 +53,18 @@ def prepared_scans_text(times, odometry, ranges, laser, params, seed: int,
                          f"{laser.beams} beams")
     if len(odometry) != len(times):
         raise ValueError("odometry and times differ in length")
+    return times, odometry, ranges
+
+
+def prepared_scans_text(times, odometry, ranges, laser, params, seed: int,
+                        angle_mode: str = "node") -> str:
+    """The prepared-scans text of one run. ``params`` must have maxRange/maxUrange resolved
+    (``params.with_ranges``); ``laser`` is a :class:`slam_predict.slam.LaserGeometry`."""
+    if angle_mode not in ANGLE_MODES:
+        raise ValueError(f"angle_mode must be one of {ANGLE_MODES}, not {angle_mode!r}")
+    if params.maxRange is None or params.maxUrange is None:
+        raise ValueError("maxRange/maxUrange must be resolved (params.with_ranges)")
+    times, odometry, ranges = checked_scans(times, odometry, ranges, laser)
     lines = [MAGIC, f"seed {int(seed)}", f"angle_mode {angle_mode}"]
     lines += [f"{name} {_text(getattr(params, name))}" for name in FILTER_PARAMS]
     lines.append("laser_pose " + " ".join(_text(v) for v in laser.pose_in_base))
