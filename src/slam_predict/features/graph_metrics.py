@@ -70,7 +70,10 @@ def eigenvector_centrality(adj: sparse.csr_matrix) -> np.ndarray:
         _, vectors = np.linalg.eigh(adj.toarray())
         vec = vectors[:, -1]
     else:
-        _, vectors = splinalg.eigsh(adj.astype(float), k=1, which="LA", tol=1e-10)
+        # a fixed start vector: without one ARPACK starts from a random vector (numpy's global
+        # generator), and the last digits of the result change from run to run
+        _, vectors = splinalg.eigsh(adj.astype(float), k=1, which="LA", tol=1e-10,
+                                    v0=np.ones(n))
         vec = vectors[:, 0]
     return vec / (np.sign(vec.sum()) * np.linalg.norm(vec))
 
