@@ -9,6 +9,7 @@ import numpy as np
 
 from slam_predict.slam import LaserGeometry, OccupancyGrid, SlamBackend
 from slam_predict.slam.karto import kernels, occupancy
+from slam_predict.slam.karto.graph import MapperGraph
 from slam_predict.slam.karto.matcher import ScanMatcher, SearchSettings
 from slam_predict.slam.karto.params import KartoParams, params_from_dict
 from slam_predict.slam.karto.scan import (
@@ -72,7 +73,18 @@ class Mapper:
                                    p.correlation_search_space_resolution,
                                    p.correlation_search_space_smear_deviation,
                                    laser.range_threshold)
-        self.graph = None
+        self._loop_matcher = None
+        self.graph = MapperGraph(self) if p.use_scan_matching else None
+
+    def loop_matcher(self) -> ScanMatcher:
+        """The loop-closure matcher (its grid built on first use)."""
+        if self._loop_matcher is None:
+            p = self.p
+            self._loop_matcher = ScanMatcher(search_settings(p), p.loop_search_space_dimension,
+                                             p.loop_search_space_resolution,
+                                             p.loop_search_space_smear_deviation,
+                                             self.laser.range_threshold)
+        return self._loop_matcher
 
     def has_moved_enough(self, scan: LocalizedScan, last: LocalizedScan | None) -> bool:
         """Mapper::HasMovedEnough on the odometric sensor poses (the time test never fires:
