@@ -211,7 +211,7 @@ class Karto(SlamBackend):
         scans = self.mapper.scans
         if not scans:
             return np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 3))
-        return (np.array([s.input_index for s in scans], np.int64),
+        return (np.arange(len(scans), dtype=np.int64),
                 np.array([s.time for s in scans]),
                 np.array([s.corrected_pose for s in scans]))
 
