@@ -60,15 +60,17 @@ class MapperGraph:
         scan.set_sensor_pose(weighted_mean(means, covariances))
 
     def link(self, source: LocalizedScan, target: LocalizedScan, mean, covariance) -> bool:
-        """LinkScans: a new edge source → target carrying mean − source's sensor pose."""
+        """LinkScans: a new edge source → target carrying the robot pose of ``mean`` (a sensor
+        pose) in the frame of source's corrected pose."""
         key = (source.unique_id, target.unique_id)
         if key in self.edge_set:
             return False
         self.edge_set.add(key)
         self.adjacent[source.unique_id].append(target.unique_id)
         self.adjacent[target.unique_id].append(source.unique_id)
-        origin = source.sensor_pose
-        self.solver.add_constraint(source.unique_id, target.unique_id, relative(origin, mean),
+        origin = source.corrected_pose
+        self.solver.add_constraint(source.unique_id, target.unique_id,
+                                   relative(origin, target.corrected_at(mean)),
                                    rotated_covariance(covariance, origin[2]))
         return True
 

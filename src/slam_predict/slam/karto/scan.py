@@ -77,15 +77,19 @@ class LocalizedScan:
         self.corrected_pose = np.asarray(pose, float)
         self._update()
 
-    def set_sensor_pose(self, sensor_pose) -> None:
-        """LocalizedRangeScan::SetSensorPose: the robot pose whose laser is at ``sensor_pose``."""
+    def corrected_at(self, sensor_pose) -> np.ndarray:
+        """LocalizedRangeScan::GetCorrectedAt: the robot pose whose laser is at ``sensor_pose``."""
         ox, oy, oh = self.laser.offset
         length = math.hypot(ox, oy)
         heading = normalize_angle(sensor_pose[2])
         along = heading + math.atan2(oy, ox) - oh
-        self.set_corrected_pose([sensor_pose[0] - length * math.cos(along),
-                                 sensor_pose[1] - length * math.sin(along),
-                                 normalize_angle(sensor_pose[2] - oh)])
+        return np.array([sensor_pose[0] - length * math.cos(along),
+                         sensor_pose[1] - length * math.sin(along),
+                         normalize_angle(sensor_pose[2] - oh)])
+
+    def set_sensor_pose(self, sensor_pose) -> None:
+        """LocalizedRangeScan::SetSensorPose: move the robot so its laser is at ``sensor_pose``."""
+        self.set_corrected_pose(self.corrected_at(sensor_pose))
 
     def _update(self) -> None:
         laser = self.laser
