@@ -32,10 +32,11 @@ def range_finder(laser: LaserGeometry, max_laser_range: float) -> RangeFinder:
 
 
 def search_settings(p: KartoParams) -> SearchSettings:
-    """The matcher's view of the parameters."""
+    """The matcher's view of the parameters (Mapper's setters square the two variance
+    penalties: slam_toolbox's values are standard deviations, m and rad)."""
     return SearchSettings(p.coarse_search_angle_offset, p.coarse_angle_resolution,
-                          p.fine_search_angle_offset, p.distance_variance_penalty,
-                          p.minimum_distance_penalty, p.angle_variance_penalty,
+                          p.fine_search_angle_offset, p.distance_variance_penalty ** 2,
+                          p.minimum_distance_penalty, p.angle_variance_penalty ** 2,
                           p.minimum_angle_penalty, p.use_response_expansion)
 
 

@@ -172,7 +172,7 @@ class MapperGraph:
         while chain:
             response, best, cov = self.mapper.loop_matcher().match(scan, chain, penalize=False,
                                                                    refine=False)
-            limit = self.p.loop_match_maximum_variance_coarse
+            limit = self.p.loop_match_maximum_variance_coarse ** 2   # squared by its setter
             if (response > self.p.loop_match_minimum_response_coarse and cov[0, 0] < limit
                     and cov[1, 1] < limit):
                 probe = LocalizedScan(scan.laser, scan.input_index, scan.time,
