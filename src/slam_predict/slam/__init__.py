@@ -183,6 +183,7 @@ class SlamBackend:
 # name -> factory, or "module:attribute" resolved on first use (keeps imports light)
 _REGISTRY: dict[str, str | Callable[..., SlamBackend]] = {
     "gmapping": "slam_predict.slam.gmapping.filter:GMapping",
+    "karto": "slam_predict.slam.karto.backend:Karto",
 }
 # Modules (or .py files) that register more back-ends, comma-separated; imported once, on the
 # first look-up, as are the ``slam_predict.slam_backends`` entry points of installed packages.

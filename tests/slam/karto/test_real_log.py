@@ -1,0 +1,24 @@
+"""Karto on the first scans of the Intel log: error bound against the log's reference, and,
+when the real library's outputs are in /work/karto_ref, the same accepted scans."""
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from slam_predict import slam
+from slam_predict.slam.runner import evaluate, read_input, run
+
+REAL = Path("/work/karto_ref/intel/real.json")
+
+
+@pytest.mark.slow
+def test_intel_first_scans(shared_data):
+    data = read_input(shared_data / "slam_inputs" / "intel.log.gz", 300)
+    result = run(data, "karto", slam.params_from_dict("karto", {}), 1)
+    errors = evaluate(result)
+    assert errors["slam"]["trans_mean_m"] < 0.3
+    assert errors["slam"]["trans_mean_m"] < errors["odometry"]["trans_mean_m"]
+    if REAL.is_file():
+        accepted = [a[0] for a in json.loads(REAL.read_text())["accepted"] if a[0] < 300]
+        assert np.array_equal(result.indices, accepted)
