@@ -22,3 +22,17 @@ def test_intel_first_scans(shared_data):
     if REAL.is_file():
         accepted = [a[0] for a in json.loads(REAL.read_text())["accepted"] if a[0] < 300]
         assert np.array_equal(result.indices, accepted)
+
+
+ACES_REAL = Path("/work/karto_ref/aces/real.json")
+
+
+@pytest.mark.skipif(not ACES_REAL.is_file(), reason="no real-library output in /work/karto_ref")
+def test_aces_equals_the_real_library(shared_data):
+    """ACES with the sync gate has no loop closure: every accepted scan and pose must be the
+    real karto_sdk's to rounding."""
+    data = read_input(shared_data / "slam_inputs" / "aces.log.gz", 120)
+    result = run(data, "karto", slam.params_from_dict("karto", {}), 1)
+    real = np.array([a for a in json.loads(ACES_REAL.read_text())["accepted"] if a[0] < 120])
+    assert np.array_equal(result.indices, real[:, 0].astype(int))
+    assert np.allclose(result.poses, real[:, 2:], atol=1e-9)

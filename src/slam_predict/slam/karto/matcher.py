@@ -77,7 +77,8 @@ class ScanMatcher:
         s = self.settings
         center = scan.sensor_pose
         if len(scan.ranges) == 0:
-            return 0.0, center, np.diag([MAX_VARIANCE] * 3)
+            return 0.0, center, np.diag([MAX_VARIANCE, MAX_VARIANCE,
+                                         4.0 * s.coarse_angle_resolution ** 2])
         half_extent = 0.5 * (self.roi[2] - 1) * self.resolution
         self.offset = center[:2] - half_extent
         self._fill(base_scans, center)
