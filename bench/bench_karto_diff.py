@@ -7,7 +7,8 @@ registry has it) and exported as Karto prepared scans (``slam_predict.formats.ka
 the real library, driven by ``bench/karto_diff/driver.cpp`` as slam_toolbox's ``addScan`` drives
 it (odometric = corrected pose = the odometry pose; slam_toolbox's scan gate with its
 ``minimum_time_interval`` rule in front of ``Mapper::Process``; the Ceres solver attached).
-Both sides get the same parameters: slam_toolbox's YAML (default: the upstream
+Both sides get the same parameters (and ours the real side's gate as ``scan_gate``, when its
+parameters have that entry): slam_toolbox's YAML (default: the upstream
 ``config/mapper_params_online_async.yaml``) plus ``--set`` overrides. Both trajectories are
 scored by the same code on their accepted scans against the log's reference poses:
 ``metric.evaluate_against_reference``, 5,000 random forward pairs, pair seed 0.
@@ -204,7 +205,8 @@ def compare(log: str, values: dict, args, driver: Path, with_ours: bool) -> str:
     data = read_input(path)
     real = side("real", data, folder,
                 lambda: run_real(data, folder, driver, args.gate, args.threads))
-    ours = side("ours", data, folder, lambda: run_ours(data, values)) if with_ours else None
+    mine = {**values, "scan_gate": args.gate}  # dropped by known_to when ours has no such key
+    ours = side("ours", data, folder, lambda: run_ours(data, mine)) if with_ours else None
     return row(short, len(data), ours, real)
 
 
