@@ -1,108 +1,95 @@
 #!/usr/bin/env python3
-"""Episode speed: simulated seconds per CPU second of one collection episode process, per
-building, for the campaign-speed targets (>= 8 on every fidelity-campaign building, >= 20 under
-1,000 m² of free floor).
+"""Episode speed per building: simulated seconds per CPU second of one episode process.
 
-Each episode runs in its own process (``python -c`` with ``PYTHONPATH=<tree>/src``, so another
-code tree, e.g. a ``git worktree`` of an older commit, can be measured the same way) with the
-fidelity campaign's settings (config/fidelity/seed_study.yaml of that tree, sensor logs off) up
-to ``--max-sim-time`` s of sim time or the stop rule; the CPU time is the process's own
-(``resource.getrusage``: user + system), so other load on the machine changes it little. Worlds
-that are not shipped are seed-study buildings imported from ../shared/data into
-out/thesis_worlds.
+Runs one in-process collection episode (:func:`slam_predict.collect.episode.run_episode`, the
+fidelity campaign's settings config/fidelity/seed_study.yaml, sensor logs off) per building in
+a fresh child process with the code of a work tree, stopped after ``--max-sim-time`` simulated
+seconds, and prints the sim time, the child's CPU time (user + system, numba cache loading
+included; a 20 s episode first fills the tree's cache, unmeasured) and their ratio. Buildings:
+the seed-study worlds (imported from ../shared/data into out/thesis_worlds once) or shipped
+worlds. Targets: >= 8 sim s per CPU s on every building of the campaign, >= 20 below 1,000 m2.
 
-Usage: bench/bench_episode_speed.py [--tree DIR] [--worlds NAME ...] [--max-sim-time S]
-           [--seed N]
+    python bench/bench_episode_speed.py                              # this tree, five buildings
+    python bench/bench_episode_speed.py --tree /tmp/e99e84b --max-sim-time 600 lab_intel
 """
 from __future__ import annotations
 
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
-import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-DEFAULT_WORLDS = ("Borchen4_updated", "office_h", "lab_intel", "Neulengbach1_updated",
-                  "FALAELEM1_updated")
-SMALL_M2, SMALL_TARGET, LARGE_TARGET = 1000.0, 20.0, 8.0
+sys.path.insert(0, str(ROOT / "bench"))
 
-EPISODE = """
-import dataclasses, json, resource, sys
+from bench_no_behaviour_change import world_path  # noqa: E402
+
+# small (333 m2), mid (1,574 m2) and the campaign's three largest (3,089 / 4,988 / 6,222 m2)
+BUILDINGS = ["Borchen4_updated", "office_h", "lab_intel", "NLB", "FALAELEM1_updated"]
+
+CHILD = """
+import dataclasses, json, sys, tempfile
 from slam_predict.collect.batch import RunSpec
 from slam_predict.collect.episode import run_episode
 from slam_predict.collect.settings import load_settings
-world, name, out, max_sim, seed = sys.argv[1:6]
+world, name, sim_s, seed = sys.argv[1], sys.argv[2], float(sys.argv[3]), int(sys.argv[4])
 settings = load_settings("config/fidelity/seed_study.yaml")
 settings.sensor_logs = False
-if float(max_sim) > 0:
-    settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=float(max_sim))
-record = run_episode(RunSpec(world, name, 0, int(seed), out), settings)
-usage = resource.getrusage(resource.RUSAGE_SELF)
-print(json.dumps({"sim_s": record["sim_duration_s"], "cpu_s": usage.ru_utime + usage.ru_stime,
-                  "free_area_m2": record["free_area_m2"], "stop": record["stop_reason"],
-                  "coverage": record["coverage"], "timing": record.get("timing")}))
+settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=sim_s)
+with tempfile.TemporaryDirectory() as out:
+    rec = run_episode(RunSpec(world, name, 0, seed, out), settings)
+print(json.dumps({"sim_s": rec["sim_duration_s"], "distance_m": rec["distance_m"],
+                  "trans_mean": rec["metric"]["trans_mean"]}))
 """
 
 
-def world_file(name: str) -> Path:
-    """A shipped world, else the seed-study building imported into out/thesis_worlds."""
-    shipped = ROOT / "worlds" / f"{name}.world"
-    if shipped.is_file():
-        return shipped
-    imported = ROOT / "out" / "thesis_worlds" / f"{name}.world"
-    if not imported.is_file():
-        table = ROOT.parent / "shared" / "data" / "thesis" / "environments.csv"
-        subprocess.run([sys.executable, "-m", "slam_predict.cli.main", "worlds", "import-thesis",
-                        str(table), "--out", str(imported.parent), "--only", name],
-                       cwd=ROOT, check=True, capture_output=True,
-                       env=dict(os.environ, PYTHONPATH=str(ROOT / "src")))
-    return imported
+def parse_args(argv: Sequence[str]) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("buildings", nargs="*", default=BUILDINGS, help="world names")
+    parser.add_argument("--tree", default=str(ROOT), help="work tree whose code runs")
+    parser.add_argument("--max-sim-time", type=float, default=900.0, help="sim s per episode")
+    parser.add_argument("--seed", type=int, default=12345, help="run seed")
+    return parser.parse_args(argv)
 
 
-def run_episode(tree: Path, name: str, max_sim: float, seed: int) -> dict:
-    """One episode of world ``name`` with the code of ``tree``, in its own process."""
+def child_cpu_s() -> float:
+    """CPU time (user + system) of the finished children so far, s."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def run_building(tree: Path, world: str, sim_s: float, seed: int) -> dict:
+    """One episode of ``world`` with the code of ``tree`` in a child process; its record
+    extract plus ``cpu_s``."""
     env = dict(os.environ, PYTHONPATH=str(tree / "src"),
                NUMBA_CACHE_DIR=str(tree / ".numba_cache"))
-    with tempfile.TemporaryDirectory(prefix="speed_") as work:
-        proc = subprocess.run(
-            [sys.executable, "-c", EPISODE, str(world_file(name)), name,
-             str(Path(work) / "run"), str(max_sim), str(seed)],
-            cwd=tree, env=env, capture_output=True, text=True)
+    before = child_cpu_s()
+    proc = subprocess.run([sys.executable, "-c", CHILD, str(world_path(tree, world)), world,
+                           str(sim_s), str(seed)], cwd=tree, env=env, capture_output=True,
+                          text=True)
     if proc.returncode != 0:
-        raise SystemExit(f"{name} failed with {tree}:\n{proc.stderr[-2000:]}")
-    return json.loads(proc.stdout.strip().splitlines()[-1])
+        raise SystemExit(f"{world} failed:\n{proc.stderr[-2000:]}")
+    result = json.loads(proc.stdout.strip().splitlines()[-1])
+    result["cpu_s"] = child_cpu_s() - before
+    return result
 
 
-def main(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--tree", default=str(ROOT), help="code tree to run (default: this)")
-    parser.add_argument("--worlds", nargs="+", default=list(DEFAULT_WORLDS))
-    parser.add_argument("--max-sim-time", type=float, default=0.0,
-                        help="s of sim time per episode (0: until the stop rule)")
-    parser.add_argument("--seed", type=int, default=12345)
-    args = parser.parse_args(argv)
+def main(argv: Sequence[str]) -> int:
+    args = parse_args(argv)
     tree = Path(args.tree).resolve()
-    print(f"tree {tree}, seed {args.seed}, max sim time {args.max_sim_time or 'stop rule'}")
-    print(f"{'world':28s} {'free m2':>8s} {'sim s':>7s} {'CPU s':>7s} {'sim/CPU':>8s} "
-          f"{'target':>6s}  stop")
-    failed = 0
-    for name in args.worlds:
-        got = run_episode(tree, name, args.max_sim_time, args.seed)
-        ratio = got["sim_s"] / got["cpu_s"]
-        target = SMALL_TARGET if got["free_area_m2"] < SMALL_M2 else LARGE_TARGET
-        failed += ratio < target
-        print(f"{name:28s} {got['free_area_m2']:8.0f} {got['sim_s']:7.0f} {got['cpu_s']:7.1f} "
-              f"{ratio:8.2f} {target:6.0f}  {got['stop']} (coverage {got['coverage']:.3f})")
-        timing = got.get("timing") or {}
-        if timing:
-            print("    wall s: " + ", ".join(f"{k} {v:.1f}" for k, v in timing.items()
-                                             if isinstance(v, (int, float))))
-    print(f"{len(args.worlds) - failed} of {len(args.worlds)} at their target")
+    print(f"tree {tree}, {args.max_sim_time:.0f} sim s, seed {args.seed}")
+    run_building(tree, args.buildings[0], 20.0, args.seed)      # compiles the numba cache
+    print(f"{'building':<20}{'sim s':>8}{'CPU s':>8}{'sim/CPU':>9}{'dist m':>8}{'trans':>8}")
+    for world in args.buildings:
+        r = run_building(tree, world, args.max_sim_time, args.seed)
+        print(f"{world:<20}{r['sim_s']:>8.0f}{r['cpu_s']:>8.1f}{r['sim_s'] / r['cpu_s']:>9.2f}"
+              f"{r['distance_m']:>8.0f}{r['trans_mean']:>8.4f}", flush=True)
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    raise SystemExit(main(sys.argv[1:]))

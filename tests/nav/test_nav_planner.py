@@ -280,3 +280,95 @@ def test_reused_search_work_gives_the_fresh_searches_results(seed):
         if len(ours[0]) and ours[0][-1].tolist() == list(g):
             assert ours[1] == pytest.approx(reference_dijkstra(cost, s, g), rel=1e-9)
     assert kept.stamp == 12
+
+
+class ReferenceHeap:
+    """The kernel's binary min-heap in plain Python (same sift rules, so the same pop order on
+    equal keys)."""
+
+    def __init__(self):
+        self.items: list[list] = []
+
+    def push(self, key: float, val: int) -> None:
+        items, i = self.items, len(self.items)
+        items.append([key, val])
+        while i > 0 and items[(i - 1) >> 1][0] > items[i][0]:
+            items[(i - 1) >> 1], items[i] = items[i], items[(i - 1) >> 1]
+            i = (i - 1) >> 1
+
+    def pop(self) -> tuple[float, int]:
+        items = self.items
+        top, last = items[0], items.pop()
+        if items:
+            items[0], i = last, 0
+            while 2 * i + 1 < len(items):
+                small = 2 * i + 1
+                if small + 1 < len(items) and items[small + 1][0] < items[small][0]:
+                    small += 1
+                if items[i][0] <= items[small][0]:
+                    break
+                items[small], items[i] = items[i], items[small]
+                i = small
+        return top[0], top[1]
+
+
+def reference_window_search(cost, start, goal, tol, weight):
+    """grid_search's rules in plain Python with fresh dicts: A* from start, stop when the goal
+    is settled or every traversable window cell is; end = nearest settled window cell (ties:
+    row-major first); returns (path [(x, y)...], cost)."""
+    ny, nx = cost.shape
+    (sx, sy), (gx, gy) = start, goal
+    window = [(x, y) for y in range(max(gy - tol, 0), min(gy + tol, ny - 1) + 1)
+              for x in range(max(gx - tol, 0), min(gx + tol, nx - 1) + 1)]
+    to_settle = sum(1 for x, y in window if np.isfinite(cost[y, x]) or (x, y) == start)
+    g, parent, done, heap = {start: 0.0}, {}, set(), ReferenceHeap()
+    heap.push(weight * math.hypot(sx - gx, sy - gy), start)
+    while heap.items and to_settle > 0:
+        _, u = heap.pop()
+        if u in done:
+            continue
+        done.add(u)
+        if abs(u[0] - gx) <= tol and abs(u[1] - gy) <= tol:
+            to_settle -= 1
+            if u == goal:
+                break
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                v = (u[0] + dx, u[1] + dy)
+                if (dx, dy) == (0, 0) or not (0 <= v[0] < nx and 0 <= v[1] < ny) or v in done:
+                    continue
+                if not np.isfinite(cost[v[1], v[0]]):
+                    continue
+                gv = g[u] + (math.sqrt(2.0) if dx and dy else 1.0) * cost[v[1], v[0]]
+                if v not in g or gv < g[v]:
+                    g[v], parent[v] = gv, u
+                    heap.push(gv + weight * math.hypot(v[0] - gx, v[1] - gy), v)
+    settled = [c for c in window if c in done]
+    if goal not in done and not settled:
+        return [], math.inf
+    end = goal if goal in done else min(settled, key=lambda c: (c[0] - gx) ** 2 + (c[1] - gy) ** 2)
+    path = [end]
+    while path[-1] != start:
+        path.append(parent[path[-1]])
+    return path[::-1], g[end]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_search_equals_a_plain_python_port_ties_included(seed):
+    """Path cells and cost equal the plain-Python port's on random costmaps with few distinct
+    costs (many equal keys: the pop order decides among equally cheap paths)."""
+    from slam_predict.nav.planner import SearchWork, _search
+
+    rng = np.random.default_rng(100 + seed)
+    work = SearchWork()
+    for _ in range(15):
+        ny, nx = rng.integers(6, 30, size=2)
+        cost = rng.choice([50.0, 100.0, np.inf], size=(ny, nx), p=[0.6, 0.2, 0.2])
+        s = (int(rng.integers(nx)), int(rng.integers(ny)))
+        g = (int(rng.integers(nx)), int(rng.integers(ny)))
+        tol = int(rng.integers(0, 3))
+        path, total = _search(cost, s, g, tol, work)
+        weight = min(float(np.min(cost[np.isfinite(cost)], initial=1.0)), 50.0)
+        ref_path, ref_total = reference_window_search(cost, s, g, tol, weight)
+        assert [tuple(c) for c in path.tolist()] == ref_path
+        assert total == ref_total or (math.isinf(total) and math.isinf(ref_total))
