@@ -1,6 +1,8 @@
 """Karto on the first scans of the Intel log: error bound against the log's reference, and,
-when the real library's outputs are in /work/karto_ref, the same accepted scans."""
+when the real library's outputs are there (bench/bench_karto_diff.py --out, in
+$SLAM_PREDICT_KARTO_REF or ../karto_ref beside the project), the same accepted scans."""
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -9,7 +11,9 @@ import pytest
 from slam_predict import slam
 from slam_predict.slam.runner import evaluate, read_input, run
 
-REAL = Path("/work/karto_ref/intel/real.json")
+KARTO_REF = Path(os.environ.get("SLAM_PREDICT_KARTO_REF",
+                               Path(__file__).resolve().parents[3].parent / "karto_ref"))
+REAL = KARTO_REF / "intel" / "real.json"
 
 
 @pytest.mark.slow
@@ -24,10 +28,10 @@ def test_intel_first_scans(shared_data):
         assert np.array_equal(result.indices, accepted)
 
 
-ACES_REAL = Path("/work/karto_ref/aces/real.json")
+ACES_REAL = KARTO_REF / "aces" / "real.json"
 
 
-@pytest.mark.skipif(not ACES_REAL.is_file(), reason="no real-library output in /work/karto_ref")
+@pytest.mark.skipif(not ACES_REAL.is_file(), reason=f"no real-library output in {KARTO_REF}")
 def test_aces_equals_the_real_library(shared_data):
     """ACES with the sync gate has no loop closure: every accepted scan and pose must be the
     real karto_sdk's to rounding."""
