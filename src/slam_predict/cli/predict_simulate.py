@@ -93,11 +93,11 @@ def simulate(args: argparse.Namespace, world, runs, current) -> dict:
     """Run (or resume) the simulations; returns the measured part of the result."""
     from slam_predict.collect.batch import Batch, BatchConfig
     from slam_predict.collect.campaign import open_campaign
-    from slam_predict.collect.simulate import FORCE_HINT, cap_note, measured, write_plan_world
+    from slam_predict.collect.simulate import cap_note, measured, write_plan_world
     from slam_predict.collect.summary import write_summary
 
     out = Path(args.out)
-    open_campaign(out, current, force=args.force, hint=FORCE_HINT)
+    open_campaign(out, current, force=args.force)
     world_path = write_plan_world(world, out)
     options = {key: getattr(args, key) for key in ("settings", "robot") if getattr(args, key)}
     if args.robot:

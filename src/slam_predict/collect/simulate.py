@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from slam_predict.collect.campaign import CAMPAIGN_JSON, CampaignMismatch, mismatch, read_campaign
+from slam_predict.collect.campaign import HINT as RESUME_HINT
 from slam_predict.metric.intervals import mean_interval, std_interval
 
 CONFIDENCE = 0.95
@@ -28,7 +29,6 @@ COMPONENTS = {"trans_mean": ("trans_mean", mean_interval, "m"),
               "rot_mean": ("rot_mean", mean_interval, "rad"),
               "rot_std": ("rot_mean", std_interval, "rad")}
 HINT = " (use another --out folder)"
-FORCE_HINT = " (use another --out folder, or --force to continue with the new settings)"
 
 
 def world_files(world) -> tuple[str, bytes]:
@@ -61,7 +61,7 @@ def check_resume(out: Path, current: dict[str, Any], force: bool = False) -> Non
     same_plan = recorded.get("plan") == current.get("plan")
     if force and same_plan:
         return
-    raise CampaignMismatch(problem + (FORCE_HINT if same_plan else HINT), path)
+    raise CampaignMismatch(problem + (RESUME_HINT if same_plan else HINT), path)
 
 
 def write_plan_world(world, out: Path) -> Path:
