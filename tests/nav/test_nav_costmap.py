@@ -21,7 +21,7 @@ from slam_predict.nav.costmap import (
     make_footprint,
     static_costs,
 )
-from slam_predict.nav.layered import LayeredCostmap
+from slam_predict.nav.layered import LayeredCostmap, changed_box
 
 
 def reference_inflate(master: np.ndarray, layer: InflationLayer) -> np.ndarray:
@@ -247,3 +247,16 @@ def test_footprint_clearing_disabled_keeps_an_obstacle_under_the_footprint():
     under = c.world_to_map(0.05, 0.0)
     near = c.world_to_map(0.5, 0.0)
     assert c.costs[under[1], under[0]] == LETHAL and c.costs[near[1], near[0]] == LETHAL
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_changed_box_bounds_every_changed_cell(seed):
+    """changed_box equals the box of np.nonzero(new != old), or None when nothing changed."""
+    rng = np.random.default_rng(seed)
+    old = rng.integers(0, 3, size=(40, 57)).astype(np.uint8)
+    new = old.copy()
+    assert changed_box(new, old) is None
+    for _ in range(int(rng.integers(1, 6))):
+        new[rng.integers(40), rng.integers(57)] += 1
+    ys, xs = np.nonzero(new != old)
+    assert changed_box(new, old) == (xs.min(), ys.min(), xs.max() + 1, ys.max() + 1)

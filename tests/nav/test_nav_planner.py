@@ -372,3 +372,33 @@ def test_search_equals_a_plain_python_port_ties_included(seed):
         ref_path, ref_total = reference_window_search(cost, s, g, tol, weight)
         assert [tuple(c) for c in path.tolist()] == ref_path
         assert total == ref_total or (math.isinf(total) and math.isinf(ref_total))
+
+
+def test_a_repeated_request_gets_the_searched_plan_and_a_changed_costmap_a_new_search():
+    """The last request's plan is given back only for the same start cell, goal, tolerance and
+    costs; it equals a fresh planner's plan, and a change of one cell means a new search."""
+    rng = np.random.default_rng(7)
+    grid = np.where(dfs_maze(rng) == 0, FREE, LETHAL).astype(np.uint8)
+    costmap = Costmap(grid, (0.0, 0.0), RES)
+    cells = free_cells(grid)
+    start, goal = world(cells[0]), world(cells[-1])[:2] + (0.5,)
+    kept = planner()
+    first = kept.make_plan(costmap, start, goal)
+    stamp = kept.work.stamp
+    nudged = (start[0] + 0.2 * RES, start[1], 1.0)           # same cell, other heading
+    again = kept.make_plan(costmap, nudged, goal)
+    assert kept.work.stamp == stamp                           # no search
+    assert np.array_equal(again.poses, first.poses) and again.cost == first.cost
+    again.poses[0, 0] = -1.0                                  # a caller's edit stays its own
+    assert kept.make_plan(costmap, start, goal).poses[0, 0] == first.poses[0, 0]
+    changed = Costmap(grid.copy(), (0.0, 0.0), RES)
+    path = path_cells(first, costmap)
+    changed.costs[path[len(path) // 2][1], path[len(path) // 2][0]] = LETHAL
+    replanned = kept.make_plan(changed, start, goal)
+    assert kept.work.stamp == stamp + 1
+    fresh = planner().make_plan(changed, start, goal)
+    assert (replanned is None) == (fresh is None)
+    if fresh is not None:
+        assert np.array_equal(replanned.poses, fresh.poses)
+    other_goal = kept.make_plan(changed, start, world(cells[len(cells) // 2]))
+    assert kept.work.stamp == stamp + 2 and other_goal is not None

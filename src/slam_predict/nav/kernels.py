@@ -134,30 +134,32 @@ def inflate(master, min_i, min_j, max_i, max_j, radius, cost_cache, dist_cache, 
 # --------------------------------------------------------------------------------------------
 # Grid search (navfn / global_planner equivalent): 8-connected A* with a goal window
 # --------------------------------------------------------------------------------------------
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _heap_push(keys, vals, size, key, val):
-    """Push onto the binary min-heap keys[:size]; the caller checks the capacity."""
+    """Push onto the binary min-heap keys[:size]; the caller checks the capacity. The entry
+    rises while its parent's key is larger (a hole moves up; the same moves as swapping)."""
     i = size
-    keys[i] = key
-    vals[i] = val
     while i > 0:
         parent = (i - 1) >> 1
-        if keys[parent] <= keys[i]:
+        if keys[parent] <= key:
             break
-        keys[parent], keys[i] = keys[i], keys[parent]
-        vals[parent], vals[i] = vals[i], vals[parent]
+        keys[i] = keys[parent]
+        vals[i] = vals[parent]
         i = parent
+    keys[i] = key
+    vals[i] = val
     return size + 1
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _heap_pop(keys, vals, size):
-    """Pop the smallest (key, value); returns (key, value, new size)."""
+    """Pop the smallest (key, value); returns (key, value, new size). The last entry sinks
+    from the root past every smaller child (the left one on equal keys), as swapping would."""
     key = keys[0]
     val = vals[0]
     size -= 1
-    keys[0] = keys[size]
-    vals[0] = vals[size]
+    last_key = keys[size]
+    last_val = vals[size]
     i = 0
     while True:
         left = 2 * i + 1
@@ -166,17 +168,19 @@ def _heap_pop(keys, vals, size):
         small = left
         if left + 1 < size and keys[left + 1] < keys[left]:
             small = left + 1
-        if keys[i] <= keys[small]:
+        if last_key <= keys[small]:
             break
-        keys[small], keys[i] = keys[i], keys[small]
-        vals[small], vals[i] = vals[i], vals[small]
+        keys[i] = keys[small]
+        vals[i] = vals[small]
         i = small
+    keys[i] = last_key
+    vals[i] = last_val
     return key, val, size
 
 
 @numba.njit(cache=True)
 def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuristic_weight,
-                keys, vals, g, parent, seen, done, stamp):
+                keys, vals, g, parent, mark, stamp):
     """Cheapest 8-connected path from (sx, sy) towards the goal window.
 
     ``cell_cost`` (float64 [ny, nx]): cost of entering a cell, per cell of travel (a diagonal
@@ -188,35 +192,36 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
     heuristic (``heuristic_weight`` <= the smallest cell cost) every settled cell has its
     optimal cost, so the returned path is optimal for its end cell.
 
-    ``keys`` (float64) / ``vals`` (int64) are the heap storage. ``g`` (float64), ``parent``,
-    ``seen`` and ``done`` (int64) are per-cell work arrays of at least ny·nx entries, reused from
-    search to search: a cell's ``g`` and ``parent`` hold for this search only where
-    ``seen == stamp`` (else g = inf), and it is settled where ``done == stamp``; ``stamp``
-    must differ from every value the arrays hold from earlier searches (a search number), so
-    nothing needs clearing. Returns (path as int64 [n, 2] of (x, y) cells from start to end, its
-    cost, status): status 0 = done (n = 0 when no window cell is reachable), -1 = the heap
-    storage was too small (retry with more).
+    ``keys`` (float64) / ``vals`` (int32) are the heap storage. ``g`` (float64), ``parent`` and
+    ``mark`` (int32) are per-cell work arrays of at least ny·nx entries, reused from search to
+    search: a cell is reached in this search where ``mark >= 2·stamp`` (then its ``g`` and
+    ``parent`` hold) and settled where ``mark == 2·stamp + 1``; ``stamp`` (a search number)
+    must exceed every stamp of earlier searches, so nothing needs clearing. Returns (path as
+    int64 [n, 2] of (x, y) cells from start to end, its cost, status): status 0 = done (n = 0
+    when no window cell is reachable), -1 = the heap storage was too small (retry with more).
     """
     ny, nx = cell_cost.shape
+    reached = 2 * stamp
+    settled = reached + 1
     to_settle = 0
     for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
         for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
             if np.isfinite(cell_cost[y, x]) or (x == sx and y == sy):
                 to_settle += 1
     cap = keys.shape[0]
-    size = 0
+    flat = cell_cost.ravel()
     start = sy * nx + sx
     g[start] = 0.0
-    seen[start] = stamp
+    mark[start] = reached
     h0 = heuristic_weight * math.hypot(sx - gx, sy - gy)
-    size = _heap_push(keys, vals, size, h0, start)
+    size = _heap_push(keys, vals, 0, h0, start)
     diag = math.sqrt(2.0)
     goal_found = False
     while size > 0 and to_settle > 0:
         key, u, size = _heap_pop(keys, vals, size)
-        if done[u] == stamp:
+        if mark[u] == settled:
             continue
-        done[u] = stamp
+        mark[u] = settled
         ux = u % nx
         uy = u // nx
         if win_x0 <= ux <= win_x1 and win_y0 <= uy <= win_y1:
@@ -235,16 +240,17 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
                 vx = ux + dx
                 if vx < 0 or vx >= nx:
                     continue
-                c = cell_cost[vy, vx]
+                v = vy * nx + vx
+                c = flat[v]
                 if not np.isfinite(c):
                     continue
-                v = vy * nx + vx
-                if done[v] == stamp:
+                m = mark[v]
+                if m == settled:
                     continue
                 step = diag if dx != 0 and dy != 0 else 1.0
                 gv = gu + step * c
-                if seen[v] != stamp or gv < g[v]:
-                    seen[v] = stamp
+                if m != reached or gv < g[v]:
+                    mark[v] = reached
                     g[v] = gv
                     parent[v] = u
                     h = heuristic_weight * math.hypot(vx - gx, vy - gy)
@@ -259,7 +265,7 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
         for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
             for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
                 idx = y * nx + x
-                if done[idx] == stamp:
+                if mark[idx] == settled:
                     d = (x - gx) * (x - gx) + (y - gy) * (y - gy)
                     if d < best:
                         best = d

@@ -107,11 +107,9 @@ class LayeredCostmap:
             self._static = new
             self._dirty = self._full()
             return
-        changed = np.nonzero(new != self._static)
+        box = changed_box(new, self._static)
         self._static = new
-        if changed[0].size:
-            box = (int(changed[1].min()), int(changed[0].min()), int(changed[1].max()) + 1,
-                   int(changed[0].max()) + 1)
+        if box is not None:
             self._dirty = union_bounds(self._dirty, box)
 
     def add_scan(self, sensor_pose, points: np.ndarray) -> None:
@@ -252,3 +250,14 @@ def _shift(grid: np.ndarray, cell_ox: int, cell_oy: int, fill: int) -> np.ndarra
         out[src_y0 - cell_oy:src_y1 - cell_oy, src_x0 - cell_ox:src_x1 - cell_ox] = \
             grid[src_y0:src_y1, src_x0:src_x1]
     return out
+
+
+def changed_box(new: np.ndarray, old: np.ndarray) -> Bounds | None:
+    """Cells (x0, y0, x1, y1), end-exclusive, bounding where two equal-shape grids differ;
+    None when they are equal."""
+    differs = new != old
+    rows = np.flatnonzero(differs.any(axis=1))
+    if not rows.size:
+        return None
+    cols = np.flatnonzero(differs[rows[0]:rows[-1] + 1].any(axis=0))
+    return (int(cols[0]), int(rows[0]), int(cols[-1]) + 1, int(rows[-1]) + 1)

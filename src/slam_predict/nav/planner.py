@@ -103,6 +103,7 @@ class GlobalPlanner:
         self.escape_radius = float(escape_radius)
         self.escapes = 0  # plans found only thanks to the start escape
         self.work = SearchWork()
+        self.last = LastPlan()
 
     @property
     def default_tolerance(self) -> float:
@@ -129,6 +130,19 @@ class GlobalPlanner:
         g = costmap.world_to_map(float(goal[0]), float(goal[1]))
         if s is None or g is None:
             return None
+        key = (s, tuple(float(v) for v in goal), tol, tuple(costmap.origin),
+               float(costmap.resolution))
+        if self.last.matches(key, costmap.costs):
+            self.escapes += self.last.escaped
+            return self.last.result()
+        plan, escaped = self._plan(costmap, s, g, goal, tol)
+        self.last.remember(key, costmap.costs, plan, escaped)
+        self.escapes += escaped
+        return plan
+
+    def _plan(self, costmap: Costmap, s, g, goal, tol: float) -> tuple[Plan | None, int]:
+        """make_plan's search from cell ``s`` to cell ``g``: (plan or None, 1 when only the
+        start escape found it else 0)."""
         tol_cells = int(math.floor(tol / costmap.resolution + 1e-9))
         box = self._search_box(costmap, s, g, tol_cells)
         x0, y0, x1, y1 = box
@@ -137,15 +151,16 @@ class GlobalPlanner:
         sx, sy = s[0] - x0, s[1] - y0
         gx, gy = g[0] - x0, g[1] - y0
         path, cost = _search(cell_cost, (sx, sy), (gx, gy), tol_cells, self.work)
+        escaped = 0
         if len(path) == 0 and INSCRIBED <= sub[sy, sx] <= LETHAL and self.escape_radius > 0:
             escape = self._escape_costs(sub, cell_cost, sx, sy, costmap.resolution)
             if escape is not None:
                 path, cost = _search(escape, (sx, sy), (gx, gy), tol_cells, self.work)
-                self.escapes += int(len(path) > 0)
+                escaped = int(len(path) > 0)
         if len(path) == 0:
-            return None
+            return None, 0
         path = path + np.array([x0, y0])
-        return self._to_plan(costmap, path, float(cost), goal, g)
+        return self._to_plan(costmap, path, float(cost), goal, g), escaped
 
     def _escape_costs(self, sub: np.ndarray, cell_cost: np.ndarray, sx: int, sy: int,
                       resolution: float) -> np.ndarray | None:
@@ -196,26 +211,60 @@ class GlobalPlanner:
         return Plan(np.column_stack([xy, yaw]), cost, length, reaches)
 
 
+class LastPlan:
+    """The last make_plan's inputs and result. A plan depends only on the start cell, the goal
+    pose, the tolerance, the costmap's geometry and its costs, so a request equal to the last
+    one in all of them gets the same plan without a search (move_base re-plans every
+    1/planner_frequency s and on every controller failure, also while the robot stands still
+    on an unchanged costmap)."""
+
+    def __init__(self):
+        self.key = None
+        self.costs = np.zeros((0, 0), np.uint8)
+        self.plan: Plan | None = None
+        self.escaped = 0
+
+    def matches(self, key, costs: np.ndarray) -> bool:
+        """True when ``key`` and ``costs`` equal the last request's."""
+        return key == self.key and np.array_equal(costs, self.costs)
+
+    def remember(self, key, costs: np.ndarray, plan: Plan | None, escaped: int) -> None:
+        """Keep a request and its result (the costs are copied)."""
+        self.key, self.plan, self.escaped = key, plan, escaped
+        if self.costs.shape == costs.shape:
+            np.copyto(self.costs, costs)
+        else:
+            self.costs = costs.copy()
+
+    def result(self) -> Plan | None:
+        """A copy of the last plan (None when it found none)."""
+        plan = self.plan
+        return None if plan is None else Plan(plan.poses.copy(), plan.cost, plan.length,
+                                              plan.reaches_goal)
+
+
 class SearchWork:
     """The per-cell work arrays of :func:`kernels.grid_search`, kept from search to search
     with a search number, so a plan over millions of cells clears none of them."""
 
     def __init__(self):
         self.g = np.empty(0)
-        self.parent = np.empty(0, np.int64)
-        self.seen = np.zeros(0, np.int64)
-        self.done = np.zeros(0, np.int64)
+        self.parent = np.empty(0, np.int32)
+        self.mark = np.zeros(0, np.int32)
         self.stamp = 0
 
     def next_search(self, cells: int) -> int:
         """The number of the next search over ``cells`` cells (arrays grown to fit)."""
         if self.g.size < cells:
             self.g = np.empty(cells)
-            self.parent = np.empty(cells, np.int64)
-            self.seen = np.zeros(cells, np.int64)
-            self.done = np.zeros(cells, np.int64)
+            self.parent = np.empty(cells, np.int32)
+            self.mark = np.zeros(cells, np.int32)
         self.stamp += 1
         return self.stamp
+
+    def settled(self, cells: int) -> np.ndarray:
+        """Which of the first ``cells`` cells the last search settled (bool)."""
+        return self.mark[:cells] == 2 * self.stamp + 1
 
 
 def _search(cell_cost: np.ndarray, start, goal, tol_cells: int,
@@ -232,8 +281,8 @@ def _search(cell_cost: np.ndarray, start, goal, tol_cells: int,
         stamp = work.next_search(cell_cost.size)
         path, cost, status = kernels.grid_search(
             cell_cost, sx, sy, gx, gy, gx - tol_cells, gy - tol_cells, gx + tol_cells,
-            gy + tol_cells, min(weight, 50.0), np.empty(cap), np.empty(cap, np.int64),
-            work.g, work.parent, work.seen, work.done, stamp)
+            gy + tol_cells, min(weight, 50.0), np.empty(cap), np.empty(cap, np.int32),
+            work.g, work.parent, work.mark, stamp)
         if status == 0:
             return path, cost
         cap *= 2
