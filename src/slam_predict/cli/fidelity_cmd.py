@@ -29,6 +29,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", metavar="MD", help="also write the markdown tables to MD")
     parser.add_argument("--plot", metavar="PNG",
                         help="also write the ratios ours/theirs against free area to PNG")
+    loo = parser.add_argument_group(
+        "models against the seed study",
+        "predict each building of a 'learn dataset' file leave-one-building-out, with the "
+        "model kinds of a shipped plan-only model refitted on the other buildings, and score "
+        "the predictions against the seed study's measured mean errors")
+    loo.add_argument("--loo-dataset", metavar="CSV",
+                     help="dataset of the campaign (slam-predict learn dataset --errors "
+                          "DATA/summary.csv ...)")
+    loo.add_argument("--loo-model", default="own-realistic", metavar="MODEL",
+                     help="model name (under the models folder) or folder whose card names "
+                          "the model kind and learning configuration")
     add_force_argument(parser)
 
 
@@ -46,6 +57,8 @@ def run(args: argparse.Namespace) -> int:
     comparisons = [compare_campaign(Path(c), thesis, args.min_runs,
                                     min_coverage=args.min_coverage) for c in args.campaigns]
     text = markdown_report(comparisons, Path(args.thesis).name)
+    if args.loo_dataset:
+        text += "\n" + models_against_thesis(args.loo_dataset, args.loo_model, thesis)
     if args.out:
         write_text(args.out, text)
     if args.plot:
@@ -55,3 +68,23 @@ def run(args: argparse.Namespace) -> int:
         write_bytes(args.plot, ratio_vs_area_png(comparisons))
     print(text, end="")
     return 0
+
+
+def models_against_thesis(dataset_csv: str, model: str, thesis) -> str:
+    """The markdown of :func:`slam_predict.learn.against.leave_one_out_against` for the
+    components the seed study's table holds."""
+    import os
+    from pathlib import Path
+
+    from slam_predict.learn import against
+    from slam_predict.learn.card import read_card
+    from slam_predict.learn.dataset import read_dataset
+    from slam_predict.learn.store import default_models_dir
+
+    folder = Path(model) if (os.sep in model or Path(model).is_dir()) \
+        else default_models_dir() / model
+    card = read_card(folder)
+    chosen = against.card_models(card, ["trans_mean", "rot_mean"])
+    rows = against.leave_one_out_against(read_dataset(dataset_csv),
+                                         against.card_learning_config(card), chosen, thesis)
+    return against.markdown(rows, card["name"], "the seed study")

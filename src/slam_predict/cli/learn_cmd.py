@@ -138,7 +138,7 @@ def run_dataset(args: argparse.Namespace) -> int:
         for row in errors:
             row.slam_config_hash = args.slam_config_hash
     if any(not row.setting for row in errors):
-        raise InputError("the table has no setting column: give --setting", args.errors)
+        raise InputError("the table has no setting column: give --thesis-setting", args.errors)
     if args.worlds:
         from slam_predict.features.plan import full_feature_config
         from slam_predict.learn.featurize import features_from_worlds

@@ -184,8 +184,10 @@ def ranked(summary: Sequence[dict], component: str, prefix: str = "") -> list[di
     return sorted(rows, key=lambda r: -_sortable(r["r2_mean"]))
 
 
-def _loo_one(data: Dataset, config: LearningConfig, component: str, model_id: str,
-             i: int) -> dict:
+def loo_one(data: Dataset, config: LearningConfig, component: str, model_id: str,
+            i: int) -> dict:
+    """Building ``i`` predicted (value and conformal interval) by ``model_id`` fitted on the
+    other buildings, beside its measured value ``y`` and the percentage error."""
     y = data.target(component)
     spec = design(model_id, data, config)
     train = np.delete(np.arange(len(data)), i)
@@ -201,7 +203,7 @@ def _loo_one(data: Dataset, config: LearningConfig, component: str, model_id: st
 def leave_one_out(data: Dataset, config: LearningConfig, chosen: dict[str, Sequence[str]],
                   n_jobs: int = 1) -> list[dict]:
     """Leave-one-building-out predictions with conformal intervals for the chosen models."""
-    jobs = [delayed(_loo_one)(data, config, component, model_id, i)
+    jobs = [delayed(loo_one)(data, config, component, model_id, i)
             for component, ids in chosen.items() for model_id in ids for i in range(len(data))]
     LOG.info("leave-one-building-out: %d fits of conformal models", len(jobs))
     return list(Parallel(n_jobs=n_jobs)(jobs))
