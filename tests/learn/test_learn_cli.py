@@ -71,7 +71,7 @@ def test_bad_inputs_are_one_line_errors(inputs, capsys):
     assert "nope.csv: table not found" in err
     err = run_error(["learn", "dataset", "--errors", str(inputs / "summary.csv"), "--features",
                      str(inputs / "features.csv"), "--out", str(inputs / "x.csv")], capsys)
-    assert "give --setting" in err
+    assert "give --thesis-setting" in err
     assert not (inputs / "x.csv").exists()
     (inputs / "bad.yaml").write_text("learning:\n  modles: [single]\n")
     err = run_error(["learn", "evaluate", str(inputs / "summary.csv"), "--out",

@@ -26,6 +26,7 @@ import numpy as np
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.card import CARD, POINTS_FILE, ROBOT_KIND, check_kind, input_names
 from slam_predict.learn.dataset import COMPONENTS, UNITS
+from slam_predict.learn.robot import envelope
 from slam_predict.learn.robot.inputs import (
     DERIVED_INPUTS,
     DERIVED_UNITS,
@@ -145,7 +146,9 @@ class RobotModel:
 
     def predict(self, plan_features: Mapping[str, float], robot: Mapping[str, float],
                 confidence: float = 0.9, slam: str | None = None) -> dict[str, dict]:
-        """{component: {"value", "low", "high", "unit", "model"}} for the four components.
+        """{component: {"value", "low", "high", "unit", "model"}} for the four components,
+        each monotone in the robot (by construction, or by
+        :mod:`~slam_predict.learn.robot.envelope`).
 
         Means: the point's expected run error and the interval of its mean over the design's
         run count; stds: the run-to-run std σ and the interval of the sample std over that
@@ -157,6 +160,7 @@ class RobotModel:
 
         check_slam(slam)
         x = self.row(plan_features, robot)
+        grid = None
         out: dict[str, dict] = {}
         runs = int(self.card.get("interval_runs", 2))
         for component in COMPONENTS:
@@ -165,13 +169,42 @@ class RobotModel:
                 out[component] = {"value": None, "low": None, "high": None,
                                   "unit": UNITS[component], "model": None}
                 continue
-            value = float(model.predict(x)[0])
-            bounds = (model.interval(x, confidence, max(runs, 2)) if is_std(component)
-                      else model.interval(x, confidence))
-            out[component] = {"value": value, "low": min(float(bounds[0, 0]), value),
-                              "high": max(float(bounds[0, 1]), value),
+            if self.monotone_by_construction(model):
+                value, low, high = (float(v[0]) for v in
+                                    self._grid_prediction(model, component, x, confidence, runs))
+            else:
+                grid = grid or self._robot_grid(plan_features)
+                axes, X, shape = grid
+                value, low, high = (
+                    envelope.interpolate(envelope.envelope(v.reshape(shape)), axes, robot)
+                    for v in self._grid_prediction(model, component, X, confidence, runs))
+            out[component] = {"value": value, "low": min(low, value), "high": max(high, value),
                               "unit": UNITS[component], "model": f"{self.name}/{model.kind}"}
         return out
+
+    def monotone_by_construction(self, model: LogScaleModel) -> bool:
+        """Boosted trees trained with the known directions as monotonic constraints; every
+        other model is made monotone by :mod:`~slam_predict.learn.robot.envelope`."""
+        config = (self.card.get("robot_learning_config") or {}).get(model.kind) or {}
+        return model.kind in ("trend_boosting", "gradient_boosting") and bool(
+            config.get("monotone"))
+
+    def _robot_grid(self, plan_features: Mapping[str, float]):
+        """(axes, input rows, grid shape) of the envelope's robots for one plan."""
+        axes = envelope.robot_axes(self.card["input_ranges"])
+        X = envelope.grid_inputs(self.names, axes, plan_features,
+                                 lambda r: derived_inputs(plan_features,
+                                                          {"laser_range_max_m": r}))
+        return axes, X, tuple(len(nodes) for nodes in axes.values())
+
+    @staticmethod
+    def _grid_prediction(model, component: str, X: np.ndarray, confidence: float,
+                         runs: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(value, low, high) of ``model`` on the rows ``X``, each low ≤ value ≤ high."""
+        value = np.asarray(model.predict(X), dtype=float)
+        bounds = (model.interval(X, confidence, max(runs, 2)) if is_std(component)
+                  else model.interval(X, confidence))
+        return value, np.minimum(bounds[:, 0], value), np.maximum(bounds[:, 1], value)
 
     def domain_warnings(self, plan_features: Mapping[str, float], robot: Mapping[str, float],
                         angular_resolution_deg: float | None = None) -> list[str]:
