@@ -98,9 +98,9 @@ def fit(runs: list[dict]) -> dict[str, float]:
     map_design = np.vstack([r["map"][0] for r in runs])
     map_costs = np.concatenate([r["map"][1] for r in runs])
     grid, _ = nnls(map_design, map_costs)
-    model = dict(zip(PROCESS_KEYS, process.tolist()))
+    model = dict(zip(PROCESS_KEYS, process.tolist(), strict=True))
     model["rejected_s"] = float(rejected.mean()) if rejected.size else 0.0
-    model.update(zip(MAP_KEYS, grid.tolist()))
+    model.update(zip(MAP_KEYS, grid.tolist(), strict=True))
     return model
 
 
