@@ -82,10 +82,9 @@ def _backend_and_params(args: argparse.Namespace, recorded):
 
 
 def run(args: argparse.Namespace) -> int:
+    from slam_predict.slam import canonical_name
     from slam_predict.slam.runner import evaluate, read_input, recorded_run, write_run
     from slam_predict.slam.runner import run as run_slam
-
-    from slam_predict.slam import canonical_name
 
     check_out_dir(args.out, args.force, inputs=(args.input, args.config))
     if args.type is not None:
