@@ -7,7 +7,8 @@ gmapping, config/collect_karto.yaml for karto: the same robot, navigation, explo
 rule, lockstep SLAM, sensor logs off) runs in a fresh child process, stopped after
 ``--max-sim-time`` simulated seconds; its CPU time is the child's ``time.process_time`` around
 the episode (numba cache warm: a 20 s episode of each back-end runs first, unmeasured). Printed
-per building and back-end: sim s, CPU s, sim s per CPU s, distance (m), ε_t (trans_mean, m).
+per building and back-end: sim s, CPU s, sim s per CPU s, distance (m), ε_t (trans_mean, m),
+the stop reason.
 
     nice python bench/bench_karto_episode.py                      # office_500 and office_1500
     nice python bench/bench_karto_episode.py --max-sim-time 600 school_300
@@ -39,7 +40,7 @@ with tempfile.TemporaryDirectory() as out:
     rec = run_episode(RunSpec(world, name, 0, int(seed), out), settings)
     cpu = time.process_time() - cpu0
 print(json.dumps({"sim_s": rec["sim_duration_s"], "cpu_s": cpu, "distance_m": rec["distance_m"],
-                  "trans_mean": rec["metric"]["trans_mean"]}))
+                  "trans_mean": rec["metric"]["trans_mean"], "stop": rec["stop_reason"]}))
 """
 
 
@@ -68,13 +69,13 @@ def main(argv: Sequence[str]) -> int:
     for backend in args.backends:                       # fills the numba cache, unmeasured
         run_episode(args.buildings[0], backend, 20.0, args.seed)
     print(f"{'building':<14}{'slam':<10}{'sim s':>7}{'CPU s':>8}{'sim/CPU':>9}{'dist m':>8}"
-          f"{'trans m':>9}")
+          f"{'trans m':>9}  stop")
     for world in args.buildings:
         for backend in args.backends:
             r = run_episode(world, backend, args.max_sim_time, args.seed)
             print(f"{world:<14}{backend:<10}{r['sim_s']:>7.0f}{r['cpu_s']:>8.1f}"
                   f"{r['sim_s'] / r['cpu_s']:>9.2f}{r['distance_m']:>8.0f}"
-                  f"{r['trans_mean']:>9.4f}", flush=True)
+                  f"{r['trans_mean']:>9.4f}  {r['stop']}", flush=True)
     return 0
 
 
