@@ -18,22 +18,26 @@ def files_under(folder: Path) -> list[str]:
     return sorted(str(p.relative_to(folder)) for p in folder.rglob("*"))
 
 
-def karto_settings(tmp_path: Path, params: str, base: str = "collect_karto.yaml") -> Path:
+def karto_settings(tmp_path: Path, params: str, base: str = "collect_karto.yaml",
+                   gate: str = "sync", cpu_factor: float = 1.0) -> Path:
     """Settings extending the shipped ``base`` with Karto parameters ``params`` (YAML lines)."""
-    (tmp_path / "karto.yaml").write_text(
-        (ROOT / "config" / "karto.yaml").read_text() + params)
+    (tmp_path / "karto.yaml").write_text((ROOT / "config" / "karto.yaml").read_text()
+                                         .replace("scan_gate: sync", f"scan_gate: {gate}")
+                                         .replace("cpu_factor: 1.0", f"cpu_factor: {cpu_factor}")
+                                         + params)
     path = tmp_path / "s.yaml"
     path.write_text(f"extends: {ROOT / 'config' / base}\nslam:\n  type: karto\n"
                     f"  params: karto.yaml\nstop:\n  max_sim_time_s: 20.0\n")
     return path
 
 
-def config_dir_with(tmp_path: Path, karto_lines: str) -> Path:
+def config_dir_with(tmp_path: Path, karto_lines: str, old: str = "", new: str = "") -> Path:
     folder = tmp_path / "cfg"
     folder.mkdir()
     for path in (ROOT / "config").glob("*.yaml"):
         (folder / path.name).write_text(path.read_text())
-    (folder / "karto.yaml").write_text((ROOT / "config" / "karto.yaml").read_text() + karto_lines)
+    text = (ROOT / "config" / "karto.yaml").read_text()
+    (folder / "karto.yaml").write_text((text.replace(old, new) if old else text) + karto_lines)
     return folder
 
 
@@ -70,7 +74,7 @@ BAD = [
                                      str(t / "r")], ["--slam karot", "did you mean 'karto'"]),
     ("slam run: bad karto config", lambda t: [
         "slam", "run", str(ACES), "--slam", "karto", "--out", str(t / "r"), "--config",
-        str(config_dir_with(t, "async_cost:\n  cpu_factor: 0\n") / "karto.yaml")],
+        str(config_dir_with(t, "", "cpu_factor: 1.0", "cpu_factor: 0") / "karto.yaml")],
      ["karto.yaml", "async_cost.cpu_factor"]),
 ]
 
@@ -95,9 +99,11 @@ def test_slam_run_takes_slam_toolbox_as_karto(tmp_path, capsys):
     assert capsys.readouterr().out.startswith("karto: ")
 
 
-def test_a_karto_campaign_runs_end_to_end(tmp_path, capsys):
-    """collect --slam karto on the tiny world with settings that say slam.type: karto."""
-    settings = karto_settings(tmp_path, "")
+@pytest.mark.parametrize("gate", ["sync", "async"])
+def test_a_karto_campaign_runs_end_to_end(tmp_path, capsys, gate):
+    """collect --slam karto on the tiny world with settings that say slam.type: karto (the
+    async node's real time on a machine 20 times slower than the reference)."""
+    settings = karto_settings(tmp_path, "", gate=gate, cpu_factor=20.0)
     out = tmp_path / "data"
     code = main(["collect", str(TINY), "--slam", "slam_toolbox", "--settings", str(settings),
                  "--runs", "1", "--out", str(out), "--no-progress"])

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""rostest: slam_gmapping (or sync_slam_toolbox_node, slam_toolbox_sync.test) on stage_sim publishes a latched, growing map, map -> odom and
-answers dynamic_map; map_metadata matches the map."""
+"""rostest: slam_gmapping (or sync_slam_toolbox_node, slam_toolbox_sync.test) on stage_sim
+publishes a latched, growing map, map -> odom and answers dynamic_map; map_metadata matches the
+map."""
 import threading
 import unittest
 
