@@ -127,14 +127,15 @@ class AsyncMapper(ComputeDelay):
         """The map thread's tick: a rebuild under the mapper's mutex; the next tick one interval
         after this one (ros::Rate), or when the rebuild ends if that is later."""
         cells, beams = self.map_size()
-        cost = self.cost.rebuild_s(cells, beams) * self.cost.cpu_factor
-        if beams > 0:
-            self._charge(start, cost / self.cost.cpu_factor)
+        if beams > 0:   # no scan yet: getOccupancyGrid returns nothing
+            busy = self._charge(start, self.cost.rebuild_s(cells, beams))
             self.stats["rebuilds"] += 1
-            self.stats["max_rebuild_s"] = max(self.stats["max_rebuild_s"], cost)
+            self.stats["max_rebuild_s"] = max(self.stats["max_rebuild_s"], busy)
         self.next_tick = max(self.next_tick + self.map_update_interval, self.busy_until)
 
-    def _charge(self, start: float, cpu_s: float) -> None:
+    def _charge(self, start: float, cpu_s: float) -> float:
+        """The mapper is busy from ``start`` for ``cpu_s`` × cpu_factor s; returns that."""
         busy = cpu_s * self.cost.cpu_factor
         self.busy_until = start + busy
         self.stats["busy_s"] += busy
+        return busy
