@@ -195,3 +195,24 @@ def test_a_collect_campaign_is_not_resumed_through_the_ros_graph(tmp_path):
     open_campaign(out, identity(load_settings(), 0, code_version()))
     with pytest.raises(CampaignMismatch, match="collected in-process"):
         br.open_ros_campaign(out, {}, base_seed=0)
+
+
+def test_slam_type_karto_picks_the_karto_settings_and_node(tmp_path):
+    options = {"slam_type": "slam_toolbox"}
+    br.resolve_slam_type(options)
+    assert options == {"settings": str(ROOT / "config" / "collect_karto.yaml")}
+    configs = br.component_configs(options["settings"])
+    assert configs["slam_type"] == "karto" and configs["karto_mode"] == "sync"
+    assert configs["gmapping_config"] == str(ROOT / "config" / "karto.yaml")
+    assert br.run_nodes(options)[-1] == "/slam_toolbox"
+    assert br.run_nodes({"slam": "gmapping", **options})[-1] == "/slam_gmapping"
+    settings = tmp_path / "s.yaml"
+    settings.write_text(f"extends: {ROOT / 'config' / 'collect_karto.yaml'}\n"
+                        "slam: {type: karto, params: {scan_gate: async}}\n")
+    assert br.component_configs(str(settings))["karto_mode"] == "async"
+    with pytest.raises(InputError, match="slam.type is gmapping, not karto"):
+        br.resolve_slam_type({"slam_type": "karto",
+                              "settings": str(ROOT / "config" / "collect.yaml")})
+    same = {"slam_type": "gmapping"}
+    br.resolve_slam_type(same)
+    assert same["settings"] == str(ROOT / "config" / "collect.yaml")

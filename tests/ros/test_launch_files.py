@@ -212,3 +212,34 @@ def test_every_launch_argument_is_documented():
     for path in sorted((ROOT / "launch").glob("*.launch")):
         for arg in ET.parse(path).getroot().findall("arg"):
             assert arg.get("doc"), f"{path.name}: arg {arg.get('name')} has no doc="
+
+
+@pytest.mark.parametrize("mode", ["sync", "async"])
+def test_karto_runs_as_our_slam_toolbox_node(mode):
+    cfg = config("single_run.launch", f"world:={WORLD}", "out:=/tmp/x", "slam_type:=karto",
+                 f"karto_mode:={mode}", f"gmapping_config:={ROOT / 'config' / 'karto.yaml'}")
+    node = nodes_of(cfg)["slam_toolbox"]
+    assert (node.package, node.type) == ("slam_predict", f"{mode}_slam_toolbox_node")
+    assert "slam_gmapping" not in nodes_of(cfg)
+    p = {k: v.value for k, v in cfg.params.items()}
+    assert p["/slam_toolbox/minimum_travel_distance"] == 0.5   # slam_toolbox's names
+    assert p["/orchestrator/shutdown_nodes"].split()[-1] == "/slam_toolbox"
+    assert "/slam_toolbox" in p["/orchestrator/wait_for_nodes"].split()
+    acks = _ack_list(p["/stage_sim/lockstep_acks"])
+    assert acks[0][0] == "/slam_toolbox/sim_ack"
+    out = cli("--nodes", "slam_predict", "single_run.launch", "out:=/x", "slam_type:=karto",
+              "karto_mode:=lifelong")
+    assert out.returncode != 0 and "invalid_karto_mode" in out.stderr
+
+
+def test_the_slam_toolbox_launch_file_runs_the_chosen_executable():
+    for mode in ("sync", "async"):
+        node = nodes_of(config("slam_toolbox.launch", f"mode:={mode}"))["slam_toolbox"]
+        assert node.type == f"{mode}_slam_toolbox_node"
+    p = {k: v.value for k, v in config("slam_toolbox.launch").params.items()}
+    assert p["/slam_toolbox/type"] == "karto" and p["/slam_toolbox/scan_gate"] == "sync"
+
+
+def test_batch_launch_passes_the_slam_type():
+    cfg = config("batch_explore.launch", "worlds:=/w", "out:=/d", "slam_type:=karto")
+    assert cfg.params["/batch_explore/slam_type"].value == "karto"

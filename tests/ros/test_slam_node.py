@@ -190,3 +190,55 @@ def test_the_node_draws_from_the_configured_stream():
     node, *_ = drive(upside_down=False, steps=3, random_stream="numpy")
     assert isinstance(node.slam.filter.rng, np.random.Generator)
     assert node.slam.stats()["drand48_seed"] is None
+
+
+@pytest.mark.parametrize("executable, given, gate", [
+    ("sync_slam_toolbox_node", {}, "sync"), ("sync_slam_toolbox_node", {"~scan_gate": "none"},
+                                             "sync"),
+    ("async_slam_toolbox_node", {"~scan_gate": "sync"}, "async"),
+    ("async_slam_toolbox_node", {"~scan_gate": "none"}, "none")])
+def test_slam_toolbox_executables_run_karto_with_their_gate(executable, given, gate):
+    from slam_predict.slam.karto.params import KartoParams
+    fake = FakeRospy({"~resolution": 0.1, "~minimum_travel_distance": 0.3,
+                      "~async_cost": {"cpu_factor": 2.0}, **given})
+    choice, _node, _seed = read_params(fake, executable)
+    assert choice.type == "karto" and isinstance(choice.params, KartoParams)
+    assert choice.params.scan_gate == gate and choice.params.resolution == 0.1
+    assert choice.params.minimum_travel_distance == 0.3
+    assert choice.params.async_cost.cpu_factor == 2.0
+
+
+@pytest.mark.parametrize("given, problem", [
+    ({"~type": "gmapping"}, "runs only karto"), ({"~resolution": -0.05}, "resolution"),
+    ({"~minimum_travel_distnce": 1.0, "~resolution": "x"}, "resolution")])
+def test_slam_toolbox_executables_refuse_bad_parameters(given, problem):
+    from slam_predict.errors import InputError
+    with pytest.raises(InputError, match=problem):
+        read_params(FakeRospy(given), "async_slam_toolbox_node")
+
+
+def test_karto_node_publishes_maps_and_map_to_odom():
+    from slam_predict.slam.karto.params import KartoParams
+    params = KartoParams(xmin=-10, ymin=-10, xmax=10, ymax=10, minimum_travel_distance=0.3,
+                         map_update_interval=1.0, max_laser_range=20.0)
+    fake, tf = FakeRospy(), FakeTf(False)
+    node = SlamNode(SlamChoice("karto", params), SlamNodeParams(), 3, fake, tf, tf)
+    node._pubs = {k: fake.Publisher(k, None) for k in ("map", "map_metadata", "entropy")}
+    for k in range(40):
+        t = 10.0 + 0.5 * k
+        base = np.array([-3.0 + 0.1 * k, -2.0 + 0.02 * k, 0.2 * math.sin(0.1 * k)])
+        tf.odom[round(t, 6)] = base
+        msg = LaserScan(angle_min=ANGLES[0], angle_max=ANGLES[-1],
+                        angle_increment=ANGLES[1] - ANGLES[0], range_min=0.1, range_max=30.0,
+                        ranges=cast(compose(base, np.array([0.1, 0.0, 0.0])), ANGLES).tolist())
+        msg.header.stamp = time_to_ros(t)
+        msg.header.frame_id = "laser"
+        fake.now = t
+        node.on_scan(msg)
+    maps = fake.pubs["map"].sent
+    assert len(maps) >= 3 and (grid_from_ros(maps[-1]).data == 100).sum() > 50
+    assert node.slam.stats()["scans_processed"] > 5
+    node.publish_transform()
+    sent = transform_from_ros(tf.sent[-1])
+    assert (sent.parent, sent.child) == ("map", "odom")
+    assert np.allclose(sent.pose, node.slam.map_to_odom(), atol=1e-9)

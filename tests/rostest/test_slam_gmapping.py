@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""rostest: slam_gmapping on stage_sim publishes a latched, growing map, map -> odom and
-answers dynamic_map; map_metadata matches the map."""
+"""rostest: slam_gmapping (or sync_slam_toolbox_node, slam_toolbox_sync.test) on stage_sim
+publishes a latched, growing map, map -> odom and answers dynamic_map; map_metadata matches the
+map."""
 import threading
 import unittest
 
@@ -59,9 +60,9 @@ class SlamGMappingTest(unittest.TestCase):
         self.assertEqual(maps.msg.header.frame_id, "map")
         known0 = int((first.data >= 0).sum())
         self.assertGreater(known0, 100)
+        count = maps.count            # a fast back-end publishes while the robot drives
         drive(cmd, 8.0, 0.0, 0.6)     # turn on the spot: the hidden half of the room appears
         drive(cmd, 6.0, 0.3, 0.0)
-        count = maps.count
         self.assertTrue(wait_for(lambda: maps.count > count, 30.0), "map not updated")
         last = grid_from_ros(maps.msg)
         # 270° laser: most is seen at once

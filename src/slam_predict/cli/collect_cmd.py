@@ -37,6 +37,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--settings", metavar="YAML",
                         help="collection settings (robot, gmapping, navigation, exploration, "
                              "stopping); default config/collect.yaml")
+    parser.add_argument("--slam", metavar="NAME",
+                        help="SLAM back-end: gmapping or karto (slam_toolbox: the same); without "
+                             "--settings its shipped settings (config/collect.yaml, "
+                             "config/collect_karto.yaml), with --settings their slam.type must "
+                             "be it")
     parser.add_argument("--robot", metavar="YAML|NAME",
                         help="robot description file (laser, odometry error, footprint, speed "
                              "limits; e.g. config/robots/lds_360_3p5.yaml, or the name of a "
@@ -149,13 +154,14 @@ def run(args: argparse.Namespace) -> int:
         open_campaign,
     )
     from slam_predict.collect.record import code_version
-    from slam_predict.collect.settings import load_settings
+    from slam_predict.collect.settings import load_settings, settings_for_slam
     from slam_predict.collect.summary import write_summary
     from slam_predict.paths import portable_path
     from slam_predict.words import plural
 
     check_at_least(args.jobs, 1, "--jobs")
     check_at_least(args.max_runs, 1, "--max-runs")
+    args.settings = settings_for_slam(args.slam, args.settings)
     worlds = find_worlds(args.worlds)
     settings = load_settings(args.settings, robot=args.robot, force_robot=args.force)
     design = load_run_design(args, worlds)

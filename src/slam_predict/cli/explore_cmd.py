@@ -34,6 +34,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--map-source", choices=map_sources(), default="perfect",
                         help="map from the true poses (perfect) or from a SLAM back-end "
                              "(default perfect)")
+    parser.add_argument("--slam", metavar="NAME",
+                        help="map from this SLAM back-end: gmapping or karto (slam_toolbox: the "
+                             "same); another spelling of --map-source NAME")
     parser.add_argument("--seed", type=_non_negative_int, default=0,
                         help="random seed (default 0)")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
@@ -62,6 +65,12 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.world.load import load_plan
 
     check_positive(args.max_sim_time, "--max-sim-time")
+    if args.slam is not None:
+        from slam_predict.slam import canonical_name
+        name = canonical_name(args.slam)
+        if args.map_source not in ("perfect", name):
+            raise InputError(f"--slam {args.slam} contradicts --map-source {args.map_source}")
+        args.map_source = name
     check_out_dir(args.out, args.force, inputs=(args.plan, args.config_dir))
     config_dir = args.config_dir or runner.DEFAULT_CONFIG_DIR
     if not os.path.isdir(config_dir):

@@ -50,6 +50,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
              "--model best the default is realistic; with a named model it must match its card")
     add_renamed_option(parser, "--setting", setting)
     parser.add_argument("--models-dir", metavar="DIR", help="model folders (default models/)")
+    parser.add_argument("--slam", metavar="NAME",
+                        help="the SLAM algorithm whose error is predicted: gmapping (default; "
+                             "every shipped model); karto (or slam_toolbox) has no shipped model")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     plan_checks.add_arguments(parser)
     predict_simulate.add_arguments(parser)
@@ -114,10 +117,26 @@ def predict_plan(world, args: argparse.Namespace, setting: str | None) -> dict:
     return result
 
 
+def check_slam_option(name: str | None) -> None:
+    """InputError (one line, what to do) unless ``--slam`` names an algorithm the models know."""
+    from slam_predict.learn.card import SLAM_ALGORITHMS
+    from slam_predict.slam import canonical_name
+
+    if name is None or canonical_name(name) in SLAM_ALGORITHMS:
+        return
+    name = canonical_name(name)
+    raise InputError(f"--slam {name}: no model of {name}'s error is shipped (every model was "
+                     f"trained on {', '.join(SLAM_ALGORITHMS)} runs); to make one, collect "
+                     f"{name} runs (slam-predict collect WORLDS --slam {name} --out DATA) and "
+                     "train on them (slam-predict learn dataset, learn train; "
+                     "docs/howto/slam-backend.md)")
+
+
 def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.predict import components_of
 
     components = components_of(args.component)  # before the (slow) feature computation
+    check_slam_option(args.slam)
     predict_simulate.check_options(args)
     setting = args.setting or ("realistic" if args.model == "best" else None)
     robot = robot_model = None

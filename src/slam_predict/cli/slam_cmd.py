@@ -45,9 +45,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                      "(ODOM/FLASER/ROBOTLASER1) or a ROS bag (LaserScan + tf or "
                                      "Odometry) as its ROS node would.")
     run.add_argument("input", metavar="INPUT", help="CARMEN log (.log, .log.gz) or ROS bag")
-    run.add_argument("--type", choices=slam.available(),
-                     help="SLAM back-end (default: the config's type:, a collected run's, "
-                          "else gmapping)")
+    run.add_argument("--slam", "--type", dest="type", metavar="NAME",
+                     help=f"SLAM back-end: {', '.join(slam.available())} (slam_toolbox: karto; "
+                          "default: the config's type:, a collected run's, else gmapping)")
     run.add_argument("--config", metavar="YAML",
                      help="the back-end's parameters (default: a collected run's recorded "
                           "ones, else the back-end's defaults)")
@@ -82,10 +82,13 @@ def _backend_and_params(args: argparse.Namespace, recorded):
 
 
 def run(args: argparse.Namespace) -> int:
+    from slam_predict.slam import canonical_name
     from slam_predict.slam.runner import evaluate, read_input, recorded_run, write_run
     from slam_predict.slam.runner import run as run_slam
 
     check_out_dir(args.out, args.force, inputs=(args.input, args.config))
+    if args.type is not None:
+        args.type = canonical_name(args.type)
     recorded = recorded_run(args.input)
     slam_type, params = _backend_and_params(args, recorded)
     rng, seed, compute = None, 0 if args.seed is None else args.seed, None

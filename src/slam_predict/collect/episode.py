@@ -168,6 +168,9 @@ def run_episode(spec, settings: CollectSettings | None = None,
                                   None if loop.delay is None else loop.delay.stats)
         rec.write_trajectories(folder, traj)
         rec.write_map(folder, grid.data, grid.resolution, grid.origin)
+        realtime = getattr(loop.source, "stats", dict)().get("async")
+        if realtime is not None:   # Karto's scan_gate async: its queue and busy counters
+            record["slam_async"] = realtime
         if settings.bag:
             rec.write_bag(folder, traj)
         if sensors is not None:

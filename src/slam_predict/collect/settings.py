@@ -37,6 +37,9 @@ from slam_predict.slam.compute_delay import ComputeDelayConfig
 
 LOG = logging.getLogger(__name__)
 DEFAULT_SETTINGS = PROJECT_ROOT / "config" / "collect.yaml"
+# the shipped settings of each back-end (same robot, navigation, explorer and stop rule)
+SLAM_SETTINGS = {"gmapping": DEFAULT_SETTINGS,
+                 "karto": PROJECT_ROOT / "config" / "collect_karto.yaml"}
 FILE_KEYS = ("robot", "navigation", "explore")
 FILE_DEFAULTS = ("robot.yaml", ".", "explore.yaml")
 DEFAULT_SLAM = {"type": "gmapping", "params": "gmapping.yaml"}
@@ -299,3 +302,24 @@ def merge_trees(base: dict[str, Any], override: dict[str, Any]) -> dict[str, Any
 def settings_dict(settings: CollectSettings) -> dict[str, Any]:
     """Plain-dict form of every component config (recorded beside run.json)."""
     return {name: to_dict(value) for name, value in settings.components().items()}
+
+
+def settings_for_slam(name: str | None, settings_path=None, option: str = "--slam"):
+    """The settings file for back-end ``name`` (``slam_toolbox`` = ``karto``): the given
+    ``settings_path`` when its ``slam.type`` is that back-end (InputError naming both when it is
+    another), else the shipped settings of the back-end; ``name`` None: ``settings_path``."""
+    from slam_predict import slam
+
+    if name is None:
+        return settings_path
+    name = slam.canonical_name(name, option)
+    if settings_path is None:
+        if name not in SLAM_SETTINGS:
+            raise InputError(f"{option} {name}: no shipped settings for this back-end; give "
+                             "--settings with slam.type: " + name)
+        return str(SLAM_SETTINGS[name])
+    found = read_settings_tree(Path(settings_path))["slam"]["type"]
+    if found != name:
+        raise InputError(f"slam.type is {found}, not {name} ({option}); leave {option} out or "
+                         f"use settings with slam.type: {name}", settings_path)
+    return settings_path

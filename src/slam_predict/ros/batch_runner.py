@@ -14,7 +14,11 @@ batch_explore.launch finishes without a "REQUIRED process has died".
 Node choices (launch args ``sim``, ``slam``, ``nav``, ``explore``): ``slam_predict`` (our nodes,
 the default), the real packages ``stage`` (stage_ros/stageros), ``gmapping``
 (gmapping/slam_gmapping), ``move_base`` (move_base/move_base), ``explore_lite``
-(explore_lite/explore), or ``none`` (started elsewhere, e.g. on a real robot).
+(explore_lite/explore), or ``none`` (started elsewhere, e.g. on a real robot). The SLAM
+back-end is the settings' ``slam.type``; launch arg ``slam_type`` (``gmapping`` or ``karto``, also
+``slam_toolbox``) picks the back-end's shipped settings when ``settings`` is empty and must agree
+with it otherwise. Karto runs as our ``/slam_toolbox`` node (``sync_slam_toolbox_node``, or
+``async_slam_toolbox_node`` for the settings' ``scan_gate`` async or none).
 
 Seeds: run ``i`` of world ``w`` gets ``run_seed(base_seed, w, i)`` (as the in-process batch);
 the simulator, explorer and SLAM nodes get the three children of ``SeedSequence(seed)`` in the
@@ -101,11 +105,42 @@ def component_configs(settings_path=None) -> dict[str, str]:
     robot = tree["robot"]
     if tree.get("sim_overrides"):
         robot = str(merged_robot_file(path, tree))
+    slam_type = tree["slam"]["type"]
+    karto = {"karto_mode": karto_mode(path)} if slam_type == "karto" else {}
     return {"settings": str(path), "robot_config": robot,
             "gmapping_config": str(slam_params_file(path, tree)),
-            "slam_type": tree["slam"]["type"],
+            "slam_type": slam_type, **karto,
             "nav_config_dir": str(Path(tree["navigation"]).resolve()),
             "explore_config": tree["explore"]}
+
+
+def karto_mode(settings_path) -> str:
+    """``async`` (async_slam_toolbox_node) when the settings' Karto ``scan_gate`` is async or
+    none, else ``sync`` (sync_slam_toolbox_node)."""
+    from slam_predict.collect.settings import load_settings
+
+    gate = load_settings(settings_path).slam.params.scan_gate
+    return "async" if gate in ("async", "none") else "sync"
+
+
+def slam_node(options: dict) -> str:
+    """The SLAM node's name for these choices: /slam_toolbox for our Karto, else
+    /slam_gmapping."""
+    if options.get("slam", "slam_predict") != "slam_predict":
+        return "/slam_gmapping"
+    configs = component_configs(options.get("settings") or None)
+    return "/slam_toolbox" if configs["slam_type"] == "karto" else "/slam_gmapping"
+
+
+def resolve_slam_type(options: dict) -> None:
+    """Apply launch arg ``slam_type`` to ``options``: the back-end's shipped settings when
+    none are given (InputError when given settings name another back-end)."""
+    from slam_predict.collect.settings import settings_for_slam
+
+    name = options.pop("slam_type", "") or None
+    settings = settings_for_slam(name, options.get("settings") or None, "slam_type:=")
+    if settings:
+        options["settings"] = str(settings)
 
 
 def launch_arguments(spec) -> list[str]:
@@ -128,7 +163,7 @@ def run_nodes(options: dict) -> list[str]:
     names = {"sim": {"slam_predict": "/stage_sim", "stage": "/stageros"},
              "explore": {"slam_predict": "/explore", "explore_lite": "/explore"},
              "nav": {"slam_predict": "/move_base", "move_base": "/move_base"},
-             "slam": {"slam_predict": "/slam_gmapping", "gmapping": "/slam_gmapping"}}
+             "slam": {"slam_predict": slam_node(options), "gmapping": "/slam_gmapping"}}
     return [names[key][options.get(key, "slam_predict")] for key in names
             if options.get(key, "slam_predict") in names[key]]
 
@@ -281,6 +316,7 @@ def run_batch(worlds: str, runs, out: str, options: dict, base_seed: int = 0,
     from slam_predict.words import plural
 
     check_choices(options)
+    resolve_slam_type(options)
     open_ros_campaign(Path(out), options, base_seed)
     runs = runs if runs == "auto" else int(runs)
     config = BatchConfig(runs=runs, max_runs=max_runs, jobs=1, base_seed=base_seed,
@@ -326,7 +362,7 @@ def main(argv=None) -> int:
     forward_logging(rospy)
     get = rospy.get_param
     options = {key: get(f"~{key}", "slam_predict") for key in CHOICES}
-    for key in PASS_THROUGH + ("settings", "run_timeout", "launch_file", "force"):
+    for key in PASS_THROUGH + ("settings", "slam_type", "run_timeout", "launch_file", "force"):
         value = get(f"~{key}", "")
         if value not in ("", None):
             options[key] = value

@@ -26,7 +26,15 @@ back-end's parameter class (for gmapping
 :class:`~slam_predict.slam.gmapping.params.GMappingParams`) and ``~seed`` (int; default: fresh
 entropy, logged). Back-ends registered outside slam_predict are loaded from
 ``$SLAM_PREDICT_EXTRA_BACKENDS`` (a launch file sets it with ``<env>``; docs/architecture.md
-"Adding a SLAM back-end"). Readings below ``range_min`` become ``range_max`` (slam_gmapping's
+"Adding a SLAM back-end").
+
+The same node serves Karto under slam_toolbox's executable names (:data:`TOOLBOX_NODES`):
+``sync_slam_toolbox_node`` (back-end ``karto``, ``scan_gate: sync``: slam_toolbox's
+shouldProcessScan) and ``async_slam_toolbox_node`` (``scan_gate: async``: scans that arrive while
+the mapper is busy wait or are dropped, :mod:`slam_predict.slam.karto.realtime`; ``none`` is
+kept). Their private parameters are slam_toolbox's names (config/karto.yaml); a ``~type`` other
+than ``karto`` is a fatal one-line error, a ``~scan_gate`` the executable does not run is
+replaced by its own (logged). Readings below ``range_min`` become ``range_max`` (slam_gmapping's
 rule); NaN readings are treated the same way (slam_gmapping would register them as garbage).
 """
 from __future__ import annotations
@@ -44,6 +52,10 @@ from slam_predict.slam.laser import laser_geometry, prepare_ranges, quaternion_m
 
 LOG = logging.getLogger(__name__)
 SCAN_QUEUE = 5
+# executable -> (default back-end, scan gates it runs: the first is its own); slam_gmapping runs
+# any back-end as configured
+TOOLBOX_NODES = {"sync_slam_toolbox_node": ("karto", ("sync",)),
+                 "async_slam_toolbox_node": ("karto", ("async", "none"))}
 TF_WAIT = 1.0  # s of wall time to wait for the odometry tf of a scan
 
 
@@ -229,13 +241,21 @@ class SlamNode:
             transform_to_ros(pose, stamp, self.params.map_frame, self.params.odom_frame))
 
 
-def read_params(rospy_module) -> tuple[SlamChoice, SlamNodeParams, int | None]:
+def read_params(rospy_module, executable: str = "slam_gmapping"
+                ) -> tuple[SlamChoice, SlamNodeParams, int | None]:
     """The back-end (``~type``) with its parameters, the node's parameters, and ``~seed``
-    (None if unset), from the private namespace."""
+    (None if unset), from the private namespace; a slam_toolbox executable (``executable`` in
+    :data:`TOOLBOX_NODES`) runs Karto with its own scan gate."""
     from slam_predict import slam
     from slam_predict.config import from_dict
+    from slam_predict.errors import InputError
 
-    name = str(rospy_module.get_param("~type", "gmapping"))
+    toolbox = TOOLBOX_NODES.get(executable)
+    default_type = toolbox[0] if toolbox else "gmapping"
+    name = str(rospy_module.get_param("~type", default_type))
+    if toolbox and name != toolbox[0]:
+        raise InputError(f"~type {name}: {executable} runs only {toolbox[0]} (slam_gmapping "
+                         "runs the other back-ends)")
     params_class = type(slam.backend_class(name).default_params())
 
     def private(cls) -> dict:
@@ -243,27 +263,35 @@ def read_params(rospy_module) -> tuple[SlamChoice, SlamNodeParams, int | None]:
                 if f.name != "type" and rospy_module.has_param("~" + f.name)}
 
     params = slam.params_from_dict(name, private(params_class), f"~ ({name} parameters)")
+    if toolbox and params.scan_gate not in toolbox[1]:
+        LOG.info("%s: scan_gate %s replaced by the node's %s", executable, params.scan_gate,
+                 toolbox[1][0])
+        params = dataclasses.replace(params, scan_gate=toolbox[1][0])
     node = from_dict(SlamNodeParams, private(SlamNodeParams), "~ (SLAM node parameters)")
     return SlamChoice(name, params), node, rospy_module.get_param("~seed", None)
 
 
-def main(argv=None) -> int:
-    """Entry point of scripts/slam_gmapping."""
+def main(argv=None, executable: str = "slam_gmapping") -> int:
+    """Entry point of scripts/slam_gmapping and of the slam_toolbox executables (the node's
+    default name is the executable's, slam_toolbox's launch files name it slam_toolbox)."""
     import rospy
     import tf2_ros
 
     from slam_predict.errors import InputError
 
-    rospy.init_node("slam_gmapping", argv=argv)
-    logging.basicConfig(level=logging.INFO, format="[slam_gmapping] %(levelname)s %(message)s")
+    default_name = "slam_toolbox" if executable in TOOLBOX_NODES else executable
+    rospy.init_node(default_name, argv=argv)
+    logging.basicConfig(level=logging.INFO, format=f"[{executable}] %(levelname)s %(message)s")
     try:
-        choice, node_params, seed = read_params(rospy)
+        choice, node_params, seed = read_params(rospy, executable)
     except InputError as exc:
-        rospy.logfatal(f"slam_gmapping: {exc.one_line()}")
+        rospy.logfatal(f"{executable}: {exc.one_line()}")
         return 2
     if seed is None:
         seed = int(np.random.SeedSequence().entropy % (2 ** 31))
-    rospy.loginfo(f"slam_gmapping: back-end {choice.type}, seed {seed}")
+    gate = getattr(choice.params, "scan_gate", None)
+    rospy.loginfo(f"{executable}: back-end {choice.type}, seed {seed}"
+                  + (f", scan_gate {gate}" if gate else ""))
     tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
     tf2_ros.TransformListener(tf_buffer)
     from slam_predict import slam

@@ -185,6 +185,8 @@ _REGISTRY: dict[str, str | Callable[..., SlamBackend]] = {
     "gmapping": "slam_predict.slam.gmapping.filter:GMapping",
     "karto": "slam_predict.slam.karto.backend:Karto",
 }
+# other names users give a back-end (the ROS package that runs it)
+ALIASES = {"slam_toolbox": "karto"}
 # Modules (or .py files) that register more back-ends, comma-separated; imported once, on the
 # first look-up, as are the ``slam_predict.slam_backends`` entry points of installed packages.
 EXTRA_BACKENDS_ENV = "SLAM_PREDICT_EXTRA_BACKENDS"
@@ -232,6 +234,18 @@ def backend_class(name: str):
         factory = getattr(importlib.import_module(module), attr)
         _REGISTRY[name] = factory
     return factory
+
+
+def canonical_name(name: str, option: str = "--slam") -> str:
+    """The registered back-end a user's name means (:data:`ALIASES` resolved); an unknown one
+    is an InputError naming ``option`` and the known names."""
+    name = ALIASES.get(name, name)
+    known = available()
+    if name not in known:
+        names = sorted((*known, *ALIASES))
+        raise InputError(f"{option} {name}: unknown SLAM back-end"
+                         + did_you_mean(name, names) + f" (known: {', '.join(names)})")
+    return name
 
 
 def create(name: str, **kwargs) -> SlamBackend:

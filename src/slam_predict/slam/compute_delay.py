@@ -168,7 +168,8 @@ def for_backend(config: ComputeDelayConfig | None, backend,
         return None
     params = getattr(backend, "params", None)
     if params is None or not hasattr(params, "maxUrange"):
-        raise InputError("slam_compute applies to the gmapping back-end only")
+        raise InputError("slam_compute applies to the gmapping back-end only (Karto in real "
+                         "time: its scan_gate: async)")
     cells = (params.xmax - params.xmin) * (params.ymax - params.ymin) / params.delta ** 2
     return ComputeDelay(config, map_update_interval, cells,
                         (params.maxRange, params.maxUrange, params.delta))

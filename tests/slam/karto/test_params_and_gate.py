@@ -18,7 +18,7 @@ def test_config_file_is_the_defaults(root):
 
 @pytest.mark.parametrize("bad", [{"resolution": 0.0}, {"scan_buffer_size": 0},
                                  {"minimum_travel_distnce": 0.5}, {"type": "gmapping"},
-                                 {"scan_gate": "async"}, {"occupancy_threshold": 2.0}])
+                                 {"scan_gate": "fast"}, {"occupancy_threshold": 2.0}])
 def test_bad_parameter_is_a_one_line_input_error(bad):
     with pytest.raises(InputError) as info:
         slam.params_from_dict("karto", bad, "karto.yaml")

@@ -12,6 +12,7 @@ from slam_predict.slam.karto import kernels, occupancy
 from slam_predict.slam.karto.graph import MapperGraph
 from slam_predict.slam.karto.matcher import ScanMatcher, SearchSettings
 from slam_predict.slam.karto.params import KartoParams, params_from_dict
+from slam_predict.slam.karto.realtime import AsyncMapper, CallCost
 from slam_predict.slam.karto.scan import (
     TOLERANCE,
     LocalizedScan,
@@ -165,6 +166,9 @@ class Karto(SlamBackend):
         self._map_to_odom = np.zeros(3)
         self._seen = 0
         self._map: OccupancyGrid | None = None
+        self.realtime = (AsyncMapper(params.async_cost, params.map_update_interval,
+                                     self._map_size) if params.scan_gate == "async" else None)
+        self._box = None   # (xmin, ymin, xmax, ymax) m of the processed scans' points
 
     @property
     def beam_angles(self) -> np.ndarray:
@@ -176,15 +180,52 @@ class Karto(SlamBackend):
         if ranges.shape != self.laser.angles.shape:
             raise ValueError(f"scan has {ranges.size} ranges, the laser {self.laser.beams}")
         sequence, self._seen = self._seen, self._seen + 1
+        if self.realtime is not None:
+            added = []
+            self.realtime.offer(float(t), (sequence, self._odom, ranges),
+                                lambda stamp, item: self._process(*item, stamp, added))
+            return self.pose() if added else None
         if self.params.scan_gate == "sync" and not self.gate.passes(sequence, float(t),
                                                                      self._odom):
             return None
-        scan = LocalizedScan(self.mapper.laser, sequence, float(t), self._odom, ranges)
+        return self.pose() if self._process(sequence, self._odom, ranges, float(t)).added \
+            else None
+
+    def _process(self, sequence: int, odom: np.ndarray, ranges: np.ndarray, t: float,
+                 added: list | None = None) -> CallCost:
+        """Mapper::Process on one scan; on success map → odom from its corrected pose."""
+        closures = self._closures()
+        nodes = len(self.mapper.scans)
+        scan = LocalizedScan(self.mapper.laser, sequence, t, odom, ranges)
         if not self.mapper.process(scan):
-            return None
-        self._map_to_odom = compose(scan.corrected_pose, relative(self._odom, np.zeros(3)))
+            return CallCost(False)
+        self._map_to_odom = compose(scan.corrected_pose, relative(odom, np.zeros(3)))
         self._map = None
-        return self.pose()
+        self._grow_box(scan)
+        if added is not None:
+            added.append(sequence)
+        return CallCost(True, self._closures() > closures, len(ranges), nodes)
+
+    def _closures(self) -> int:
+        graph = self.mapper.graph
+        return 0 if graph is None else len(graph.loop_closures)
+
+    def _grow_box(self, scan: LocalizedScan) -> None:
+        low, high = scan.box_min, scan.box_max
+        box = (low[0], low[1], high[0], high[1])
+        self._box = box if self._box is None else (
+            min(self._box[0], box[0]), min(self._box[1], box[1]),
+            max(self._box[2], box[2]), max(self._box[3], box[3]))
+
+    def _map_size(self) -> tuple[float, float]:
+        """(cells of the processed scans' bounding box, beams of every processed scan): what
+        a map rebuild now traces and allocates."""
+        if self._box is None:
+            return 0.0, 0.0
+        xmin, ymin, xmax, ymax = self._box
+        res = self.params.resolution
+        cells = (math.floor((xmax - xmin) / res) + 1) * (math.floor((ymax - ymin) / res) + 1)
+        return float(cells), float(len(self.mapper.scans) * self.laser.beams)
 
     def pose(self) -> np.ndarray:
         return compose(self._map_to_odom, self._odom)
@@ -220,7 +261,8 @@ class Karto(SlamBackend):
         graph = self.mapper.graph
         return {"scans_seen": self._seen, "scans_processed": len(self.mapper.scans),
                 "accepted_input_indices": [s.input_index for s in self.mapper.scans],
-                "loop_closures": [] if graph is None else list(graph.loop_closures)}
+                "loop_closures": [] if graph is None else list(graph.loop_closures),
+                **({"async": dict(self.realtime.stats)} if self.realtime is not None else {})}
 
 
 def cut_to_extent(data, resolution, offset, extent) -> OccupancyGrid:

@@ -3,11 +3,13 @@ own defaults for the keys the yaml leaves out (units m, rad, s; docs/karto.md).
 
 Ours: ``xmin``/``ymin``/``xmax``/``ymax`` (m, the canvas the published map is cut to) and
 ``scan_gate`` (``sync``: slam_toolbox's ``shouldProcessScan`` in front of the Mapper, as the sync
-node; ``none``: every scan goes to the Mapper, as the async node when it is never busy).
+node; ``none``: every scan goes to the Mapper, as the async node when it is never busy;
+``async``: the async node in real time, scans that arrive while the mapper is busy wait in a
+queue or are dropped, costs ``async_cost``: :mod:`slam_predict.slam.karto.realtime`).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 from slam_predict.config import (
@@ -20,9 +22,10 @@ from slam_predict.config import (
 )
 from slam_predict.errors import InputError
 from slam_predict.slam import SlamNodeParams
+from slam_predict.slam.karto.realtime import AsyncCost
 
 NAME = "karto"
-GATES = ("sync", "none")
+GATES = ("sync", "none", "async")
 
 
 @dataclass
@@ -71,6 +74,8 @@ class KartoParams(SlamNodeParams):
     ymin: float = -100.0
     xmax: float = 100.0
     ymax: float = 100.0
+    async_cost: AsyncCost = field(default_factory=AsyncCost)
+    HASH_OMIT_IF: ClassVar[dict] = {"async_cost": AsyncCost()}
     RANGES: ClassVar[dict[str, Range]] = {
         "throttle_scans": AT_LEAST_ONE, "transform_publish_period": NON_NEGATIVE,
         "tf_delay": NON_NEGATIVE, "map_update_interval": POSITIVE, "resolution": POSITIVE,
