@@ -207,6 +207,21 @@ def test_navfn_cost_translation():
     assert np.isinf(out[3]) and np.isinf(out[4])
 
 
+@pytest.mark.parametrize("allow_unknown", [False, True])
+def test_navfn_costs_of_every_costmap_value_follow_the_rule(allow_unknown):
+    """Cell by cell: 50 + 0.8 c below INSCRIBED, 253 for unknown when allowed, else blocked."""
+    costs = np.arange(256, dtype=np.uint8).reshape(16, 16)
+    padded = np.pad(costs, 1)
+    out = navfn_cell_costs(padded, allow_unknown)[1:-1, 1:-1]
+    for c, got in zip(costs.ravel(), out.ravel(), strict=True):
+        if c < INSCRIBED:
+            assert got == 50.0 + 0.8 * float(c)
+        elif c == NO_INFORMATION and allow_unknown:
+            assert got == 253.0
+        else:
+            assert got == np.inf
+
+
 # --------------------------------------------------------------------- start escape (issue #5)
 def pinned_costmap():
     """A 3 m x 2 m room at 0.05 m, its south wall 3 cells thick, inflated for the project's 0.42 m

@@ -59,12 +59,23 @@ class Plan:
         return len(self.poses)
 
 
-def navfn_cell_costs(costs: np.ndarray, allow_unknown: bool) -> np.ndarray:
-    """Per-cell travel costs (float, inf = blocked) of navfn's NavFn::setCostmap."""
-    c = costs.astype(np.float64)
-    out = np.where(costs < INSCRIBED, 50.0 + 0.8 * c, np.inf)
+def navfn_cost_table(allow_unknown: bool) -> np.ndarray:
+    """Travel cost (float, inf = blocked) per costmap value 0–255 of navfn's
+    NavFn::setCostmap: c ≤ 252 → 50 + 0.8·c, NO_INFORMATION → 253 when allowed."""
+    c = np.arange(256, dtype=np.float64)
+    table = np.where(c < INSCRIBED, 50.0 + 0.8 * c, np.inf)
     if allow_unknown:
-        out[costs == NO_INFORMATION] = 253.0
+        table[NO_INFORMATION] = 253.0
+    return table
+
+
+NAVFN_COST_TABLES = {allowed: navfn_cost_table(allowed) for allowed in (False, True)}
+
+
+def navfn_cell_costs(costs: np.ndarray, allow_unknown: bool) -> np.ndarray:
+    """Per-cell travel costs (float, inf = blocked) of navfn's NavFn::setCostmap (the table's
+    value per cell; the outer ring of the map blocked)."""
+    out = NAVFN_COST_TABLES[bool(allow_unknown)][costs]
     out[0, :] = np.inf
     out[-1, :] = np.inf
     out[:, 0] = np.inf
@@ -273,7 +284,7 @@ def _search(cell_cost: np.ndarray, start, goal, tol_cells: int,
     storage until it fits; returns (path cells (n, 2), cost). ``work``: the planner's
     :class:`SearchWork` (a new one when None)."""
     work = work or SearchWork()
-    weight = float(np.min(cell_cost[np.isfinite(cell_cost)], initial=1.0))
+    weight = float(np.min(cell_cost, initial=1.0))    # inf (blocked) never lowers it
     cell_cost = np.ascontiguousarray(cell_cost)
     (sx, sy), (gx, gy) = start, goal
     cap = max(1024, 2 * cell_cost.size)
