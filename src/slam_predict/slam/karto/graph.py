@@ -8,7 +8,7 @@ from collections import deque
 import numpy as np
 
 from slam_predict.slam.karto.scan import TOLERANCE, LocalizedScan, relative
-from slam_predict.slam.karto.solver import PoseGraphSolver
+from slam_predict.slam.karto.solver import PoseGraphSolver, karto_inverse
 
 
 def rotated_covariance(covariance, heading: float) -> np.ndarray:
@@ -20,8 +20,8 @@ def rotated_covariance(covariance, heading: float) -> np.ndarray:
 
 def weighted_mean(means, covariances) -> np.ndarray:
     """Mapper::ComputeWeightedMean: information-weighted poses, the heading the circular mean."""
-    inverses = [np.linalg.inv(c) for c in covariances]
-    scale = np.linalg.inv(np.sum(inverses, axis=0))
+    inverses = [karto_inverse(c) for c in covariances]
+    scale = karto_inverse(np.sum(inverses, axis=0))
     total = np.zeros(3)
     for mean, inverse in zip(means, inverses, strict=True):
         total += scale @ inverse @ np.asarray(mean)
@@ -190,8 +190,12 @@ class MapperGraph:
         return closed
 
     def correct_poses(self) -> None:
-        """CorrectPoses: optimise, then every scan takes its node's pose."""
-        for scan, pose in zip(self.mapper.scans, self.solver.solve(), strict=True):
+        """CorrectPoses: optimise, then every scan takes its node's pose (none moves when the
+        solver has no usable solution)."""
+        poses = self.solver.solve()
+        if poses is None:
+            return
+        for scan, pose in zip(self.mapper.scans, poses, strict=True):
             scan.set_corrected_pose(pose)
 
 

@@ -11,8 +11,13 @@ TOLERANCE = 1e-6   # KT_TOLERANCE
 
 
 def normalize_angle(angle: float) -> float:
-    """Angle in (-pi, pi] (rad)."""
-    return math.atan2(math.sin(angle), math.cos(angle))
+    """Karto's math::NormalizeAngle: the angle moved by whole turns into [−π, π] (rad)."""
+    two_pi = 2.0 * math.pi
+    while angle < -math.pi:
+        angle += int(angle / -two_pi) * two_pi if angle < -two_pi else two_pi
+    while angle > math.pi:
+        angle -= int(angle / two_pi) * two_pi if angle > two_pi else two_pi
+    return angle
 
 
 def compose(a, b) -> np.ndarray:
