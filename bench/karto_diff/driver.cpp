@@ -381,6 +381,7 @@ int main(int argc, char** argv) {
 
   std::vector<std::pair<long, double>> process_cpu;  // (input index, CPU s) per Process call
   std::vector<karto::LocalizedRangeScan*> accepted;
+  std::vector<karto::Pose2> at_process;  // each accepted scan's pose when Process returned
   std::vector<GridTiming> grids;
   const long n = static_cast<long>(input.scans.size());
   long next_grid = 1;
@@ -401,6 +402,7 @@ int main(int argc, char** argv) {
       if (processed) {
         dataset.Add(scan);
         accepted.push_back(scan);
+        at_process.push_back(scan->GetCorrectedPose());
       } else {
         input_index.erase(scan);
         delete scan;
@@ -433,6 +435,11 @@ int main(int argc, char** argv) {
   for (size_t i = 0; i < loops.closures.size(); ++i)
     out << (i ? ", " : "") << "[" << loops.closures[i].scan << ", " << loops.closures[i].chain
         << "]";
+  out << "],\n \"pose_at_process\": [";
+  for (size_t i = 0; i < at_process.size(); ++i)
+    out << (i ? ",\n  " : "\n  ") << "[" << input_index[accepted[i]] << ", "
+        << Num(at_process[i].GetX()) << ", " << Num(at_process[i].GetY()) << ", "
+        << Num(at_process[i].GetHeading()) << "]";
   out << "],\n \"edges\": [";
   WriteEdges(out, *mapper, input_index);
   out << "],\n \"process_cpu_s\": [";

@@ -195,9 +195,10 @@ class ScanMatcher:
                     yy += (y - dy) ** 2 * response
         if norm > TOLERANCE:
             floor_var = 0.1 * space_res ** 2
-            cov[0, 0] = max(xx / norm, floor_var) / best
-            cov[0, 1] = cov[1, 0] = xy / norm / best
-            cov[1, 1] = max(yy / norm, floor_var) / best
+            multiplier = 1.0 / best
+            cov[0, 0] = max(xx / norm, floor_var) * multiplier
+            cov[0, 1] = cov[1, 0] = xy / norm * multiplier
+            cov[1, 1] = max(yy / norm, floor_var) * multiplier
             cov[2, 2] = 4.0 * angle_res ** 2
         for i in (0, 1):
             if abs(cov[i, i]) < TOLERANCE:
