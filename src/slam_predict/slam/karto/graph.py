@@ -122,9 +122,10 @@ class MapperGraph:
         return found
 
     def near_chains(self, scan) -> list[list[LocalizedScan]]:
-        """FindNearChains: runs of consecutive scans around each near linked scan."""
+        """FindNearChains: runs of consecutive scans around each near linked scan (distances
+        between reference points, as Karto's GetReferencePose)."""
         scans = self.mapper.scans
-        position = scan.sensor_pose[:2]
+        position = self.reference(scan)
         limit = self.p.link_scan_maximum_distance ** 2 + TOLERANCE
         processed: set[int] = set()
         chains = []
@@ -139,7 +140,7 @@ class MapperGraph:
                     candidate = scans[k]
                     if candidate is scan:
                         valid = False
-                    if float(np.sum((candidate.sensor_pose[:2] - position) ** 2)) >= limit:
+                    if float(np.sum((self.reference(candidate) - position) ** 2)) >= limit:
                         break
                     out.append(candidate)
                     processed.add(candidate.unique_id)
