@@ -22,6 +22,7 @@ timed point.
 Usage: bench/bench_karto_diff.py --upstream DIR [--logs intel aces|PATH.log.gz ...]
            [--runs RUN_OR_CAMPAIGN_DIR ...] [--config YAML] [--set KEY=VALUE ...]
            [--gate sync|none] [--threads 1] [--out DIR]
+With more than one log a last row gives the medians (and how many logs agree exactly).
 ``--upstream`` (or env SLAM_PREDICT_KARTO_UPSTREAM) is an export of the ``slam_toolbox`` package
 folder of github.com/SteveMacenski/slam_toolbox (noetic-devel); it is built once into
 ``<out>/build`` with ``bench/karto_diff/build.sh``. ``--runs`` adds collected run folders' sensor
@@ -73,7 +74,7 @@ def build_driver(upstream: Path, build: Path) -> Path:
 
 def log_source(name: str) -> tuple[Path, str]:
     """(log path, short name) of a shared log name, a collected run folder or a log path."""
-    if collected.is_run(Path(name)):
+    if collected.is_run(Path(name), None):
         return Path(name) / collected.SENSOR_LOG, collected.run_name(Path(name))
     if name in LOGS or name == "freiburg-079":
         return SHARED / "data" / "slam_inputs" / f"{name}.log.gz", name
@@ -170,6 +171,28 @@ def within_tolerance(ours: dict, real: dict) -> float:
     return close / len(real["indices"])
 
 
+def agreement(ours: dict, real: dict) -> dict:
+    """The acceptance figures of one log: same accepted scans, same loop closures, share of
+    poses within 1 cm, ε_t ratio ours ÷ real."""
+    return {"accepted_same": ours["indices"] == real["indices"],
+            "closures_same": ours["loop_closures"] == real["loop_closures"],
+            "within_1cm": within_tolerance(ours, real),
+            "ratio": ours["error"]["trans_mean_m"] / real["error"]["trans_mean_m"],
+            "cpu_ours_s": ours["cpu_s"], "cpu_real_s": real["cpu_s"]}
+
+
+def median_row(figures: list[dict]) -> str:
+    """Median over the logs (runs) of the acceptance figures; counts for the yes/no ones."""
+    def med(key):
+        return float(np.median([f[key] for f in figures]))
+
+    n = len(figures)
+    return (f"| median of {n} | | | {sum(f['accepted_same'] for f in figures)}/{n} same | | "
+            f"{sum(f['closures_same'] for f in figures)}/{n} same | "
+            f"{100 * med('within_1cm'):.1f} | | | {med('ratio'):.2f} | "
+            f"{med('cpu_ours_s'):.1f} / {med('cpu_real_s'):.1f} | | |")
+
+
 def row(log: str, scans: int, ours: dict | None, real: dict) -> str:
     e_real = real["error"]["trans_mean_m"]
     cells = [log, str(scans)]
@@ -194,7 +217,8 @@ HEADER = ("| log | input scans | accepted ours / real | identical | loop closure
           "real | real ms per Process | real ms per grid build (scans) |")
 
 
-def compare(log: str, values: dict, args, driver: Path, with_ours: bool) -> str:
+def compare(log: str, values: dict, args, driver: Path, with_ours: bool):
+    """(table row, agreement figures or None) of one log or run."""
     from slam_predict.slam.runner import read_input
 
     path, short = log_source(log)
@@ -207,7 +231,7 @@ def compare(log: str, values: dict, args, driver: Path, with_ours: bool) -> str:
                 lambda: run_real(data, folder, driver, args.gate, args.threads))
     mine = {**values, "scan_gate": args.gate}  # dropped by known_to when ours has no such key
     ours = side("ours", data, folder, lambda: run_ours(data, mine)) if with_ours else None
-    return row(short, len(data), ours, real)
+    return row(short, len(data), ours, real), (agreement(ours, real) if ours else None)
 
 
 def main() -> int:
@@ -233,7 +257,7 @@ def main() -> int:
     driver = build_driver(upstream, Path(args.out) / "build")
     values = parameters(Path(args.config) if args.config else upstream / UPSTREAM_CONFIG,
                         args.set)
-    run_dirs = [str(p) for p in collected.find_runs(args.runs)] if args.runs else []
+    run_dirs = [str(p) for p in collected.find_runs(args.runs, None)] if args.runs else []
     logs = (args.logs or ([] if run_dirs else list(LOGS))) + run_dirs
     with_ours = ours_available()
     commit = (Path(args.out) / "build" / "upstream_commit").read_text().strip()
@@ -243,8 +267,13 @@ def main() -> int:
         print(f"back-end '{BACKEND}' is not registered: only the real side is run")
     print(HEADER)
     print("|" + "---|" * (HEADER.count("|") - 1))
+    figures = []
     for log in logs:
-        print(compare(log, values, args, driver, with_ours), flush=True)
+        text, figure = compare(log, values, args, driver, with_ours)
+        print(text, flush=True)
+        figures += [figure] if figure else []
+    if len(figures) > 1:
+        print(median_row(figures))
     return 0
 
 

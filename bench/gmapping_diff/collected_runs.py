@@ -25,22 +25,24 @@ import numpy as np
 SENSOR_LOG, RUN_JSON, SLAM_SCANS = "sensors.log.gz", "run.json", "slam_scans.tum"
 
 
-def is_run(folder: Path) -> bool:
-    """True for a run folder with a sensor log and a run.json that records its parameters."""
+def is_run(folder: Path, backend: str | None = "gmapping") -> bool:
+    """True for a run folder with a sensor log and a run.json that records the parameters of
+    its in-loop SLAM ``backend`` (None: of whichever back-end the run used)."""
     run_json = folder / RUN_JSON
     if not (folder / SENSOR_LOG).is_file() or not run_json.is_file():
         return False
-    return "gmapping" in (json.loads(run_json.read_text()).get("sensor_logs") or {})
+    logs = json.loads(run_json.read_text()).get("sensor_logs") or {}
+    return bool(logs) if backend is None else backend in logs
 
 
-def find_runs(paths) -> list:
+def find_runs(paths, backend: str | None = "gmapping") -> list:
     """Run folders among ``paths`` (each a run folder, or a folder searched for run folders)."""
     found = []
     for path in map(Path, paths):
-        if is_run(path):
+        if is_run(path, backend):
             found.append(path)
             continue
-        found += sorted(p.parent for p in path.rglob(RUN_JSON) if is_run(p.parent))
+        found += sorted(p.parent for p in path.rglob(RUN_JSON) if is_run(p.parent, backend))
     if not found:
         raise SystemExit(f"{' '.join(map(str, paths))}: no run folder with {SENSOR_LOG} and a "
                          f"{RUN_JSON} 'sensor_logs' entry (collect with sensor_logs: true)")

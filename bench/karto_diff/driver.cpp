@@ -316,6 +316,25 @@ void SetSolverParams(const Config& c) {
   }
 }
 
+// Every graph edge in insertion order: [source input index, target input index, the LinkInfo
+// pose difference dx dy dtheta (source frame), its covariance c00 c01 c02 c11 c12 c22].
+void WriteEdges(std::ostream& out, karto::Mapper& mapper,
+                const std::map<const karto::LocalizedRangeScan*, long>& ids) {
+  const auto& edges = mapper.GetGraph()->GetEdges();
+  for (size_t i = 0; i < edges.size(); ++i) {
+    auto* info = static_cast<karto::LinkInfo*>(edges[i]->GetLabel());
+    const karto::Pose2 d = info->GetPoseDifference();
+    const karto::Matrix3 c = info->GetCovariance();
+    const auto source = ids.find(edges[i]->GetSource()->GetObject());
+    const auto target = ids.find(edges[i]->GetTarget()->GetObject());
+    out << (i ? ",\n  " : "\n  ") << "[" << (source == ids.end() ? -1 : source->second) << ", "
+        << (target == ids.end() ? -1 : target->second) << ", " << Num(d.GetX()) << ", "
+        << Num(d.GetY()) << ", " << Num(d.GetHeading()) << ", " << Num(c(0, 0)) << ", "
+        << Num(c(0, 1)) << ", " << Num(c(0, 2)) << ", " << Num(c(1, 1)) << ", "
+        << Num(c(1, 2)) << ", " << Num(c(2, 2)) << "]";
+  }
+}
+
 struct Options {
   std::string scans, config, out, gate = "sync";
   int threads = 1;
@@ -362,6 +381,7 @@ int main(int argc, char** argv) {
 
   std::vector<std::pair<long, double>> process_cpu;  // (input index, CPU s) per Process call
   std::vector<karto::LocalizedRangeScan*> accepted;
+  std::vector<karto::Pose2> at_process;  // each accepted scan's pose when Process returned
   std::vector<GridTiming> grids;
   const long n = static_cast<long>(input.scans.size());
   long next_grid = 1;
@@ -382,6 +402,7 @@ int main(int argc, char** argv) {
       if (processed) {
         dataset.Add(scan);
         accepted.push_back(scan);
+        at_process.push_back(scan->GetCorrectedPose());
       } else {
         input_index.erase(scan);
         delete scan;
@@ -414,6 +435,13 @@ int main(int argc, char** argv) {
   for (size_t i = 0; i < loops.closures.size(); ++i)
     out << (i ? ", " : "") << "[" << loops.closures[i].scan << ", " << loops.closures[i].chain
         << "]";
+  out << "],\n \"pose_at_process\": [";
+  for (size_t i = 0; i < at_process.size(); ++i)
+    out << (i ? ",\n  " : "\n  ") << "[" << input_index[accepted[i]] << ", "
+        << Num(at_process[i].GetX()) << ", " << Num(at_process[i].GetY()) << ", "
+        << Num(at_process[i].GetHeading()) << "]";
+  out << "],\n \"edges\": [";
+  WriteEdges(out, *mapper, input_index);
   out << "],\n \"process_cpu_s\": [";
   for (size_t i = 0; i < process_cpu.size(); ++i)
     out << (i ? ", " : "") << "[" << process_cpu[i].first << ", "

@@ -93,3 +93,17 @@ def test_fine_match_recovers_a_known_offset():
     assert response > 0.5
     assert np.allclose(mean[:2], truth[:2], atol=0.02) and abs(mean[2]) < 0.01
     assert np.all(np.linalg.eigvalsh(cov) > 0)
+
+
+@pytest.mark.parametrize("heading", [0.0, 1.2, -2.5])
+def test_angular_variance_is_the_response_weighted_spread_around_the_best_heading(heading):
+    """ComputeAngularCovariance is the spread of the fine headings around the best heading
+    (not around the heading change): a few fine steps at most, whatever the heading."""
+    params, laser, matcher = setup(search=0.5, resolution=0.01)
+    base_pose = np.array([0.0, 0.0, heading])
+    base = LocalizedScan(laser, 0, 0.0, base_pose, box_ranges(base_pose))
+    truth = np.array([0.05, -0.03, heading + 0.01])
+    scan = LocalizedScan(laser, 1, 0.0, base_pose, box_ranges(truth))
+    response, mean, cov = matcher.match(scan, [base], penalize=True, refine=True)
+    assert response > 0.5
+    assert 0.0 < cov[2, 2] < (6 * params.fine_search_angle_offset) ** 2

@@ -20,6 +20,7 @@ from slam_predict.slam.karto.scan import (
     compose,
     normalize_angle,
     relative,
+    transform_pose,
 )
 
 
@@ -104,8 +105,8 @@ class Mapper:
         """Mapper::Process: True when the scan was added."""
         last = self.scans[-1] if self.scans else None
         if last is not None:
-            offset = relative(last.odometric_pose, scan.odometric_pose)
-            scan.set_corrected_pose(compose(last.corrected_pose, offset))
+            scan.set_corrected_pose(transform_pose(last.odometric_pose, last.corrected_pose,
+                                                   scan.odometric_pose))
         if not self.has_moved_enough(scan, last):
             return False
         cov = np.eye(3)

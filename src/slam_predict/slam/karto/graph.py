@@ -7,8 +7,8 @@ from collections import deque
 
 import numpy as np
 
-from slam_predict.slam.karto.scan import TOLERANCE, LocalizedScan, relative
-from slam_predict.slam.karto.solver import PoseGraphSolver
+from slam_predict.slam.karto.scan import ORIGIN, TOLERANCE, LocalizedScan, transform_pose
+from slam_predict.slam.karto.solver import PoseGraphSolver, karto_inverse
 
 
 def rotated_covariance(covariance, heading: float) -> np.ndarray:
@@ -19,15 +19,31 @@ def rotated_covariance(covariance, heading: float) -> np.ndarray:
 
 
 def weighted_mean(means, covariances) -> np.ndarray:
-    """Mapper::ComputeWeightedMean: information-weighted poses, the heading the circular mean."""
-    inverses = [np.linalg.inv(c) for c in covariances]
-    scale = np.linalg.inv(np.sum(inverses, axis=0))
-    total = np.zeros(3)
+    """Mapper::ComputeWeightedMean: information-weighted poses, the heading the circular mean
+    (Karto's Matrix3 products and sums, term by term in its order)."""
+    inverses = [karto_inverse(c) for c in covariances]
+    total_information = np.zeros((3, 3))
+    for inverse in inverses:
+        total_information = total_information + inverse
+    scale = karto_inverse(total_information)
+    total = [0.0, 0.0, 0.0]
+    theta_x = theta_y = 0.0
     for mean, inverse in zip(means, inverses, strict=True):
-        total += scale @ inverse @ np.asarray(mean)
-    headings = np.array([m[2] for m in means])
-    total[2] = math.atan2(np.mean(np.sin(headings)), np.mean(np.cos(headings)))
-    return total
+        theta_x += math.cos(mean[2])
+        theta_y += math.sin(mean[2])
+        weight = matrix_product(scale, inverse)
+        for row in range(3):
+            total[row] += (weight[row][0] * mean[0] + weight[row][1] * mean[1]
+                           + weight[row][2] * mean[2])
+    count = len(means)
+    return np.array([total[0], total[1], math.atan2(theta_y / count, theta_x / count)])
+
+
+def matrix_product(a, b) -> list:
+    """Karto's Matrix3 product, each entry summed left to right."""
+    a, b = np.asarray(a).tolist(), np.asarray(b).tolist()
+    return [[a[r][0] * b[0][c] + a[r][1] * b[1][c] + a[r][2] * b[2][c] for c in range(3)]
+            for r in range(3)]
 
 
 class MapperGraph:
@@ -70,7 +86,7 @@ class MapperGraph:
         self.adjacent[target.unique_id].append(source.unique_id)
         origin = source.corrected_pose
         self.solver.add_constraint(source.unique_id, target.unique_id,
-                                   relative(origin, target.corrected_at(mean)),
+                                   transform_pose(origin, ORIGIN, target.corrected_at(mean)),
                                    rotated_covariance(covariance, origin[2]))
         return True
 
@@ -106,9 +122,10 @@ class MapperGraph:
         return found
 
     def near_chains(self, scan) -> list[list[LocalizedScan]]:
-        """FindNearChains: runs of consecutive scans around each near linked scan."""
+        """FindNearChains: runs of consecutive scans around each near linked scan (distances
+        between reference points, as Karto's GetReferencePose)."""
         scans = self.mapper.scans
-        position = scan.sensor_pose[:2]
+        position = self.reference(scan)
         limit = self.p.link_scan_maximum_distance ** 2 + TOLERANCE
         processed: set[int] = set()
         chains = []
@@ -123,7 +140,7 @@ class MapperGraph:
                     candidate = scans[k]
                     if candidate is scan:
                         valid = False
-                    if float(np.sum((candidate.sensor_pose[:2] - position) ** 2)) >= limit:
+                    if float(np.sum((self.reference(candidate) - position) ** 2)) >= limit:
                         break
                     out.append(candidate)
                     processed.add(candidate.unique_id)
@@ -190,8 +207,12 @@ class MapperGraph:
         return closed
 
     def correct_poses(self) -> None:
-        """CorrectPoses: optimise, then every scan takes its node's pose."""
-        for scan, pose in zip(self.mapper.scans, self.solver.solve(), strict=True):
+        """CorrectPoses: optimise, then every scan takes its node's pose (none moves when the
+        solver has no usable solution)."""
+        poses = self.solver.solve()
+        if poses is None:
+            return
+        for scan, pose in zip(self.mapper.scans, poses, strict=True):
             scan.set_corrected_pose(pose)
 
 

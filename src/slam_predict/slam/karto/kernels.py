@@ -16,8 +16,15 @@ ANGLE_PENALTY_GAIN = 0.2
 
 @njit(cache=True)
 def karto_round(value: float) -> float:
-    """Karto's math::Round: floor(value + 0.5)."""
-    return math.floor(value + 0.5)
+    """Karto's math::Round: halves away from zero."""
+    return math.floor(value + 0.5) if value >= 0.0 else math.ceil(value - 0.5)
+
+
+@njit(cache=True)
+def to_grid(value: float, offset: float, resolution: float) -> int:
+    """CoordinateConverter::WorldToGrid on one axis: (value − offset) × (1 / resolution),
+    rounded (Karto multiplies by its stored scale)."""
+    return int(karto_round((value - offset) * (1.0 / resolution)))
 
 
 @njit(cache=True)
@@ -59,8 +66,8 @@ def add_points(grid, width_step, roi, points, offset_x, offset_y, resolution, ke
         px, py = points[k, 0], points[k, 1]
         if not (math.isfinite(px) and math.isfinite(py)):
             continue
-        gx = int(karto_round((px - offset_x) / resolution))
-        gy = int(karto_round((py - offset_y) / resolution))
+        gx = to_grid(px, offset_x, resolution)
+        gy = to_grid(py, offset_y, resolution)
         if gx < 0 or gx >= roi[2] or gy < 0 or gy >= roi[3]:
             continue
         index = (gx + roi[0]) + (gy + roi[1]) * width_step
@@ -88,8 +95,8 @@ def lookup_offsets(local, finite, angles, offset_x, offset_y, resolution, width_
                 continue
             ox = cosine * local[k, 0] - sine * local[k, 1]
             oy = sine * local[k, 0] + cosine * local[k, 1]
-            gx = int(karto_round(((ox + offset_x) - offset_x) / resolution))
-            gy = int(karto_round(((oy + offset_y) - offset_y) / resolution))
+            gx = to_grid((ox + offset_x), offset_x, resolution)
+            gy = to_grid((oy + offset_y), offset_y, resolution)
             out[a, k] = gx + gy * width_step
     return out
 
@@ -124,8 +131,8 @@ def correlate(grid, width_step, roi, offset_x, offset_y, resolution, offsets, ce
         y = ys[iy]
         for ix in range(xs.shape[0]):
             x = xs[ix]
-            gx = int(karto_round((center[0] + x - offset_x) / resolution))
-            gy = int(karto_round((center[1] + y - offset_y) / resolution))
+            gx = to_grid(center[0] + x, offset_x, resolution)
+            gy = to_grid(center[1] + y, offset_y, resolution)
             grid_index = (gx + roi[0]) + (gy + roi[1]) * width_step
             for a in range(angles.shape[0]):
                 response = response_at(grid, offsets, a, grid_index)

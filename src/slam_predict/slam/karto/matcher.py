@@ -44,6 +44,32 @@ def smear_kernel(smear_deviation: float, resolution: float) -> np.ndarray:
     return np.floor(z * kernels.OCCUPIED + 0.5).astype(np.uint8)
 
 
+def angle_near(angle: float, reference: float) -> float:
+    """Karto's NormalizeAngleDifference: ``angle`` moved by whole turns to within π of
+    ``reference`` (rad)."""
+    while angle - reference < -math.pi:
+        angle += 2.0 * math.pi
+    while angle - reference > math.pi:
+        angle -= 2.0 * math.pi
+    return angle
+
+
+def average_best_pose(responses, best, center, xs, ys, angles) -> np.ndarray:
+    """CorrelateScan's average of the poses whose response equals the best (within Karto's
+    DoubleEqual), summed in its order and arithmetic: positions centre + step, headings by
+    their mean cosine and sine."""
+    iy, ix, ia = np.nonzero(np.abs(responses - best) <= TOLERANCE)
+    sum_x = sum_y = theta_x = theta_y = 0.0
+    for y, x, a in zip(iy.tolist(), ix.tolist(), ia.tolist(), strict=True):
+        sum_x += center[0] + xs[x]
+        sum_y += center[1] + ys[y]
+        heading = normalize_angle(float(angles[a]))
+        theta_x += math.cos(heading)
+        theta_y += math.sin(heading)
+    count = len(iy)
+    return np.array([sum_x / count, sum_y / count, math.atan2(theta_y / count, theta_x / count)])
+
+
 def search_steps(offset: float, resolution: float) -> np.ndarray:
     """The n = round(2·offset/resolution) + 1 offsets −offset + k·resolution."""
     count = int(math.floor(offset * 2.0 / resolution + 0.5)) + 1
@@ -133,9 +159,7 @@ class ScanMatcher:
         best = float(responses.max())
         if not fine:
             self._store_probs(center, space_offset, xs, ys, responses)
-        iy, ix, ia = np.nonzero(np.abs(responses - best) < TOLERANCE)
-        heading = math.atan2(np.mean(np.sin(angles[ia])), np.mean(np.cos(angles[ia])))
-        mean = np.array([center[0] + xs[ix].mean(), center[1] + ys[iy].mean(), heading])
+        mean = average_best_pose(responses, best, center, xs, ys, angles)
         if fine:
             cov = cov.copy()
             cov[2, 2] = self._angular_variance(mean, best, center, angles, offsets, angle_res)
@@ -147,10 +171,9 @@ class ScanMatcher:
         self.probs[:] = 0.0
         self.probs_offset = center[:2] - space_offset
         for iy, y in enumerate(ys):
-            gy = int(math.floor((center[1] + y - self.probs_offset[1]) / self.resolution + 0.5))
+            gy = kernels.to_grid(center[1] + y, self.probs_offset[1], self.resolution)
             for ix, x in enumerate(xs):
-                gx = int(math.floor((center[0] + x - self.probs_offset[0]) / self.resolution
-                                    + 0.5))
+                gx = kernels.to_grid(center[0] + x, self.probs_offset[0], self.resolution)
                 self.probs[gy, gx] = max(self.probs[gy, gx], responses[iy, ix].max())
 
     def _positional_covariance(self, mean, best, center, xs, ys, space_res, angle_res):
@@ -161,10 +184,9 @@ class ScanMatcher:
         dx, dy = mean[0] - center[0], mean[1] - center[1]
         norm = xx = xy = yy = 0.0
         for y in ys:
-            gy = int(math.floor((center[1] + y - self.probs_offset[1]) / self.resolution + 0.5))
+            gy = kernels.to_grid(center[1] + y, self.probs_offset[1], self.resolution)
             for x in xs:
-                gx = int(math.floor((center[0] + x - self.probs_offset[0]) / self.resolution
-                                    + 0.5))
+                gx = kernels.to_grid(center[0] + x, self.probs_offset[0], self.resolution)
                 response = self.probs[gy, gx]
                 if response >= best - 0.1:
                     norm += response
@@ -173,9 +195,10 @@ class ScanMatcher:
                     yy += (y - dy) ** 2 * response
         if norm > TOLERANCE:
             floor_var = 0.1 * space_res ** 2
-            cov[0, 0] = max(xx / norm, floor_var) / best
-            cov[0, 1] = cov[1, 0] = xy / norm / best
-            cov[1, 1] = max(yy / norm, floor_var) / best
+            multiplier = 1.0 / best
+            cov[0, 0] = max(xx / norm, floor_var) * multiplier
+            cov[0, 1] = cov[1, 0] = xy / norm * multiplier
+            cov[1, 1] = max(yy / norm, floor_var) * multiplier
             cov[2, 2] = 4.0 * angle_res ** 2
         for i in (0, 1):
             if abs(cov[i, i]) < TOLERANCE:
@@ -183,10 +206,12 @@ class ScanMatcher:
         return cov
 
     def _angular_variance(self, mean, best, center, angles, offsets, angle_res) -> float:
-        """ScanMatcher::ComputeAngularCovariance (its angle-minus-relative-angle kept)."""
-        best_angle = normalize_angle(mean[2] - center[2])
-        gx = int(math.floor((mean[0] - self.offset[0]) / self.resolution + 0.5))
-        gy = int(math.floor((mean[1] - self.offset[1]) / self.resolution + 0.5))
+        """ScanMatcher::ComputeAngularCovariance: the spread of the searched headings around
+        the best heading (brought within π of the centre's, as NormalizeAngleDifference returns
+        its minuend)."""
+        best_angle = angle_near(mean[2], center[2])
+        gx = kernels.to_grid(mean[0], self.offset[0], self.resolution)
+        gy = kernels.to_grid(mean[1], self.offset[1], self.resolution)
         index = (gx + self.roi[0]) + (gy + self.roi[1]) * self.width_step
         norm = acc = 0.0
         for a, angle in enumerate(angles):

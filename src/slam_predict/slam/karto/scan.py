@@ -8,11 +8,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 TOLERANCE = 1e-6   # KT_TOLERANCE
+ORIGIN = (0.0, 0.0, 0.0)
 
 
 def normalize_angle(angle: float) -> float:
-    """Angle in (-pi, pi] (rad)."""
-    return math.atan2(math.sin(angle), math.cos(angle))
+    """Karto's math::NormalizeAngle: the angle moved by whole turns into [−π, π] (rad)."""
+    two_pi = 2.0 * math.pi
+    while angle < -math.pi:
+        angle += int(angle / -two_pi) * two_pi if angle < -two_pi else two_pi
+    while angle > math.pi:
+        angle -= int(angle / two_pi) * two_pi if angle > two_pi else two_pi
+    return angle
 
 
 def compose(a, b) -> np.ndarray:
@@ -27,6 +33,21 @@ def relative(a, b) -> np.ndarray:
     c, s = math.cos(a[2]), math.sin(a[2])
     dx, dy = b[0] - a[0], b[1] - a[1]
     return np.array([c * dx + s * dy, -s * dx + c * dy, normalize_angle(b[2] - a[2])])
+
+
+def transform_pose(frame_from, frame_to, pose) -> np.ndarray:
+    """Karto's ``Transform(frame_from, frame_to).TransformPose(pose)`` in its arithmetic
+    (FromAxisAngle rotation rows, translation frame_to − R·frame_from, heading added then
+    normalised): the pose moved by the rigid motion taking frame_from onto frame_to."""
+    turn = frame_to[2] - frame_from[2]
+    c, s = math.cos(turn), math.sin(turn)
+    tx, ty = frame_to[0], frame_to[1]
+    if frame_from[0] != 0.0 or frame_from[1] != 0.0:
+        tx = frame_to[0] - (c * frame_from[0] + -s * frame_from[1] + 0.0 * frame_from[2])
+        ty = frame_to[1] - (s * frame_from[0] + c * frame_from[1] + 0.0 * frame_from[2])
+    return np.array([tx + (c * pose[0] + -s * pose[1] + 0.0 * pose[2]),
+                     ty + (s * pose[0] + c * pose[1] + 0.0 * pose[2]),
+                     normalize_angle(pose[2] + turn)])
 
 
 @dataclass(frozen=True)
@@ -65,7 +86,7 @@ class LocalizedScan:
 
     def sensor_at(self, robot_pose) -> np.ndarray:
         """The laser pose when the robot is at ``robot_pose``."""
-        return compose(robot_pose, self.laser.offset)
+        return transform_pose(ORIGIN, robot_pose, self.laser.offset)
 
     @property
     def sensor_pose(self) -> np.ndarray:

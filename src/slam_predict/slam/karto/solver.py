@@ -1,18 +1,20 @@
 """The pose-graph optimisation slam_toolbox's default Ceres solver sets up: one (x, y, yaw)
-node per scan, the first held fixed; per edge the residual L·(R(yaw_a)ᵀ(p_b − p_a) − d_xy,
-wrap(yaw_b − yaw_a − d_yaw)) with L the lower Cholesky factor of the edge's information matrix
-(as its PoseGraph2dErrorTerm); Levenberg–Marquardt on the sparse normal equations (scipy)."""
+node per scan, the first held fixed; per edge the residual U·(R(yaw_a)ᵀ(p_b − p_a) − d_xy,
+wrap(yaw_b − yaw_a − d_yaw)) with U the upper Cholesky factor of the edge's information matrix
+(UᵀU = Karto's inverse of the covariance, as its PoseGraph2dErrorTerm); the angles move by
+wrapped addition (its AngleLocalParameterization). Minimised with Ceres' trust-region
+Levenberg–Marquardt as slam_toolbox configures it (``ceres_lm``)."""
 from __future__ import annotations
+
+import logging
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import spsolve
 
-MAX_ITERATIONS = 50          # Ceres defaults
-FUNCTION_TOLERANCE = 1e-6
-GRADIENT_TOLERANCE = 1e-10
-PARAMETER_TOLERANCE = 1e-8
-INITIAL_RADIUS = 1e4
+from slam_predict.slam.karto.ceres_lm import CeresOptions, Summary, minimize
+
+LOG = logging.getLogger(__name__)
+INVERSE_TOLERANCE = 1e-14    # Karto's Matrix3::Inverse determinant tolerance
 
 
 def wrap(angle):
@@ -20,28 +22,61 @@ def wrap(angle):
     return angle - 2.0 * np.pi * np.floor((angle + np.pi) / (2.0 * np.pi))
 
 
+def karto_inverse(matrix) -> np.ndarray:
+    """Karto's Matrix3::Inverse (cofactors over the determinant). Like Karto built without
+    asserts, a determinant within 1e-14 of zero leaves the cofactor matrix undivided."""
+    m = np.asarray(matrix, float)
+    cof = np.empty((3, 3))
+    cof[0, 0] = m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1]
+    cof[0, 1] = m[0, 2] * m[2, 1] - m[0, 1] * m[2, 2]
+    cof[0, 2] = m[0, 1] * m[1, 2] - m[0, 2] * m[1, 1]
+    cof[1, 0] = m[1, 2] * m[2, 0] - m[1, 0] * m[2, 2]
+    cof[1, 1] = m[0, 0] * m[2, 2] - m[0, 2] * m[2, 0]
+    cof[1, 2] = m[0, 2] * m[1, 0] - m[0, 0] * m[1, 2]
+    cof[2, 0] = m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0]
+    cof[2, 1] = m[0, 1] * m[2, 0] - m[0, 0] * m[2, 1]
+    cof[2, 2] = m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]
+    det = m[0, 0] * cof[0, 0] + m[0, 1] * cof[1, 0] + m[0, 2] * cof[2, 0]
+    if abs(det) <= INVERSE_TOLERANCE:
+        return cof
+    return cof * (1.0 / det)
+
+
+def sqrt_information(covariance) -> np.ndarray:
+    """U with UᵀU = the information matrix (Karto's inverse, mirrored from its upper triangle)."""
+    precision = karto_inverse(covariance)
+    upper = np.triu(precision)
+    information = upper + np.triu(precision, 1).T
+    return np.linalg.cholesky(information).T
+
+
 class PoseGraphSolver:
     """Nodes (kept between solves, as the Ceres solver's map) and constraints."""
 
-    def __init__(self):
+    def __init__(self, options: CeresOptions | None = None):
+        self.options = options or CeresOptions()
         self.nodes: list[np.ndarray] = []
         self.edges: list[tuple[int, int, np.ndarray, np.ndarray]] = []
+        self.summaries: list[Summary] = []
 
     def add_node(self, pose) -> None:
         self.nodes.append(np.array(pose, float))
 
     def add_constraint(self, source: int, target: int, difference, covariance) -> None:
         """An edge: ``difference`` (x, y, yaw) of target in source's frame; ``covariance`` 3×3."""
-        information = np.linalg.inv(np.asarray(covariance, float))
-        sqrt_information = np.linalg.cholesky(information)
-        self.edges.append((source, target, np.asarray(difference, float), sqrt_information))
+        self.edges.append((source, target, np.asarray(difference, float),
+                           sqrt_information(covariance)))
 
-    def solve(self) -> np.ndarray:
-        """Optimise; the nodes (N, 3) after it (also kept for the next solve)."""
+    def solve(self) -> np.ndarray | None:
+        """Optimise; the nodes (N, 3) after it (also kept for the next solve), or None when
+        Ceres would report no usable solution (the nodes then stay as they were)."""
         if len(self.nodes) < 2 or not self.edges:
             return np.array(self.nodes)
-        x = np.array(self.nodes)
-        x = levenberg_marquardt(x, self._arrays())
+        x, summary = optimise(np.array(self.nodes), self._arrays(), self.options)
+        self.summaries.append(summary)
+        if not summary.usable():
+            LOG.warning("pose graph: no usable solution (%s)", summary.message)
+            return None
         self.nodes = [row.copy() for row in x]
         return x
 
@@ -53,7 +88,30 @@ class PoseGraphSolver:
         return src, dst, diff, sqrt_info
 
 
-def residuals_and_jacobian(x, edges):
+def optimise(nodes, edges, options: CeresOptions | None = None):
+    """Ceres' minimisation over every node but the first; (nodes (n, 3), Summary)."""
+    first = nodes[:1]
+
+    def full(free):
+        return np.vstack((first, free.reshape(-1, 3)))
+
+    def plus(free, delta):
+        moved = (free + delta).reshape(-1, 3)
+        moved[:, 2] = wrap(moved[:, 2])
+        return moved.reshape(-1)
+
+    def residuals(free):
+        return residuals_and_jacobian(full(free), edges, jacobian=False)[0]
+
+    def jacobian(free):
+        return residuals_and_jacobian(full(free), edges)[1][:, 3:]
+
+    free, summary = minimize(nodes[1:].reshape(-1).copy(), residuals, jacobian, plus,
+                             options or CeresOptions())
+    return full(free), summary
+
+
+def residuals_and_jacobian(x, edges, jacobian: bool = True):
     """Weighted residuals (3m,) and their sparse Jacobian (3m × 3n) at poses ``x`` (n, 3)."""
     src, dst, diff, sqrt_info = edges
     xa, xb = x[src], x[dst]
@@ -61,6 +119,9 @@ def residuals_and_jacobian(x, edges):
     dx, dy = xb[:, 0] - xa[:, 0], xb[:, 1] - xa[:, 1]
     raw = np.column_stack((c * dx + s * dy - diff[:, 0], -s * dx + c * dy - diff[:, 1],
                            wrap(xb[:, 2] - xa[:, 2] - diff[:, 2])))
+    residual = np.einsum("kij,kj->ki", sqrt_info, raw).reshape(-1)
+    if not jacobian:
+        return residual, None
     m = len(src)
     block_a = np.zeros((m, 3, 3))
     block_a[:, 0, 0], block_a[:, 0, 1], block_a[:, 0, 2] = -c, -s, -s * dx + c * dy
@@ -70,7 +131,6 @@ def residuals_and_jacobian(x, edges):
     block_b[:, 0, 0], block_b[:, 0, 1] = c, s
     block_b[:, 1, 0], block_b[:, 1, 1] = -s, c
     block_b[:, 2, 2] = 1.0
-    residual = np.einsum("kij,kj->ki", sqrt_info, raw).reshape(-1)
     ja = np.einsum("kij,kjl->kil", sqrt_info, block_a)
     jb = np.einsum("kij,kjl->kil", sqrt_info, block_b)
     rows = np.repeat(np.arange(3 * m).reshape(m, 3, 1), 3, axis=2)
@@ -81,43 +141,3 @@ def residuals_and_jacobian(x, edges):
                           np.concatenate((cols_a.ravel(), cols_b.ravel())))),
                         shape=(3 * m, 3 * len(x)))
     return residual, jac
-
-
-def levenberg_marquardt(x0, edges) -> np.ndarray:
-    """Minimise ½‖r‖² over every node but the first (n, 3) with Ceres-style LM steps."""
-    x = x0.copy()
-    free = np.arange(3, 3 * len(x))
-    radius, decrease = INITIAL_RADIUS, 2.0
-    r, jac = residuals_and_jacobian(x, edges)
-    cost = 0.5 * r @ r
-    for _ in range(MAX_ITERATIONS):
-        j = jac[:, free]
-        gradient = j.T @ r
-        if np.max(np.abs(gradient), initial=0.0) <= GRADIENT_TOLERANCE:
-            break
-        normal = (j.T @ j).tocsc()
-        diagonal = np.clip(normal.diagonal(), 1e-6, 1e32)
-        step = spsolve(normal + sp.diags(diagonal / radius, format="csc"), -gradient)
-        trial = x.copy()
-        trial.reshape(-1)[free] += step
-        trial[:, 2] = wrap(trial[:, 2])
-        r_new, jac_new = residuals_and_jacobian(trial, edges)
-        cost_new = 0.5 * r_new @ r_new
-        model = -(step @ gradient) - 0.5 * step @ (normal @ step)
-        rho = (cost - cost_new) / model if model > 0 else -1.0
-        if rho > 1e-3:
-            converged = abs(cost - cost_new) <= FUNCTION_TOLERANCE * cost
-            scale = np.linalg.norm(x) + PARAMETER_TOLERANCE
-            small = np.linalg.norm(step) <= PARAMETER_TOLERANCE * scale
-            x, r, jac, cost = trial, r_new, jac_new, cost_new
-            radius = radius / max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
-            decrease = 2.0
-            if converged or small:
-                break
-        else:
-            radius /= decrease
-            decrease *= 2.0
-            if radius < 1e-32:
-                break
-    return x
-
