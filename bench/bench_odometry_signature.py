@@ -31,6 +31,8 @@ from pathlib import Path
 import numpy as np
 from scipy.stats import spearmanr
 
+from slam_predict.metric.runs import MIN_COVERAGE
+
 ROOT = Path(__file__).resolve().parents[1]
 SHARED_DATA = Path(os.environ.get("SLAM_PREDICT_SHARED", ROOT.parent / "shared")) / "data"
 
@@ -98,7 +100,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("campaigns", type=Path, nargs="*")
     parser.add_argument("--thesis-dir", type=Path, default=SHARED_DATA / "thesis")
-    parser.add_argument("--min-coverage", type=float, default=0.5)
+    parser.add_argument("--min-coverage", type=float, default=MIN_COVERAGE)
     args = parser.parse_args(argv)
     realistic = args.thesis_dir / "stats_realistic.csv"
     optimistic = args.thesis_dir / "stats_optimistic.csv"

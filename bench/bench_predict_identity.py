@@ -39,7 +39,7 @@ IPA = ["lab_a_scan", "lab_b_scan", "lab_c_scan", "Freiburg79_scan"]
 PLAN_MODELS = ["thesis-realistic", "thesis-optimistic", "own-realistic"]
 ROBOTS = ["lds_360_3p5", "seed_optimistic", "seed_realistic", "seed_realistic_fixed",
           "urg_240_5p6", "utm_270_30_poor_odom"]
-REPORT_CAMPAIGN = "data/campaigns/fidelity_fixed_60"
+REPORT_CAMPAIGN = "data/campaigns/fidelity_seed_study"
 VOLATILE_CARD_KEYS = ("created",)
 
 # One process per case, one BLAS thread, and ARPACK's start vector seeded: scipy's eigsh

@@ -19,6 +19,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from slam_predict.metric.runs import MIN_COVERAGE
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -31,7 +33,7 @@ def parse_args(argv=None) -> argparse.Namespace:
                         help="plans of the campaign's buildings (worlds import-thesis)")
     parser.add_argument("--robot", default=str(ROOT / "config" / "robots"
                                                / "seed_realistic_fixed.yaml"))
-    parser.add_argument("--min-coverage", type=float, default=0.5)
+    parser.add_argument("--min-coverage", type=float, default=MIN_COVERAGE)
     parser.add_argument("--unseen", action="store_true",
                         help="only buildings the model was not trained on")
     return parser.parse_args(argv)

@@ -14,7 +14,7 @@
 #              config/fidelity/sizes.yaml; runs are added breadth-first (run 1 of every building,
 #              then run 2, ...) so that a campaign cut by the end of a working period is usable.
 #   fidelity_sizes_r2 (issue #16): the same buildings under config/fidelity/sizes_rebuild2.yaml
-#              (the map rebuild twice as dear per traced cell; docs/fidelity.md, 2026-12-03).
+#              (the map rebuild twice as dear per traced cell; docs/notes/fidelity.md, 2026-12-03).
 #   fidelity_seed_study (issue #16): the same buildings under config/fidelity/seed_study.yaml
 #              (Stage's fixed odometry biases, the calibrated compute delay): the fidelity
 #              campaign whose settings the robots campaign and own-realistic use.

@@ -175,7 +175,8 @@ def test_runs_below_min_coverage_are_left_out(tables, capsys):
     record = json.loads(failed.read_text())
     failed.write_text(json.dumps({**record, "coverage": 0.37}))
     table = read_thesis_table(thesis)
-    assert compare_campaign(camp, table).runs == 8
+    assert compare_campaign(camp, table, min_coverage=0.0).runs == 8
+    assert compare_campaign(camp, table).runs == 7              # the failed-exploration rule
     kept = compare_campaign(camp, table, min_coverage=0.5)
     row = {r["world"]: r for r in kept.rows}["b"]
     assert kept.runs == 7 and row["runs"] == 1 and row["trans_mean_ours"] == pytest.approx(0.5)

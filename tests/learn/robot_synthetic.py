@@ -192,12 +192,12 @@ def fast_config(**changes):
     return from_dict(RobotLearningConfig, {**FAST, **changes}, "test")
 
 
-def load(folder: Path, worlds: dict[str, dict], min_coverage: float = 0.9,
-         version: str = "synthetic-v1"):
-    """The RobotDataset of a synthetic campaign folder with its true plan features."""
+def load(folder: Path, worlds: dict[str, dict], version: str = "synthetic-v1"):
+    """The RobotDataset of a synthetic campaign folder with its true plan features (runs
+    skipped by the failed-exploration rule, ``metric.runs.MIN_COVERAGE``)."""
     from slam_predict.learn.robot.dataset import build_dataset, read_runs
 
-    runs, skipped = read_runs([folder], min_coverage)
+    runs, skipped = read_runs([folder])
     features = {w: {k: v for k, v in f.items()} for w, f in worlds.items()}
     return build_dataset(runs, skipped, features, version)
 

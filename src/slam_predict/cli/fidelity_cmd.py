@@ -9,6 +9,7 @@ from slam_predict.cli.guards import (
     check_out_file,
     check_share,
 )
+from slam_predict.metric.runs import MIN_COVERAGE
 
 NAME = "fidelity"
 HELP = ("compare campaigns' per-building errors with the seed study's table (Spearman rank "
@@ -22,10 +23,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the seed study's stats table, e.g. thesis/stats_realistic.csv")
     parser.add_argument("--min-runs", type=int, default=1,
                         help="skip buildings with fewer finished runs")
-    parser.add_argument("--min-coverage", type=float, default=0.0, metavar="SHARE",
+    parser.add_argument("--min-coverage", type=float, default=MIN_COVERAGE, metavar="SHARE",
                         help="leave out runs that explored less than this share of the "
-                             "reachable free area, e.g. 0.5 as the robot-aware learner does "
-                             "(default 0: every run)")
+                             "reachable free area: failed explorations (default "
+                             f"{MIN_COVERAGE:g}, as the robot-aware learner; 0: every run)")
     parser.add_argument("--out", metavar="MD", help="also write the markdown tables to MD")
     parser.add_argument("--plot", metavar="PNG",
                         help="also write the ratios ours/theirs against free area to PNG")

@@ -21,6 +21,7 @@ import numpy as np
 
 from slam_predict.collect.store import RunStore
 from slam_predict.errors import InputError
+from slam_predict.metric.runs import MIN_COVERAGE, sample_std
 
 THESIS_COLUMNS = {"trans_mean": "transError.mean.mean", "rot_mean": "rotError.mean.mean",
                   "path_length_mean": "totalLen"}
@@ -128,10 +129,10 @@ def read_thesis_table(path: Path) -> dict[str, dict[str, float]]:
 
 def compare_campaign(folder: Path, thesis: dict[str, dict[str, float]],
                      min_runs: int = 1, name: str | None = None,
-                     min_coverage: float = 0.0) -> Comparison:
+                     min_coverage: float = MIN_COVERAGE) -> Comparison:
     """Compare the buildings of campaign ``folder`` that the thesis table also holds; runs
     whose coverage (explored share of the reachable free area) is below ``min_coverage`` are
-    left out (0: every run counts)."""
+    left out (0: every run counts; default the failed-exploration rule ``MIN_COVERAGE``)."""
     folder = Path(folder)
     if not folder.is_dir():
         raise InputError("campaign folder not found", folder)
@@ -166,11 +167,6 @@ def our_figures(runs: dict[str, np.ndarray]) -> dict[str, float]:
     figures = {f"{key}_ours": float(np.mean(runs[key])) for key in THESIS_COLUMNS}
     figures.update({f"{key}_ours": sample_std(runs[of]) for key, of in SCATTER_OF.items()})
     return figures
-
-
-def sample_std(values: np.ndarray) -> float:
-    """The sample standard deviation (n − 1) of ``values``; nan under 2 values."""
-    return float(np.std(values, ddof=1)) if len(values) >= 2 else float("nan")
 
 
 def _free_area(records: list[dict]) -> float:

@@ -22,6 +22,7 @@ import numpy as np
 from slam_predict.atomic import write_text
 from slam_predict.collect.record import ranger_model_of
 from slam_predict.collect.store import RunStore
+from slam_predict.metric.runs import BUILDING_STD_DDOF
 from slam_predict.sensor import sensor_hash
 
 KEY_COLUMNS = ("world", "robot")
@@ -63,12 +64,12 @@ def building_row(world: str, records: list[dict], robot: str = "") -> dict[str, 
     trans_sqr, rot_sqr = values("metric", "trans_sqr_mean"), values("metric", "rot_sqr_mean")
     return {
         "world": world, "robot": robot, "runs": len(records),
-        "trans_mean": trans.mean(), "trans_std": trans.std(),
-        "rot_mean": rot.mean(), "rot_std": rot.std(),
+        "trans_mean": trans.mean(), "trans_std": trans.std(ddof=BUILDING_STD_DDOF),
+        "rot_mean": rot.mean(), "rot_std": rot.std(ddof=BUILDING_STD_DDOF),
         "path_length_mean": values("distance_m").mean(),
         "rotation_mean": values("rotation_rad").mean(),
-        "trans_sqr_mean": trans_sqr.mean(), "trans_sqr_std": trans_sqr.std(),
-        "rot_sqr_mean": rot_sqr.mean(), "rot_sqr_std": rot_sqr.std(),
+        "trans_sqr_mean": trans_sqr.mean(), "trans_sqr_std": trans_sqr.std(ddof=BUILDING_STD_DDOF),
+        "rot_sqr_mean": rot_sqr.mean(), "rot_sqr_std": rot_sqr.std(ddof=BUILDING_STD_DDOF),
         "coverage_mean": values("coverage").mean(),
         "sim_time_mean_s": values("sim_duration_s").mean(),
     }

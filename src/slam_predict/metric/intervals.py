@@ -22,6 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import chi2, t
 
+from slam_predict.metric.runs import BUILDING_STD_DDOF, SAMPLE_STD_DDOF
+
 
 @dataclass(frozen=True)
 class Estimate:
@@ -56,15 +58,17 @@ def mean_interval(values: Sequence[float], confidence: float = 0.95) -> Estimate
     n, mean = x.size, float(x.mean())
     if n < 2:
         return Estimate(mean, None, None, n, confidence, "t")
-    half = float(t.ppf(0.5 + confidence / 2.0, n - 1)) * float(x.std(ddof=1)) / math.sqrt(n)
+    quantile = float(t.ppf(0.5 + confidence / 2.0, n - 1))
+    half = quantile * float(x.std(ddof=SAMPLE_STD_DDOF)) / math.sqrt(n)
     return Estimate(mean, mean - half, mean + half, n, confidence, "t")
 
 
 def std_interval(values: Sequence[float], confidence: float = 0.95) -> Estimate:
-    """The (ddof = 0) std of ``values`` with the chi-square confidence interval of σ."""
+    """The building std (``BUILDING_STD_DDOF``) of ``values`` with the chi-square confidence
+    interval of σ."""
     _check_confidence(confidence)
     x = _values(values)
-    n, std = x.size, float(x.std())
+    n, std = x.size, float(x.std(ddof=BUILDING_STD_DDOF))
     if n < 2:
         return Estimate(std, None, None, n, confidence, "chi-square")
     sum_sq = float(np.sum((x - x.mean()) ** 2))  # (n-1)·s²

@@ -1,8 +1,18 @@
 """Per-building statistics over runs (thesis eqs. 3.6–3.9) and the run-count rule.
 
 Each run contributes its per-run mean absolute relation errors ε_t (m) and ε_r (rad) — what the
-thesis' data release averages — and optionally the squared variants (thesis eq. 3.1). The spread
-across runs uses ddof = 0 (eqs. 3.7/3.9 divide by |R|; numpy ``std`` in the data release).
+thesis' data release averages — and optionally the squared variants (thesis eq. 3.1).
+
+The rules every caller shares (docs/formats.md "Std over runs", docs/explanation.md):
+
+- ``MIN_COVERAGE``: a run that mapped less than this share of the reachable free area is a failed
+  exploration, left out of what is learnt from or compared by default.
+- ``BUILDING_STD_DDOF`` (0): the std over a building's runs in summary.csv and the plan-only
+  models' targets divides by the run count (eqs. 3.7/3.9 divide by |R|; numpy ``std`` in the
+  seed study's data release).
+- ``SAMPLE_STD_DDOF`` (1): the sample std (n − 1) where a std over a few runs is compared or
+  given a chi-square interval: the robot-aware models' design points and the fidelity
+  comparison's run-to-run scatter.
 """
 from __future__ import annotations
 
@@ -15,6 +25,9 @@ import numpy as np
 from slam_predict.metric.kummerle import MetricResult
 
 COMPONENTS = ("trans_mean", "trans_std", "rot_mean", "rot_std")
+MIN_COVERAGE = 0.5
+BUILDING_STD_DDOF = 0
+SAMPLE_STD_DDOF = 1
 
 
 @dataclass(frozen=True)
@@ -43,7 +56,13 @@ def _mean_std(values: Sequence[float] | None):
     if values is None or len(values) == 0:
         return math.nan, math.nan
     values = np.asarray(values, dtype=float)
-    return float(values.mean()), float(values.std(ddof=0))
+    return float(values.mean()), float(values.std(ddof=BUILDING_STD_DDOF))
+
+
+def sample_std(values) -> float:
+    """The sample std (``SAMPLE_STD_DDOF``) of ``values``; NaN under 2 values."""
+    values = np.asarray(values, dtype=float)
+    return float(values.std(ddof=SAMPLE_STD_DDOF)) if len(values) >= 2 else math.nan
 
 
 def building_statistics(per_run_trans: Sequence[float], per_run_rot: Sequence[float],

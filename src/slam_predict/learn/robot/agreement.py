@@ -15,10 +15,11 @@ from typing import Any
 import numpy as np
 
 from slam_predict.learn.robot.plain import MEANS
+from slam_predict.metric.runs import MIN_COVERAGE
 
 
 def agreement_rows(model, robot: Mapping[str, float], campaign: os.PathLike | str,
-                   plan_of: Callable[[str], Any], min_coverage: float = 0.5,
+                   plan_of: Callable[[str], Any], min_coverage: float = MIN_COVERAGE,
                    unseen: bool = False,
                    features_of: Callable[[Any], Mapping[str, float]] | None = None
                    ) -> list[dict]:

@@ -16,6 +16,7 @@ from slam_predict.config import (
 )
 from slam_predict.learn.card import PROTOCOLS
 from slam_predict.learn.config import BoostingConfig, ElasticNetConfig
+from slam_predict.metric.runs import MIN_COVERAGE
 
 ROBOT_MODEL_KINDS = ("elasticnet", "gradient_boosting", "trend_boosting", "gaussian_process")
 # trend_boosting, not gradient_boosting: the same trees inside the training sizes, and not flat
@@ -120,7 +121,7 @@ class RobotLearningConfig:
     log_robot_inputs: tuple[str, ...] = ("laser_range_max_m",)
     models: tuple[str, ...] = DEFAULT_MODELS
     seed: int = 0
-    min_coverage: float = 0.5
+    min_coverage: float = MIN_COVERAGE
     folds: int = 5
     repeats: int = 1
     conformal_folds: int = 5

@@ -13,7 +13,8 @@ A POINT row is one building × robot configuration: ``world, config, point, runs
 inputs and the four components — ``trans_mean``/``rot_mean`` the mean over the point's runs,
 ``trans_std``/``rot_std`` their sample standard deviation (ddof = 1; NaN with one run).
 
-Runs with ``coverage`` below the minimum (``min_coverage``; config/robot_learning.yaml: 0.5)
+Runs with ``coverage`` below the minimum (``min_coverage``; config/robot_learning.yaml: 0.5, the
+failed-exploration rule ``metric.runs.MIN_COVERAGE``)
 or without a usable metric are skipped, logged and counted; a missing or malformed record is
 a one-line :class:`InputError` naming the file.
 """
@@ -38,6 +39,7 @@ from slam_predict.learn.robot.inputs import (
     inputs_from_sensor,
     odom_model_of,
 )
+from slam_predict.metric.runs import MIN_COVERAGE, sample_std
 from slam_predict.words import plural
 
 LOG = logging.getLogger(__name__)
@@ -185,7 +187,7 @@ def run_row(record: Mapping[str, Any], path, max_urange_m: float | None = None) 
                   max_urange_m=max_urange_m, odom_model=odom_model)
 
 
-def read_runs(folders: Sequence[os.PathLike | str], min_coverage: float = 0.9,
+def read_runs(folders: Sequence[os.PathLike | str], min_coverage: float = MIN_COVERAGE,
               max_urange_m: float | None = None) -> tuple[list[RunRow], dict[str, int]]:
     """(RUN rows, {skip reason: count}) of the campaign folders, checked for consistency;
     ``max_urange_m``: GMapping's maxUrange, m, for every run (None: from each run's settings,
@@ -276,8 +278,8 @@ def _assign_replicates(rows: Sequence[RunRow]) -> None:
 
 
 def point_rows(runs: Sequence[RunRow]) -> list[PointRow]:
-    """POINT rows: per point the mean and the sample std (ddof 1, NaN for one run) of the
-    runs' errors, in order of first appearance."""
+    """POINT rows: per point the mean and the sample std (``SAMPLE_STD_DDOF``, NaN for one
+    run) of the runs' errors, in order of first appearance."""
     groups: dict[str, list[RunRow]] = {}
     for row in runs:
         groups.setdefault(row.point, []).append(row)
@@ -288,7 +290,7 @@ def point_rows(runs: Sequence[RunRow]) -> list[PointRow]:
             values = np.array([getattr(r, name) for r in members])
             targets[name] = float(values.mean())
             std = name.replace("_mean", "_std")
-            targets[std] = float(values.std(ddof=1)) if len(values) > 1 else math.nan
+            targets[std] = sample_std(values)
         first = members[0]
         out.append(PointRow(first.world, first.config, point, len(members), dict(first.robot),
                             {c: targets[c] for c in COMPONENTS}))
