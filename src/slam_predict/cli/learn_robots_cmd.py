@@ -16,6 +16,8 @@ import argparse
 import json
 import math
 import os
+import shlex
+import sys
 from pathlib import Path
 
 from slam_predict.cli.deprecated import add_renamed_option
@@ -292,6 +294,9 @@ def run(args: argparse.Namespace) -> int:
     rows = evaluate(tables, config, n_jobs=args.jobs)
     summary = summarize(rows)
     best = best_models(summary, config)
+    if target is not None:
+        best = _train(args, target, data, config, summary, best, full_config, bounds,
+                      outcomes)
     if args.out:
         write_evaluation(args.out, data, tables, config, rows, summary, best,
                          {"feature_config": full_config,
@@ -303,14 +308,26 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         print(f"evaluation written to {args.out}")
     if target is not None:
-        from slam_predict.learn.robot.train import train_robot_store
-
-        sources = {"data": [portable_path(d) for d in args.data],
-                   "features_from": portable_path(args.worlds or args.features),
-                   "design": _designs(args.design)}
-        train_robot_store(data, config, summary, best, target,
-                          {"name": args.name, "description": args.description,
-                           "feature_config": full_config, "sources": sources,
-                           "design_bounds": bounds, "exploration": outcomes}, args.jobs)
         print(f"model written to {target}")
     return 0
+
+
+def _train(args, target: Path, data, config, summary, best, full_config, bounds,
+           outcomes) -> dict[str, str]:
+    """Write the model folder; the best kinds it ships (monotone ones only)."""
+    from slam_predict.learn.card import read_card
+    from slam_predict.learn.robot.failure import outcome_runs
+    from slam_predict.learn.robot.train import train_robot_store
+    from slam_predict.paths import portable_path
+
+    sources = {"data": [portable_path(d) for d in args.data],
+               "features_from": portable_path(args.worlds or args.features),
+               "design": _designs(args.design),
+               "command": shlex.join(["slam-predict", *sys.argv[1:]])}
+    train_robot_store(data, config, summary, best, target,
+                      {"name": args.name, "description": args.description,
+                       "feature_config": full_config, "sources": sources,
+                       "design_bounds": bounds, "exploration": outcomes,
+                       "outcome_runs": outcome_runs(args.data, data.max_urange_m)}, args.jobs)
+    card = read_card(target)
+    return {c: e["best"] for c, e in card["components"].items()}

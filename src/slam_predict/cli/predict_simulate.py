@@ -142,6 +142,10 @@ def format_text(result: dict, components) -> str:
             lines.append(f"      measured   {measured}")
         e = result[comp]
         lines.append(f"      predicted  {entry_text(e, conf)}{model_tag(e)}")
+    if result.get("model_takes_robot"):
+        from slam_predict.cli.predict_robot import failure_text
+
+        lines += failure_text(result.get("failure"))
     lines += [f"note: {n}" for n in sim["notes"]]
     lines += [f"warning: {w}" for w in result["warnings"]]
     return "\n".join(lines)
@@ -171,7 +175,7 @@ def run(args: argparse.Namespace, world, components, predict) -> int:
                             "measured": sim["measured"], "notes": sim["notes"]}
     result.setdefault("model_takes_robot", False)
     if args.json:
-        robot = ["robot"] if result["model_takes_robot"] else []
+        robot = ["robot", "failure"] if result["model_takes_robot"] else []
         keys = ["world", "plan", "setting", "model_store", "model_takes_robot", *robot,
                 "confidence",
                 *components, "simulation", "free_space", "warnings", "features"]
