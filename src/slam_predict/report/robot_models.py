@@ -6,8 +6,9 @@ design), the evaluation figures of every model under every protocol, and partial
 plots — per component, the model's prediction averaged over the training points (buildings ×
 configurations) as one robot input sweeps its range
 (:meth:`~slam_predict.learn.robot.predict.RobotModel.partial_dependence`), the training range
-shaded, the design's configurations as ticks. Predictions for the campaign's worlds are not
-shown: they need the robot of each run.
+shaded, the design's configurations as ticks, and the failure probability's evaluation.
+Predictions for the campaign's runs, each from its recorded robot:
+:mod:`slam_predict.report.robot_predictions`.
 """
 from __future__ import annotations
 
@@ -145,8 +146,7 @@ def robot_card_section(entry) -> str:
     """The section of a robot-aware model folder (module doc); problems become notes."""
     if entry.card is None:
         return H.section(f"Model {entry.name}", H.notes(entry.notes), level=3)
-    notes = list(entry.notes) + ["robot-aware model: no predictions for this campaign's worlds "
-                                 "(they would need each run's robot)"]
+    notes = list(entry.notes)
     body = (overview(entry.card)
             + "<p>Evaluation on the training campaign, per protocol: test points never seen "
               "in training (buildings, robot configurations or both held out); median "
