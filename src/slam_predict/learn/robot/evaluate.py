@@ -204,6 +204,16 @@ def summarize(rows: Sequence[dict]) -> list[dict]:
     return out
 
 
+def summary_from_card(card: dict) -> list[dict]:
+    """The summary rows (protocol, component, model and the figures a card keeps) recorded in
+    a robot-aware card's ``components``: an evaluation reused by ``learn train
+    --evaluation-from``."""
+    return [{"protocol": protocol, "component": component, "model": kind, **figures}
+            for component, entry in card["components"].items()
+            for kind, model in entry["models"].items()
+            for protocol, figures in (model.get("metrics") or {}).items()]
+
+
 def best_models(summary: Sequence[dict], config: RobotLearningConfig,
                 excluded: Set[tuple[str, str]] = frozenset()) -> dict[str, str]:
     """Per component the model kind with the lowest median % error under the configured
