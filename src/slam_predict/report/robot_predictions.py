@@ -12,7 +12,7 @@ cannot be scored and is a note.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -128,14 +128,17 @@ def robot_predictions_section(entry, campaign: Campaign, cache: FeatureCache) ->
             "runs that explored enough for the model to describe them.</p>")
     if result.items:
         body += predictions_table(result.items)
-        body += coverage_line(result.items, entry.card.get("confidence"))
+        body += coverage_line([p for p in result.items if math.isfinite(p.measured)],
+                              entry.card.get("confidence"))
     if result.failures:
         share = f"{100 * float(threshold):g} %" if threshold is not None else "the threshold"
         body += (f"<p>Failure probability: the model's probability that an exploration maps "
                  f"less than {share} of the floor, beside the runs that did.</p>")
         body += H.table(["world [robot]", "runs", f"P(coverage < {share})",
                          "runs below it"], result.failures)
-    png = plot(result.items, f"{entry.name}: predicted vs measured, per recorded robot")
+    png = plot([replace(p, world=p.world.split(" [laser ")[0] + " " + p.world.split(" [laser ")
+                        [-1].split(" m,")[0] + " m") for p in result.items],
+               f"{entry.name}: predicted vs measured, per recorded robot (laser range)")
     if png:
         body += H.image(png, f"predicted vs measured, model {entry.name}",
                         "Each point is one world × robot; bar = the model's interval; "
