@@ -137,5 +137,11 @@ def test_robot_aware_predictions_use_each_runs_recorded_robot(campaign_dir, mode
     assert alpha["trans_mean"]["runs"] == "3"
     failure = page.table(["world [robot]", "runs"], section=heading)
     assert len(failure["rows"]) == 2
+    metrics = page.table(["component", "unit", "model", "protocol"])
+    assert metrics["header"][-1] == "monotone in the robot"
+    for row in metrics["rows"]:
+        check = card["components"][row[0]]["models"][row[2]]["monotone"]
+        assert row[-1] == "yes" if check["passed"] else row[-1].startswith("no (")
+    assert page.table(["predicted p", "runs", "mean predicted", "observed failures"])
     assert any("plan-only model does not take the robot into account" in n and robot in n
                for n in page.notes)
