@@ -166,9 +166,9 @@ def failure_html(card: dict[str, Any]) -> str:
             for b in ev.get("reliability", [])]
     return (f"<p>Failure probability (an exploration maps less than {share} of the floor; "
             f"{H.esc(str(failure.get('model', '')))}; {failure['failed']} of "
-            f"{failure['runs']} training runs failed). {H.esc(ev['protocol'])}: Brier score "
-            f"{ev['brier']:.3f}, against {ev['brier_base_rate']:.3f} for the training runs' "
-            "failure rate. Reliability:</p>"
+            f"{failure['runs']} training runs failed). {H.esc(ev['protocol'].capitalize())}: "
+            f"Brier score {ev['brier']:.3f}, against {ev['brier_base_rate']:.3f} for the "
+            "training runs' failure rate. Reliability:</p>"
             + H.table(["predicted p", "runs", "mean predicted", "observed failures"], rows))
 
 
