@@ -103,6 +103,7 @@ def predict(world, model, robot, robot_path: str, component: str = "all") -> dic
     for comp in components_of(component):
         result[comp] = _entry(raw[comp])
     result["failure"] = failure_entry(model, features, inputs)
+    result["training_config_hashes"] = model.card.get("config_hashes")   # not printed
     result["free_space"] = space
     odom_note = model.odom_model_warning(robot.odom_model)
     result["warnings"] = unreachable + list(model.store.notes) + \
