@@ -44,8 +44,8 @@ def lds(root, robot_models_dir):
 def test_json_has_the_four_components_of_the_robot_aware_model(lds, root, robot_models_dir):
     assert lds["model_store"] == "own-robots" and lds["model_takes_robot"] is True
     assert lds["setting"] == "robots" and lds["confidence"] == 0.9
-    assert list(lds)[:7] == ["world", "plan", "setting", "model_store", "model_takes_robot",
-                             "robot", "confidence"]
+    assert list(lds)[:8] == ["world", "plan", "setting", "model_store", "model_takes_robot",
+                             "robot", "failure", "confidence"]
     model = RobotModel.load(robot_models_dir / "own-robots")
     robot = load_robot(root / ROBOTS / "lds_360_3p5.yaml")
     plan = load_plan(root / WORLD)
@@ -71,8 +71,8 @@ def test_json_has_the_four_components_of_the_robot_aware_model(lds, root, robot_
 
 def test_domain_warnings_name_the_resolution(lds):
     """The LDS laser has 1° beams; the design's have 0.5°."""
-    assert any("laser angular resolution 1.003 deg differs from the design's 0.5 deg" in w
-               for w in lds["warnings"])
+    assert any("laser angular resolution 1.003 deg is coarser than every training run's "
+               "(0.5 deg" in w and "--simulate 3" in w for w in lds["warnings"])
     assert not any(w.startswith("laser_range_max_m") for w in lds["warnings"])
 
 
@@ -160,3 +160,20 @@ def test_rosrun_script_passes_robot_through(root, robot_models_dir):
                           cwd=root, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 2 and "no robot-aware model folder" in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
+
+
+def test_failure_probability_in_json_and_text(lds, root, robot_models_dir):
+    """Beside the four components: the probability that an exploration maps less than the
+    card's coverage threshold, with its one-line meaning; the old footnote is gone."""
+    failure = lds["failure"]
+    assert 0.0 <= failure["probability"] <= 1.0 and failure["coverage_threshold"] == 0.9
+    assert failure["training_runs"] > 0
+    assert not any("mapped less than" in w for w in lds["warnings"])
+    code, out, err = call(str(root / WORLD), "--robot", f"{root / ROBOTS}/lds_360_3p5.yaml",
+                          "--models-dir", str(robot_models_dir))
+    assert code == 0, err
+    lines = out.splitlines()
+    line = next(x for x in lines if x.startswith("  failure    P(exploration maps < 90 % of "
+                                                 "the floor)"))
+    assert line.endswith(f"{100 * failure['probability']:.0f} %")
+    assert any("the errors above describe explorations that succeed" in x for x in lines)

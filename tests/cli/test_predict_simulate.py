@@ -206,3 +206,20 @@ def test_simulation_options_need_simulate(tmp_path):
     code, _, err = call([str(TINY), "--out", str(tmp_path / "data")])
     assert code == 2 and "--out needs --simulate" in err
     assert not (tmp_path / "data").exists()
+
+
+def test_setup_note_names_what_differs_from_the_training_runs():
+    """The robot-independent set-up (GMapping compute-time emulation, stop rule, metric)
+    of the simulated runs against the card's: a note naming the parts that differ."""
+    from slam_predict.cli.predict_simulate import setup_note
+
+    card = {"config_hashes": {"slam_compute": ["85871b493ac8"], "stop": ["5fb6e3e0550b"],
+                              "gmapping": ["aaa"]}}
+    same = [{"config_hashes": {"slam_compute": "85871b493ac8", "stop": "5fb6e3e0550b",
+                               "gmapping": "bbb"}}]          # GMapping changes with the robot
+    assert setup_note(same, card) is None
+    missing = [{"config_hashes": {"stop": "5fb6e3e0550b"}}]   # collect.yaml: no emulation
+    note = setup_note(missing, card)
+    assert note.startswith("the simulated runs' slam_compute configuration differs")
+    assert "--settings" in note
+    assert setup_note([], card) is None and setup_note(missing, None) is None

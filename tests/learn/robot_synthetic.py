@@ -246,6 +246,7 @@ def train_model(folder: Path, name: str = "own-robots", config=None, best=None,
     :func:`fast_config` with elasticnet and gradient boosting); ``best``: component → kind."""
     from slam_predict.features.plan import full_feature_config, version_of
     from slam_predict.learn.robot.domain import design_ranges
+    from slam_predict.learn.robot.failure import outcome_runs
     from slam_predict.learn.robot.train import train_robot_store
 
     worlds, robots, _ = campaign(folder / "data", n_worlds, n_configs)
@@ -256,4 +257,6 @@ def train_model(folder: Path, name: str = "own-robots", config=None, best=None,
     bounds = design_ranges(design, data.max_urange_m, data.configs)
     return train_robot_store(data, config, [], best or BEST, folder / "models" / name,
                              {"name": name, "description": "synthetic test model",
-                              "feature_config": feature_config, "design_bounds": bounds})
+                              "feature_config": feature_config, "design_bounds": bounds,
+                              "outcome_runs": outcome_runs([folder / "data"],
+                                                           data.max_urange_m)})

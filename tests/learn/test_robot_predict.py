@@ -125,12 +125,13 @@ def test_domain_warnings(trained):
     far = dict(ROBOT, laser_range_max_m=80.0)
     lines = model.domain_warnings(dict(PLAN, building_area=1e5), far, 0.25)
     low, high = model.card["input_ranges"]["laser_range_max_m"]
-    assert f"laser_range_max_m = 80 m is outside the training range [{low:.4g}, {high:.4g}] m" \
-        in lines
+    assert any(line.startswith(f"laser_range_max_m = 80 m is outside the training range "
+                               f"[{low:.4g}, {high:.4g}] m") for line in lines)
     assert any(line.startswith("building_area = 1e+05 is outside") for line in lines)
-    assert any("angular resolution 0.25 deg differs from the design's 0.5 deg" in line
-               for line in lines)
+    assert any("angular resolution 0.25 deg is finer than every training run's (0.5 deg"
+               in line for line in lines)
     assert len(lines) == 3
+    assert all("--simulate 3" in line for line in lines)     # each says what to do
     # design configurations on the diagonal of (xy, yaw): the opposite corner lies far away
     model.card["design"]["configs"] = {f"c{i}": {"odom_xy_error": 0.004 * i,
                                                  "odom_yaw_error": 0.014 * i} for i in range(6)}
@@ -197,3 +198,16 @@ def test_bad_folders_are_refused(trained, tmp_path):
         resolve_store(trained[0].parent, "own-robots", None, None)
     with pytest.raises(InputError, match="no trained model"):
         resolve_store(trained[0].parent, "best", None, None)
+
+
+def test_resolution_warning_only_outside_the_trained_range(trained):
+    """The card's trained resolutions are the range: inside it (1 % tolerance) no line;
+    finer or coarser, a line that says which and what to do."""
+    model = RobotModel.load(trained[0])
+    model.card["design"]["angular_resolution_deg"] = [0.25, 0.5]
+    assert model.resolution_range_deg() == (0.25, 0.5)
+    for inside in (0.25, 0.36, 0.5, 0.504):
+        assert model.resolution_warning(inside) is None
+    finer, coarser = model.resolution_warning(0.1), model.resolution_warning(1.0)
+    assert "finer than every training run's (0.25-0.5 deg" in finer
+    assert "coarser" in coarser and "--simulate 3" in coarser

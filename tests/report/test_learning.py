@@ -97,7 +97,8 @@ def test_damaged_and_unfound_models_are_notes(campaign_dir, model_dir, tmp_path,
     assert any("model not usable for predictions" in n and "checksum" in n for n in page.notes)
     assert any("model not usable for predictions" in n and "feature version 0+old" in n
                for n in page.notes)
-    assert any(n.startswith("alpha: no prediction (world file not found") for n in page.notes)
+    assert any(n.startswith("alpha: no prediction (world file alpha.world not found")
+               and "report --worlds DIR" in n for n in page.notes)
     assert not any(t["header"][:3] == ["world", "runs", "component"] for t in page.tables)
 
 

@@ -87,3 +87,25 @@ def test_bad_inputs(campaign_dir, tmp_path, capsys, case, message):
     assert "Traceback" not in err and stdout == ""
     assert not (tmp_path / "report.html").exists()
     assert no_temporaries(tmp_path)
+
+
+def test_worlds_dir_is_searched_first(campaign_dir, model_dir, tmp_path, capsys, root):
+    """--worlds DIR: beta.world there is found (without it beta has no world file); a
+    --worlds that is not a folder is one line, exit 2."""
+    data = tmp_path / "data"
+    shutil.copytree(campaign_dir, data)
+    worlds = tmp_path / "worlds"
+    worlds.mkdir()
+    for suffix in (".world", ".png"):
+        shutil.copy(root / "worlds" / f"tiny{suffix}", worlds / f"tiny{suffix}")
+    (worlds / "tiny.world").rename(worlds / "beta.world")
+    out = tmp_path / "r.html"
+    code, _, err = run(capsys, data, "--out", out, "--models-dir", model_dir,
+                       "--worlds", worlds)
+    assert code == 0, err
+    page = Page(out.read_text(encoding="utf-8"))
+    rows = page.table(["world", "runs", "component"])["rows"]
+    assert "beta" in {row[0] for row in rows}
+    code, _, err = run(capsys, data, "--out", tmp_path / "x.html", "--worlds",
+                       tmp_path / "nowhere")
+    assert code == 2 and "--worlds: not a folder" in err and len(err.splitlines()) == 1

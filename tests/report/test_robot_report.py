@@ -48,7 +48,6 @@ def test_partial_dependence_figures_of_every_component(pages, parse):
     image = cv2.imdecode(np.frombuffer(base64.b64decode(png.split(",", 1)[1]), np.uint8),
                          cv2.IMREAD_COLOR)
     assert image.shape[0] > 500 and image.shape[1] > 800     # 2 × 2 panels
-    assert any("no predictions for this campaign's worlds" in n for n in page.notes)
 
 
 def test_card_tables_of_the_robot_aware_model(pages, parse, models):
@@ -95,3 +94,54 @@ def test_plan_only_folder_is_shown_as_before(pages, parse):
     page = parse(alone)
     assert not any("partial dependence" in img["alt"] for img in page.images)
     assert not any(h.startswith("Partial dependence") for h in page.headings)
+
+
+def robot_features(world: str, card: dict) -> dict:
+    """mid_range_features for plan-only cards; for a robot-aware card its plan features
+    inside their training ranges and a sight-line curve (no plan needed)."""
+    from slam_predict.features.sightline import curve_columns
+
+    if "input_ranges" not in card:
+        return mid_range_features(world, card)
+    share = 0.3 if world == "alpha" else 0.7
+    out = {name: low + share * (high - low)
+           for name, (low, high) in card["input_ranges"].items() if name in card["features"]}
+    columns = curve_columns()
+    out.update(zip(columns, np.linspace(0.9, 0.0, len(columns)), strict=True))
+    return out
+
+
+def test_robot_aware_predictions_use_each_runs_recorded_robot(campaign_dir, models, tmp_path,
+                                                              parse):
+    """Runs recorded with the LDS robot: the robot-aware model predicts per world × robot from
+    that robot (same numbers as RobotModel.predict with inputs_from_sensor), with the failure
+    probability beside it; the plan-only model's predictions say that they ignore the robot."""
+    from slam_predict.learn.robot.inputs import inputs_from_sensor
+
+    from .test_robots_and_spreads import LDS, with_robot
+
+    data = with_robot(campaign_dir, tmp_path)
+    page = parse(build_report(data, models, feature_fn=robot_features))
+    heading = "Predictions of own-robots for this campaign's runs, per robot"
+    assert heading in page.headings
+    robot = "laser 3.5 m, 360°, 360 beams; odometry fixed 0.01, 0.01 m/m, 2 °/rad"
+    table = page.table(["world", "runs", "component"], section=heading)
+    rows = [dict(zip(table["header"], row, strict=True)) for row in table["rows"]]
+    assert {r["world"] for r in rows} == {f"alpha [{robot}]", f"beta [{robot}]"}
+    model = RobotModel.load(models / "own-robots")
+    card = json.loads((models / "own-robots" / "card.json").read_text())
+    expected = model.predict(robot_features("alpha", card),
+                             inputs_from_sensor(LDS, None, model.max_urange_m))
+    alpha = {r["component"]: r for r in rows if r["world"].startswith("alpha")}
+    assert alpha["trans_mean"]["predicted"] == f"{expected['trans_mean']['value']:.4f}"
+    assert alpha["trans_mean"]["runs"] == "3"
+    failure = page.table(["world [robot]", "runs"], section=heading)
+    assert len(failure["rows"]) == 2
+    metrics = page.table(["component", "unit", "model", "protocol"])
+    assert metrics["header"][-1] == "monotone in the robot"
+    for row in metrics["rows"]:
+        check = card["components"][row[0]]["models"][row[2]]["monotone"]
+        assert row[-1] == "yes" if check["passed"] else row[-1].startswith("no (")
+    assert page.table(["predicted p", "runs", "mean predicted", "observed failures"])
+    assert any("plan-only model does not take the robot into account" in n and robot in n
+               for n in page.notes)

@@ -87,6 +87,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     tr.add_argument("--evaluation-out", metavar="DIR", help="also write the evaluation here")
     _common(tr)
     learn_robots_cmd.add_robot_options(tr)
+    tr.add_argument("--evaluation-from", metavar="CARD",
+                    help="with --runs: take the evaluation figures from this model card "
+                         "(trained on the same runs and configuration) instead of evaluating "
+                         "again; only the fitting, checks and failure model run")
     rb = sub.add_parser("robots", help=learn_robots_cmd.HELP_OLD,
                         description=learn_robots_cmd.HELP_OLD)
     learn_robots_cmd.add_arguments(rb)

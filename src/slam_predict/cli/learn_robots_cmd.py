@@ -16,6 +16,8 @@ import argparse
 import json
 import math
 import os
+import shlex
+import sys
 from pathlib import Path
 
 from slam_predict.cli.deprecated import add_renamed_option
@@ -31,7 +33,8 @@ DEPRECATED = ("slam-predict learn: warning: 'learn robots' is deprecated and goe
 ROBOT_ONLY = {"worlds": "--worlds", "features": "--features",
               "feature_version": "--feature-version", "design": "--design",
               "feature_config": "--feature-config", "folds": "--folds",
-              "repeats": "--repeats", "seed": "--seed"}
+              "repeats": "--repeats", "seed": "--seed",
+              "evaluation_from": "--evaluation-from"}
 PLAN_ONLY = {"splits": "--splits", "no_loo": "--no-loo",
              "reference_features": "--reference-features"}
 
@@ -122,7 +125,8 @@ def run_folded(args: argparse.Namespace, train: bool) -> bool:
         models_dir=args.models_dir if train else None,
         description=args.description if train else "", config=args.config,
         models=args.models, folds=args.folds, repeats=args.repeats, seed=args.seed,
-        jobs=args.jobs, force=args.force))
+        jobs=args.jobs, force=args.force,
+        evaluation_from=getattr(args, "evaluation_from", None) if train else None))
     return True
 
 
@@ -156,6 +160,9 @@ def _check_outputs(args: argparse.Namespace) -> Path | None:
     from slam_predict.learn.store import default_models_dir
 
     check_at_least(args.jobs, 1, "--jobs")
+    if getattr(args, "evaluation_from", None) and args.out:
+        raise InputError("--evaluation-from reuses an evaluation: it writes no evaluation "
+                         "folder (drop --evaluation-out)")
     if not args.out and not args.name:
         raise InputError("nothing to write: give --out EVAL_DIR and/or --name NAME")
     inputs = [*args.data, args.features, args.worlds, args.config, *(args.design or [])]
@@ -289,9 +296,16 @@ def run(args: argparse.Namespace) -> int:
 
         bounds = design_ranges(args.design, data.max_urange_m, data.configs)
     tables = data.tables(config.plan_features, config.sightline_input)
-    rows = evaluate(tables, config, n_jobs=args.jobs)
-    summary = summarize(rows)
+    previous = getattr(args, "evaluation_from", None)
+    if previous:
+        rows, summary = None, evaluation_of_card(previous, config, args.data)
+    else:
+        rows = evaluate(tables, config, n_jobs=args.jobs)
+        summary = summarize(rows)
     best = best_models(summary, config)
+    if target is not None:
+        best = _train(args, target, data, config, summary, best, full_config, bounds,
+                      outcomes)
     if args.out:
         write_evaluation(args.out, data, tables, config, rows, summary, best,
                          {"feature_config": full_config,
@@ -303,14 +317,51 @@ def run(args: argparse.Namespace) -> int:
     if args.out:
         print(f"evaluation written to {args.out}")
     if target is not None:
-        from slam_predict.learn.robot.train import train_robot_store
-
-        sources = {"data": [portable_path(d) for d in args.data],
-                   "features_from": portable_path(args.worlds or args.features),
-                   "design": _designs(args.design)}
-        train_robot_store(data, config, summary, best, target,
-                          {"name": args.name, "description": args.description,
-                           "feature_config": full_config, "sources": sources,
-                           "design_bounds": bounds, "exploration": outcomes}, args.jobs)
         print(f"model written to {target}")
     return 0
+
+
+def evaluation_of_card(path: str, config, data_dirs: list[str]) -> list[dict]:
+    """The evaluation summary rows recorded in the model card ``path`` (a card.json or its
+    folder); InputError unless it is a robot-aware card trained on the same campaign folders
+    with the same configuration (the failure model's settings aside)."""
+    from slam_predict.config import to_dict
+    from slam_predict.learn.card import ROBOT_KIND, check_kind, read_card
+    from slam_predict.learn.robot.evaluate import summary_from_card
+    from slam_predict.paths import portable_path
+
+    folder = Path(path).parent if Path(path).name == "card.json" else Path(path)
+    card = read_card(folder)
+    check_kind(card, ROBOT_KIND, folder / "card.json")
+    ignored = ("failure_coverage", "failure_c")
+    ours = {k: v for k, v in to_dict(config).items() if k not in ignored}
+    theirs = {k: v for k, v in (card.get("robot_learning_config") or {}).items()
+              if k not in ignored}
+    if json.loads(json.dumps(ours)) != theirs:
+        raise InputError("--evaluation-from: the card was trained with another robot "
+                         "learning configuration", folder / "card.json")
+    if (card.get("sources") or {}).get("data") != [portable_path(d) for d in data_dirs]:
+        raise InputError("--evaluation-from: the card was trained on other campaign folders",
+                         folder / "card.json")
+    return summary_from_card(card)
+
+
+def _train(args, target: Path, data, config, summary, best, full_config, bounds,
+           outcomes) -> dict[str, str]:
+    """Write the model folder; the best kinds it ships (monotone ones only)."""
+    from slam_predict.learn.card import read_card
+    from slam_predict.learn.robot.failure import outcome_runs
+    from slam_predict.learn.robot.train import train_robot_store
+    from slam_predict.paths import portable_path
+
+    sources = {"data": [portable_path(d) for d in args.data],
+               "features_from": portable_path(args.worlds or args.features),
+               "design": _designs(args.design),
+               "command": shlex.join(["slam-predict", *sys.argv[1:]])}
+    train_robot_store(data, config, summary, best, target,
+                      {"name": args.name, "description": args.description,
+                       "feature_config": full_config, "sources": sources,
+                       "design_bounds": bounds, "exploration": outcomes,
+                       "outcome_runs": outcome_runs(args.data, data.max_urange_m)}, args.jobs)
+    card = read_card(target)
+    return {c: e["best"] for c, e in card["components"].items()}

@@ -159,7 +159,8 @@ def run(args: argparse.Namespace) -> int:
                                     lambda w: {**predict(w), "plan": plan})
     result = {**predict(world), "plan": plan}
     if args.json:
-        robot_keys = ["model_takes_robot", "robot"] if robot_model is not None else []
+        robot_keys = (["model_takes_robot", "robot", "failure"] if robot_model is not None
+                      else [])
         keys = ["world", "plan", "setting", "model_store", *robot_keys, "confidence",
                 *components, "free_space", "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))

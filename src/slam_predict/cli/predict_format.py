@@ -71,5 +71,9 @@ def format_text(result: dict, components) -> str:
     for comp in components:
         e = result[comp]
         lines.append(f"  {comp:<10s} {LABELS[comp]:<27s} {entry_text(e, conf)}{model_tag(e)}")
+    if result.get("model_takes_robot"):
+        from slam_predict.cli.predict_robot import failure_text
+
+        lines += failure_text(result.get("failure"))
     lines += [f"warning: {w}" for w in result["warnings"]]
     return "\n".join(lines)

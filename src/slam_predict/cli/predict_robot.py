@@ -102,6 +102,8 @@ def predict(world, model, robot, robot_path: str, component: str = "all") -> dic
                               "robot": summary, "confidence": confidence}
     for comp in components_of(component):
         result[comp] = _entry(raw[comp])
+    result["failure"] = failure_entry(model, features, inputs)
+    result["training_config_hashes"] = model.card.get("config_hashes")   # not printed
     result["free_space"] = space
     odom_note = model.odom_model_warning(robot.odom_model)
     result["warnings"] = unreachable + list(model.store.notes) + \
@@ -126,3 +128,28 @@ def robot_text(result: dict[str, Any]) -> str:
             f" m/m and {inputs['odom_yaw_error']:.4g} rad/rad"
             + (f"; {100 * blind:.3g} % of the plan's sight lines reach no wall within that "
                "range" if blind is not None else ""))
+
+
+def failure_entry(model, features: dict[str, float],
+                  inputs: dict[str, float]) -> dict[str, Any] | None:
+    """The ``failure`` entry of the result: the probability that an exploration of the plan
+    with the robot maps less than the card's coverage threshold (None: a model folder
+    without a failure model)."""
+    p = model.failure_probability(features, inputs)
+    if p is None:
+        return None
+    entry = model.failure_entry
+    return {"probability": p, "coverage_threshold": float(entry["coverage_threshold"]),
+            "training_runs": int(entry["runs"]), "training_failed": int(entry["failed"])}
+
+
+def failure_text(failure: dict[str, Any] | None) -> list[str]:
+    """The failure probability's two lines (none without it)."""
+    if failure is None:
+        return []
+    share = f"{100 * failure['coverage_threshold']:g} %"
+    return [f"  failure    P(exploration maps < {share} of the floor)  "
+            f"{100 * failure['probability']:.0f} %",
+            f"             (learned from {failure['training_runs']} campaign runs, "
+            f"{failure['training_failed']} of them failed; the errors above describe "
+            "explorations that succeed)"]

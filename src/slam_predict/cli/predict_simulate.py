@@ -117,7 +117,31 @@ def simulate(args: argparse.Namespace, world, runs, current) -> dict:
         notes += [note] if note else []
     return {"runs": len(records), "runs_new": new, "run_indices": indices,
             "measured": measured(records) if records else None, "notes": notes,
-            "failed": bool(batch.failures), "stopped_by": batch.stopped_by}
+            "failed": bool(batch.failures), "stopped_by": batch.stopped_by, "records": records}
+
+
+SETUP_PARTS = ("slam_compute", "stop", "metric")   # config hashes the robot does not change
+
+
+def setup_note(records, card: dict | None) -> str | None:
+    """A note when the simulated runs' robot-independent set-up (GMapping's compute-time
+    emulation, the stop rule, the metric) differs from that of the model's training runs
+    (card ``config_hashes``): the measured and predicted values then differ by more than the
+    model's error. None when they agree, or without records or a card that records them."""
+    trained = (card or {}).get("config_hashes") or {}
+    differ = []
+    for part in SETUP_PARTS:
+        if part not in trained:
+            continue
+        used = {str((r.get("config_hashes") or {}).get(part)) for r in records}
+        if not used <= set(map(str, trained[part])):
+            differ.append(part)
+    if not records or not differ:
+        return None
+    return (f"the simulated runs' {', '.join(differ)} configuration differs from the model's "
+            "training runs' (card config_hashes): pass the settings the model was trained "
+            "with (--settings, e.g. config/robot_campaign/settings.yaml for own-robots) to "
+            "compare like with like")
 
 
 def format_text(result: dict, components) -> str:
@@ -142,6 +166,10 @@ def format_text(result: dict, components) -> str:
             lines.append(f"      measured   {measured}")
         e = result[comp]
         lines.append(f"      predicted  {entry_text(e, conf)}{model_tag(e)}")
+    if result.get("model_takes_robot"):
+        from slam_predict.cli.predict_robot import failure_text
+
+        lines += failure_text(result.get("failure"))
     lines += [f"note: {n}" for n in sim["notes"]]
     lines += [f"warning: {w}" for w in result["warnings"]]
     return "\n".join(lines)
@@ -164,6 +192,10 @@ def run(args: argparse.Namespace, world, components, predict) -> int:
     runs, current = _prepare(args, world)
     result = predict(world)
     sim = simulate(args, world, runs, current)
+    if result.get("model_takes_robot"):
+        note = setup_note(sim["records"],
+                          {"config_hashes": result.get("training_config_hashes")})
+        sim["notes"] += [note] if note else []
     result["simulation"] = {"runs": sim["runs"], "runs_new": sim["runs_new"],
                             "run_indices": sim["run_indices"], "seed": args.seed,
                             "robot": args.robot, "settings": args.settings, "out": args.out,
@@ -171,7 +203,7 @@ def run(args: argparse.Namespace, world, components, predict) -> int:
                             "measured": sim["measured"], "notes": sim["notes"]}
     result.setdefault("model_takes_robot", False)
     if args.json:
-        robot = ["robot"] if result["model_takes_robot"] else []
+        robot = ["robot", "failure"] if result["model_takes_robot"] else []
         keys = ["world", "plan", "setting", "model_store", "model_takes_robot", *robot,
                 "confidence",
                 *components, "simulation", "free_space", "warnings", "features"]

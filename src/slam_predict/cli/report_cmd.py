@@ -1,6 +1,6 @@
 """``slam-predict report DATA``: one self-contained HTML page about a collection campaign.
 
-  slam-predict report DATA [--out report.html] [--models-dir models/] [--title T]
+  slam-predict report DATA [--out report.html] [--models-dir models/] [--worlds DIR] [--title T]
 
 The page holds the campaign overview (worlds, runs, configuration hashes, code versions, stop
 reasons, simulated and wall time), the per-building summary (error components in m, rad and
@@ -13,6 +13,7 @@ cannot be found) are listed on the page.
 from __future__ import annotations
 
 import argparse
+import os
 
 from slam_predict.cli.deprecated import add_renamed_option
 from slam_predict.cli.guards import add_force_argument, check_out_file
@@ -31,6 +32,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="a model folder or a folder of them (e.g. models/): adds the model cards and their "
              "predictions for the campaign's worlds")
     add_renamed_option(parser, "--models", models)
+    parser.add_argument("--worlds", metavar="DIR",
+                        help="folder of the campaign's <world>.world files, searched first "
+                             "for the plans the models predict from (default: the runs' "
+                             "recorded world_file, then the shipped worlds/)")
     parser.add_argument("--title", help="page title (default: from DATA's name)")
     add_force_argument(parser)
 
@@ -41,7 +46,9 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.report.build import build_report
 
     check_out_file(args.out, args.force)
-    text = build_report(args.data, args.models_dir, args.title)
+    if args.worlds is not None and not os.path.isdir(args.worlds):
+        raise InputError("--worlds: not a folder", args.worlds)
+    text = build_report(args.data, args.models_dir, args.title, worlds_dir=args.worlds)
     try:
         write_text(args.out, text)
     except OSError as exc:

@@ -189,6 +189,10 @@ class ModelStore:
                              self.path / key)
         return form
 
+    def checked_text(self, name: str) -> str:
+        """The text of a model file whose checksum matches the card (InputError otherwise)."""
+        return self._checked(name).read_text(encoding="utf-8")
+
     def _checked(self, name: str) -> Path:
         """Path of a model file whose checksum matches the card."""
         file = self.path / name

@@ -30,26 +30,30 @@ def contents(campaign: Campaign, with_models: bool) -> str:
     return f"<nav><ul>{items}</ul></nav>"
 
 
-def learning(campaign: Campaign, models_path, feature_fn=None) -> str:
-    """Model cards and their predictions for the campaign's worlds."""
+def learning(campaign: Campaign, models_path, feature_fn=None, worlds_dir=None) -> str:
+    """Model cards and their predictions for the campaign's worlds (a robot-aware model's:
+    per run's recorded robot)."""
     from slam_predict.learn.card import is_robot_card
     from slam_predict.report.models import card_section, load_models
     from slam_predict.report.predictions import FeatureCache, predictions_section
+    from slam_predict.report.robot_predictions import robot_predictions_section
 
     entries = load_models(models_path)
-    cache = FeatureCache(campaign, feature_fn)
+    cache = FeatureCache(campaign, feature_fn, Path(worlds_dir) if worlds_dir else None)
     parts = ["<p>Model cards of the given model folders and their predictions for the "
              "worlds of this campaign (features computed from each world's floor plan with "
              "the model's feature configuration).</p>"]
     for entry in entries:
         parts.append(card_section(entry))
-        if not is_robot_card(entry.card):
+        if is_robot_card(entry.card):
+            parts.append(robot_predictions_section(entry, campaign, cache))
+        else:
             parts.append(predictions_section(entry, campaign, cache))
     return H.section("Learning", "\n".join(parts), anchor="learning")
 
 
 def build_report(data_dir, models_dir=None, title: str | None = None,
-                 feature_fn=None) -> str:
+                 feature_fn=None, worlds_dir=None) -> str:
     """The report page of campaign ``data_dir`` (HTML text).
 
     Args:
@@ -58,6 +62,7 @@ def build_report(data_dir, models_dir=None, title: str | None = None,
         title: page title (default: from the folder name).
         feature_fn: ``(world name, card) -> features`` override (tests); default: the
             features of the world plan with the card's feature configuration.
+        worlds_dir: folder of ``<world>.world`` files searched first for the plans.
     Raises:
         InputError: missing campaign folder, not a campaign, missing/empty models folder.
     """
@@ -68,7 +73,8 @@ def build_report(data_dir, models_dir=None, title: str | None = None,
     parts = [f"<p>Generated {H.esc(stamp)} by slam_predict {H.esc(__version__)} from "
              f"<code>{H.esc(os.fspath(data_dir))}</code>.</p>",
              contents(campaign, models_dir is not None), overview(campaign), summary(campaign)]
-    learn_html = learning(campaign, models_dir, feature_fn) if models_dir is not None else ""
+    learn_html = ("" if models_dir is None
+                  else learning(campaign, models_dir, feature_fn, worlds_dir))
     for world in campaign.worlds.values():
         LOG.info("report: world %s", world.name)
         parts.append(world_section(world))

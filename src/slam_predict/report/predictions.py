@@ -73,8 +73,13 @@ class ModelPredictions:
     notes: list[str] = field(default_factory=list)
 
 
-def find_world_file(campaign: Campaign, name: str) -> Path | None:
-    """The world file a campaign world was collected on, or None."""
+def find_world_file(campaign: Campaign, name: str,
+                    worlds_dir: Path | None = None) -> Path | None:
+    """The world file a campaign world was collected on, or None: ``worlds_dir/<name>.world``
+    first (``report --worlds DIR``), then the runs' recorded ``world_file``, then the
+    package's worlds/."""
+    if worlds_dir is not None and (Path(worlds_dir) / f"{name}.world").is_file():
+        return Path(worlds_dir) / f"{name}.world"
     world = campaign.worlds.get(name)
     recorded = [run.record.get("world_file") for run in (world.runs if world else [])]
     bases = [Path.cwd(), campaign.root, *campaign.root.resolve().parents]
@@ -94,8 +99,10 @@ class FeatureCache:
     ``compute(world_name, card) -> features`` replaces the real computation (tests).
     """
 
-    def __init__(self, campaign: Campaign, compute: Callable | None = None):
+    def __init__(self, campaign: Campaign, compute: Callable | None = None,
+                 worlds_dir: Path | None = None):
         self.campaign = campaign
+        self.worlds_dir = worlds_dir
         self._compute = compute or self._plan_features
         self._values: dict[tuple[str, str], dict[str, float]] = {}
         self._errors: dict[tuple[str, str], str] = {}
@@ -103,7 +110,8 @@ class FeatureCache:
 
     def features(self, name: str, card: dict) -> dict[str, float]:
         """Features of world ``name`` with the card's configuration; InputError if impossible."""
-        key = (name, json.dumps(card.get("feature_config") or {}, sort_keys=True))
+        key = (name, json.dumps([card.get("feature_config") or {}, card.get("sightline")],
+                                sort_keys=True))
         if key in self._errors:
             raise InputError(self._errors[key])
         if key not in self._values:
@@ -115,17 +123,21 @@ class FeatureCache:
         return self._values[key]
 
     def _plan_features(self, name: str, card: dict) -> dict[str, float]:
-        from slam_predict.features.plan import compute
+        from slam_predict.features.plan import plan_features
+        from slam_predict.report.robot_predictions import robot_sightline
         from slam_predict.world.load import load_plan
 
         if name not in self._worlds:
-            path = find_world_file(self.campaign, name)
+            path = find_world_file(self.campaign, name, self.worlds_dir)
             if path is None:
-                raise InputError(f"world file not found (neither the runs' world_file nor "
-                                 f"{SHIPPED_WORLDS / (name + '.world')})")
+                raise InputError(f"world file {name}.world not found (neither the runs' "
+                                 f"world_file nor {SHIPPED_WORLDS}): give the folder holding "
+                                 "it with 'report --worlds DIR' (the seed study's buildings: "
+                                 "'slam-predict worlds import-thesis')")
             self._worlds[name] = load_plan(path)
         LOG.info("features of %s", name)
-        return compute(self._worlds[name], card.get("feature_config") or {})
+        return plan_features(self._worlds[name], card.get("feature_config") or {},
+                             robot_sightline(card))
 
 
 def recorded_runs(row: dict) -> int:
@@ -257,5 +269,8 @@ def predictions_section(entry: ModelEntry, campaign: Campaign, cache: FeatureCac
         body += H.image(png, f"predicted vs measured, model {entry.name}",
                         "Each point is one world: measured = mean over its runs; bar = the "
                         "model's interval; dashed line = perfect prediction.")
-    body += H.notes(setup_notes(entry, campaign) + extra + result.notes)
+    from slam_predict.report.robot_predictions import plan_model_robot_note
+
+    body += H.notes(setup_notes(entry, campaign) + plan_model_robot_note(campaign) + extra
+                    + result.notes)
     return H.section(f"Predictions of {entry.name} for this campaign's worlds", body, level=3)

@@ -6,8 +6,9 @@ design), the evaluation figures of every model under every protocol, and partial
 plots — per component, the model's prediction averaged over the training points (buildings ×
 configurations) as one robot input sweeps its range
 (:meth:`~slam_predict.learn.robot.predict.RobotModel.partial_dependence`), the training range
-shaded, the design's configurations as ticks. Predictions for the campaign's worlds are not
-shown: they need the robot of each run.
+shaded, the design's configurations as ticks, and the failure probability's evaluation.
+Predictions for the campaign's runs, each from its recorded robot:
+:mod:`slam_predict.report.robot_predictions`.
 """
 from __future__ import annotations
 
@@ -67,7 +68,19 @@ def ranges_table(card: dict[str, Any]) -> str:
 
 
 METRIC_HEADER = ["component", "unit", "model", "protocol", "test points", "median % error",
-                 "R²", "coverage", "median interval width"]
+                 "R²", "coverage", "median interval width", "monotone in the robot"]
+
+
+def _monotone_text(entry: dict) -> str:
+    """"yes", "no (worst drop …)" from a model's monotone check, "—" without one."""
+    check = (entry or {}).get("monotone")
+    if not isinstance(check, dict):
+        return H.MISSING
+    if check.get("passed"):
+        return "yes"
+    drops = check.get("worst_drop") or {}
+    name, drop = max(drops.items(), key=lambda kv: kv[1], default=("?", math.nan))
+    return f"no ({name} −{100 * drop:.0f} %)"
 
 
 def metrics_table(card: dict[str, Any]) -> str:
@@ -87,7 +100,7 @@ def metrics_table(card: dict[str, Any]) -> str:
                              H.num_cell(m.get("n_points"), 0),
                              H.num_cell(100 * pct if isinstance(pct, (int, float)) else None, 1),
                              H.num_cell(m.get("r2"), 3), H.num_cell(m.get("coverage"), 3),
-                             H.num_cell(m.get("width_median"), 4)])
+                             H.num_cell(m.get("width_median"), 4), _monotone_text(entry)])
                 classes.append("best" if kind == comp.get("best") else "")
     return H.table(METRIC_HEADER, rows, row_classes=classes)
 
@@ -141,19 +154,36 @@ def pdp_section(entry) -> str:
                      intro + "".join(figures), level=3)
 
 
+def failure_html(card: dict[str, Any]) -> str:
+    """The failure model's evaluation: Brier scores and the reliability table ('' without)."""
+    failure = card.get("failure")
+    if not isinstance(failure, dict) or not isinstance(failure.get("evaluation"), dict):
+        return ""
+    ev = failure["evaluation"]
+    share = f"{100 * float(failure['coverage_threshold']):g} %"
+    rows = [[f"{b['low']:g}–{b['high']:g}", H.num_cell(b["runs"], 0),
+             H.num_cell(b["predicted"], 3), H.num_cell(b["observed"], 3)]
+            for b in ev.get("reliability", [])]
+    return (f"<p>Failure probability (an exploration maps less than {share} of the floor; "
+            f"{H.esc(str(failure.get('model', '')))}; {failure['failed']} of "
+            f"{failure['runs']} training runs failed). {H.esc(ev['protocol'].capitalize())}: "
+            f"Brier score {ev['brier']:.3f}, against {ev['brier_base_rate']:.3f} for the "
+            "training runs' failure rate. Reliability:</p>"
+            + H.table(["predicted p", "runs", "mean predicted", "observed failures"], rows))
+
+
 def robot_card_section(entry) -> str:
     """The section of a robot-aware model folder (module doc); problems become notes."""
     if entry.card is None:
         return H.section(f"Model {entry.name}", H.notes(entry.notes), level=3)
-    notes = list(entry.notes) + ["robot-aware model: no predictions for this campaign's worlds "
-                                 "(they would need each run's robot)"]
+    notes = list(entry.notes)
     body = (overview(entry.card)
             + "<p>Evaluation on the training campaign, per protocol: test points never seen "
               "in training (buildings, robot configurations or both held out); median "
               "percentage error, R² and coverage of the "
               f"{_percent(entry.card.get('confidence'))} intervals on the test points; best "
               "model per component in bold. Errors in m (translation) and rad (rotation).</p>"
-            + metrics_table(entry.card))
+            + metrics_table(entry.card) + failure_html(entry.card))
     if entry.store is not None:
         body += pdp_section(entry)
     return H.section(f"Model {entry.name}", body + H.notes(notes), level=3,

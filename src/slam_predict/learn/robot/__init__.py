@@ -7,7 +7,9 @@ maxUrange, the design's bounds), :mod:`dataset` (one row per building × robot c
 :mod:`monotone` (the regressors on the log scale), :mod:`evaluate` (held-out buildings,
 configurations or both), :mod:`train` (the model folder), :mod:`plain` (numpy-only forms),
 :mod:`predict` (:class:`~slam_predict.learn.robot.predict.RobotModel`), :mod:`agreement`
-(against another study's runs).
+(against another study's runs), :mod:`monotone_check` (no smaller error for a worse robot, on a
+grid; only models that pass ship) and :mod:`failure` (the probability that an exploration
+fails).
 
 Model folders written before this package pickled their estimators under the module names
 ``slam_predict.learn.robot_<module>``; :func:`legacy_module_names` maps those names while a

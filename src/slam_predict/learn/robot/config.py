@@ -114,6 +114,10 @@ class RobotLearningConfig:
             against its recorded GMapping config hash (learn/robot/domain.py).
         sightline_input: also take the plan's blind fraction at the laser's range
             (``laser_blind_fraction``, features/sightline.py) as an input.
+        failure_coverage: an exploration that maps less than this share of the free area
+            failed (the failure probability's outcome, learn/robot/failure.py).
+        failure_c: inverse L2 penalty of the failure probability's logistic regression
+            (standardised inputs).
     """
 
     plan_features: tuple[str, ...] = DEFAULT_PLAN_FEATURES
@@ -130,6 +134,8 @@ class RobotLearningConfig:
     joint_factor: float = 2.0
     max_urange_m: float | None = None
     sightline_input: bool = True
+    failure_coverage: float = 0.9
+    failure_c: float = 0.3
     elasticnet: ElasticNetConfig = field(default_factory=ElasticNetConfig)
     gradient_boosting: RobotBoostingConfig = field(default_factory=RobotBoostingConfig)
     trend_boosting: TrendBoostingConfig = field(default_factory=TrendBoostingConfig)
@@ -137,7 +143,8 @@ class RobotLearningConfig:
     RANGES: ClassVar[dict[str, Range]] = {
         "seed": NON_NEGATIVE, "min_coverage": Range(0.0, 1.0), "folds": TWO_OR_MORE,
         "repeats": AT_LEAST_ONE, "conformal_folds": TWO_OR_MORE, "confidence": FRACTION,
-        "joint_factor": AT_LEAST_ONE, "max_urange_m": POSITIVE}
+        "joint_factor": AT_LEAST_ONE, "max_urange_m": POSITIVE,
+        "failure_coverage": FRACTION, "failure_c": POSITIVE}
 
     def __post_init__(self) -> None:
         from slam_predict.learn.robot.inputs import ROBOT_INPUTS

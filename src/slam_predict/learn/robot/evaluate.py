@@ -23,7 +23,7 @@ from __future__ import annotations
 import logging
 import math
 from collections import defaultdict
-from collections.abc import Sequence
+from collections.abc import Sequence, Set
 from dataclasses import dataclass
 
 import numpy as np
@@ -204,17 +204,29 @@ def summarize(rows: Sequence[dict]) -> list[dict]:
     return out
 
 
-def best_models(summary: Sequence[dict], config: RobotLearningConfig) -> dict[str, str]:
+def summary_from_card(card: dict) -> list[dict]:
+    """The summary rows (protocol, component, model and the figures a card keeps) recorded in
+    a robot-aware card's ``components``: an evaluation reused by ``learn train
+    --evaluation-from``."""
+    return [{"protocol": protocol, "component": component, "model": kind, **figures}
+            for component, entry in card["components"].items()
+            for kind, model in entry["models"].items()
+            for protocol, figures in (model.get("metrics") or {}).items()]
+
+
+def best_models(summary: Sequence[dict], config: RobotLearningConfig,
+                excluded: Set[tuple[str, str]] = frozenset()) -> dict[str, str]:
     """Per component the model kind with the lowest median % error under the configured
     protocol (else the first protocol evaluated); ties → higher R²: the robot-aware family's
-    rule of "best" (docs/learning.md, "Which model is best")."""
+    rule of "best" (docs/learning.md, "Which model is best"). ``excluded``: (component, kind)
+    pairs never chosen (models that fail the monotone check)."""
     have = [p for p in PROTOCOLS if any(r["protocol"] == p for r in summary)]
     if not have:
         return {}
     protocol = config.select_protocol if config.select_protocol in have else have[0]
     best: dict[str, tuple] = {}
     for row in summary:
-        if row["protocol"] != protocol:
+        if row["protocol"] != protocol or (row["component"], row["model"]) in excluded:
             continue
         r2 = -math.inf if math.isnan(row["r2"]) else row["r2"]
         key = (row["median_pct_error"], -r2, row["model"])

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import math
 import os
 from collections.abc import Mapping
@@ -58,6 +59,7 @@ class RobotModel:
         self.point_worlds = list(point_worlds or [])   # their buildings
         self.derived = list(self.card.get("derived_inputs") or [])
         self.names = input_names(self.card)
+        self._failure = None
 
     @classmethod
     def load(cls, path: os.PathLike | str) -> RobotModel:
@@ -183,11 +185,17 @@ class RobotModel:
         return out
 
     def monotone_by_construction(self, model: LogScaleModel) -> bool:
-        """Boosted trees trained with the known directions as monotonic constraints; every
-        other model is made monotone by :mod:`~slam_predict.learn.robot.envelope`."""
+        """Boosted trees trained with the known directions as monotonic constraints, or a
+        linear model (elastic net) that passed the training-time monotone check
+        (:mod:`~slam_predict.learn.robot.monotone_check`: signs of a linear model hold
+        everywhere); every other model (a Gaussian process, a folder trained before the
+        check) is made monotone by :mod:`~slam_predict.learn.robot.envelope`."""
         config = (self.card.get("robot_learning_config") or {}).get(model.kind) or {}
-        return model.kind in ("trend_boosting", "gradient_boosting") and bool(
-            config.get("monotone"))
+        if model.kind in ("trend_boosting", "gradient_boosting") and config.get("monotone"):
+            return True
+        entry = self.card["components"].get(model.component, {}).get("models", {})
+        check = (entry.get(model.kind) or {}).get("monotone") or {}
+        return model.kind == "elasticnet" and check.get("passed") is True
 
     def _robot_grid(self, plan_features: Mapping[str, float]):
         """(axes, input rows, grid shape) of the envelope's robots for one plan."""
@@ -206,11 +214,59 @@ class RobotModel:
                   else model.interval(X, confidence))
         return value, np.minimum(bounds[:, 0], value), np.maximum(bounds[:, 1], value)
 
+    @property
+    def failure_entry(self) -> dict[str, Any] | None:
+        """The card's failure-probability entry (threshold, runs, evaluation), None when the
+        folder has no failure model (folders trained before it)."""
+        entry = self.card.get("failure")
+        return dict(entry) if isinstance(entry, Mapping) else None
+
+    def failure_probability(self, plan_features: Mapping[str, float],
+                            robot: Mapping[str, float]) -> float | None:
+        """Probability that an exploration of the plan with the robot maps less than the
+        card's ``failure.coverage_threshold`` of the floor (None without a failure model)."""
+        from slam_predict.learn.robot.failure import FailureModel
+
+        entry = self.failure_entry
+        if entry is None:
+            return None
+        if self._failure is None:
+            try:
+                self._failure = FailureModel.from_form(
+                    json.loads(self.store.checked_text(entry["file"])))
+            except (KeyError, TypeError, ValueError):
+                raise InputError("corrupt model file (failure model)",
+                                 self.store.path / str(entry.get("file"))) from None
+            if self._failure.names != self.names:
+                raise InputError("corrupt model file (failure model inputs differ from the "
+                                 "card's)", self.store.path / str(entry["file"]))
+        return float(self._failure.probability(self.row(plan_features, robot))[0])
+
+    def resolution_range_deg(self) -> tuple[float, float]:
+        """(finest, coarsest) laser angular resolution of the training runs, deg."""
+        trained = self.card["design"].get("angular_resolution_deg") or [DESIGN_RESOLUTION_DEG]
+        return float(min(trained)), float(max(trained))
+
+    def resolution_warning(self, angular_resolution_deg: float) -> str | None:
+        """A line, with what to do, when the laser's angular resolution (deg) lies outside
+        the training runs' range (1 % tolerance); None inside it."""
+        low, high = self.resolution_range_deg()
+        if low / 1.01 <= angular_resolution_deg <= high * 1.01:
+            return None
+        trained = f"{low:g} deg" if low == high else f"{low:g}-{high:g} deg"
+        side = "finer" if angular_resolution_deg < low else "coarser"
+        return (f"laser angular resolution {angular_resolution_deg:.4g} deg is {side} than "
+                f"every training run's ({trained}; not a model input): measure this robot "
+                "on the plan with --simulate 3 to check the prediction")
+
     def domain_warnings(self, plan_features: Mapping[str, float], robot: Mapping[str, float],
                         angular_resolution_deg: float | None = None) -> list[str]:
         """One line per input outside its training range (name, value, range, unit); one for a
-        laser angular resolution other than the design's; one when (odom_xy, odom_yaw) lies
-        far from every design configuration (see :meth:`odom_gap_warning`)."""
+        laser angular resolution outside the training runs' range
+        (:meth:`resolution_warning`); one when (odom_xy, odom_yaw) lies far from every design
+        configuration (see :meth:`odom_gap_warning`); for folders without a failure model,
+        the failed explorations near the robot's range (:meth:`exploration_warning`). Each
+        line says what to do."""
         x = self.row(plan_features, robot)[0]
         out = []
         units = {**ROBOT_UNITS, **DERIVED_UNITS}
@@ -219,16 +275,14 @@ class RobotModel:
             if not low <= value <= high:
                 unit = f" {units[name]}" if name in units else ""
                 out.append(f"{name} = {value:.4g}{unit} is outside the training range "
-                           f"[{low:.4g}, {high:.4g}]{unit}")
+                           f"[{low:.4g}, {high:.4g}]{unit}: the prediction extrapolates; "
+                           "measure this robot on the plan with --simulate 3 to check it")
         if angular_resolution_deg is not None:
-            trained = self.card["design"].get("angular_resolution_deg") or [
-                DESIGN_RESOLUTION_DEG]
-            if not any(math.isclose(angular_resolution_deg, r, rel_tol=0.01) for r in trained):
-                out.append(f"laser angular resolution {angular_resolution_deg:.4g} deg differs "
-                           f"from the design's {', '.join(f'{r:g}' for r in trained)} deg "
-                           "(not a model input: the models never saw it)")
-        notes = [self.odom_gap_warning(robot), self.exploration_warning(robot)]
-        return out + [note for note in notes if note]
+            out.append(self.resolution_warning(angular_resolution_deg))
+        out.append(self.odom_gap_warning(robot))
+        if self.failure_entry is None:   # folders without a failure model: the counts
+            out.append(self.exploration_warning(robot))
+        return [note for note in out if note]
 
     def exploration_warning(self, robot: Mapping[str, float]) -> str | None:
         """A line when training runs with a laser range near the robot's failed to explore
@@ -269,7 +323,9 @@ class RobotModel:
         if gap > 0 and distance > factor * gap:
             return (f"odometry errors (xy {robot['odom_xy_error']:.4g} m/m, yaw "
                     f"{robot['odom_yaw_error']:.4g} rad/rad) lie far from every design "
-                    f"configuration ({distance / gap:.1f} × the design's widest gap)")
+                    f"configuration ({distance / gap:.1f} × the design's widest gap): "
+                    "measure this robot on the plan with --simulate 3 to check the "
+                    "prediction")
         return None
 
     def partial_dependence(self, component: str, robot_input: str, grid_points: int = 20,

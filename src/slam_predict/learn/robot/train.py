@@ -32,6 +32,7 @@ from slam_predict.learn.card import POINTS_FILE, ROBOT_KIND
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.robot.config import RobotLearningConfig
 from slam_predict.learn.robot.dataset import RobotDataset, RobotTables, points_csv
+from slam_predict.learn.robot.failure import FILE as FAILURE_FILE
 from slam_predict.learn.robot.inputs import (
     DERIVED_INPUTS,
     DESIGN_RESOLUTION_DEG,
@@ -40,6 +41,7 @@ from slam_predict.learn.robot.inputs import (
     reads_sight_lines,
 )
 from slam_predict.learn.robot.models import fit_component
+from slam_predict.learn.robot.monotone_check import passes
 from slam_predict.learn.robot.plain import plain_component
 from slam_predict.learn.store import save_store
 
@@ -173,7 +175,8 @@ def plain_forms(fitted: Mapping[str, Mapping[str, Any]],
 
 def save_robot_store(path: os.PathLike | str, card: dict[str, Any],
                      fitted: Mapping[str, Mapping[str, Any]], points_text: str,
-                     plain: Mapping[str, Mapping[str, Any]] | None = None) -> Path:
+                     plain: Mapping[str, Mapping[str, Any]] | None = None,
+                     extra: Mapping[str, str] | None = None) -> Path:
     """Write the folder atomically (:func:`slam_predict.learn.store.save_store`): joblib
     files, plain forms (``plain``: component → kind → form, marked in the card), the training
     points, then the card."""
@@ -185,7 +188,55 @@ def save_robot_store(path: os.PathLike | str, card: dict[str, Any],
             entry["plain"] = kind in forms
     LOG.info("robot model %s: writing %s", card["name"], path)
     return save_store(path, card, {c: dict(m) for c, m in fitted.items()}, plain,
-                      {POINTS_FILE: points_text})
+                      {POINTS_FILE: points_text, **(extra or {})})
+
+
+MONOTONE_CHECK_TEXT = (
+    "value and interval bounds never fall as the robot gets worse (shorter laser, narrower "
+    "fov, larger odometry errors) on a grid over the training box and beyond it (laser "
+    "0.1 m to maxUrange, fov 10-360 deg, odometry 0 to 3 x the training maximum), at one "
+    "point of each training building; the best model is chosen among those that pass")
+
+
+def monotone_checks(data: RobotDataset, tables: RobotTables, config: RobotLearningConfig,
+                    fitted: Mapping[str, Mapping[str, Any]],
+                    ranges: Mapping[str, Sequence[float]]) -> dict[str, dict[str, dict]]:
+    """{component: {kind: per-robot-input largest relative drop}} of every fitted model
+    (:mod:`~slam_predict.learn.robot.monotone_check`)."""
+    from slam_predict.learn.robot.monotone_check import check_fitted, robot_axes
+
+    curves = data.sightline_curves() if "laser_blind_fraction" in tables.names else None
+    runs = int(round(float(np.median(tables.point_runs))))
+    return check_fitted(fitted, tables, curves, robot_axes(ranges, data.max_urange_m, 5),
+                        config.confidence, max(runs, 2))
+
+
+def monotone_best(best: Mapping[str, str], summary: Sequence[dict],
+                  config: RobotLearningConfig,
+                  checks: Mapping[str, Mapping[str, Mapping[str, float]]]) -> dict[str, str]:
+    """``best`` with every kind that fails the monotone check replaced by the best-ranked
+    kind that passes (by ``summary``, else the configuration's order); a component whose
+    kinds all fail keeps its best, logged."""
+    from slam_predict.learn.robot.evaluate import best_models
+
+    failing = {(c, k) for c, kinds in checks.items() for k, d in kinds.items()
+               if not passes(d)}
+    ranked = best_models(summary, config, failing)
+    out = dict(best)
+    for component, kinds in checks.items():
+        if (component, out.get(component)) not in failing and component in out:
+            continue
+        passing = [k for k in config.models if k in kinds and (component, k) not in failing]
+        choice = ranked.get(component) or (passing[0] if passing else None)
+        if choice is None:
+            LOG.warning("%s: no model kind passes the monotone check; shipping %s",
+                        component, out.get(component))
+            continue
+        if component in out:
+            LOG.info("%s: %s fails the monotone check, %s ships instead", component,
+                     out[component], choice)
+        out[component] = choice
+    return out
 
 
 def train_robot_store(data: RobotDataset, config: RobotLearningConfig,
@@ -195,7 +246,10 @@ def train_robot_store(data: RobotDataset, config: RobotLearningConfig,
     """Fit every model kind on all rows and write the folder ``out``.
 
     ``meta``: ``name`` (required), ``description``, ``feature_config``, ``sources``,
-    ``design_bounds`` (see :func:`build_card`).
+    ``design_bounds`` (see :func:`build_card`), ``outcome_runs`` (every run of the
+    campaigns, :func:`slam_predict.learn.robot.failure.outcome_runs`: the failure probability
+    is fitted on them and written as ``failure.json``; none without). The best kind of a
+    component is ``best``'s unless it fails the monotone check (:func:`monotone_best`).
     """
     if not data.feature_version or data.feature_version == "reference-table":
         raise InputError(f"feature version '{data.feature_version}' cannot be shipped: use "
@@ -204,7 +258,39 @@ def train_robot_store(data: RobotDataset, config: RobotLearningConfig,
     fitted = fit_all(tables, config, n_jobs)
     if not fitted:
         raise InputError("no component could be trained: nothing to store")
+    bounds = meta.get("design_bounds")
+    checks = monotone_checks(data, tables, config, fitted, input_ranges(tables, bounds))
+    best = monotone_best(best, summary, config, checks)
     card = build_card(data, tables, config, summary, best, fitted, meta)
+    for component, entry in card["components"].items():
+        for kind, model_entry in entry["models"].items():
+            drops = checks[component][kind]
+            model_entry["monotone"] = {"passed": passes(drops), "worst_drop": drops}
+    card["monotone_check"] = MONOTONE_CHECK_TEXT
+    extra = {}
+    if meta.get("outcome_runs"):
+        failure, card["failure"] = failure_model(data, tables, config, meta["outcome_runs"])
+        extra[FAILURE_FILE] = json.dumps(failure.to_form()) + "\n"
     plan = [n for n in tables.names if n not in ROBOT_INPUTS]
     return save_robot_store(out, card, fitted, points_csv(data, plan),
-                            plain_forms(fitted, tables.point_X))
+                            plain_forms(fitted, tables.point_X), extra)
+
+
+def failure_model(data: RobotDataset, tables: RobotTables, config: RobotLearningConfig,
+                  runs: Sequence) -> tuple[Any, dict[str, Any]]:
+    """(the failure probability model fitted on every run of ``runs``, its card entry with
+    the leave-one-building-out evaluation) (:mod:`~slam_predict.learn.robot.failure`)."""
+    from slam_predict.learn.robot import failure as fl
+    from slam_predict.learn.robot.models import log_columns
+
+    X, failed, groups = fl.outcome_table(runs, data, tables.names, config.failure_coverage)
+    columns = log_columns(tables.names, X, config)
+    model = fl.fit_failure(X, failed, tables.names, columns, config.failure_c, config.seed,
+                           config.failure_coverage)
+    evaluation = fl.evaluate_failure(X, failed, groups, tables.names, columns,
+                                     config.failure_c, config.seed)
+    entry = {"file": FAILURE_FILE, "coverage_threshold": config.failure_coverage,
+             "model": f"logistic regression (standardised inputs, C {config.failure_c:g})",
+             "runs": int(len(failed)), "failed": int(failed.sum()),
+             "base_rate": float(failed.mean()), "evaluation": evaluation}
+    return model, entry
