@@ -77,11 +77,12 @@ def robot_models_dir(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="session")
 def load_bench(root):
-    """A loader of bench/ scripts by stem (bench/ is not a package): load_bench("bench_x")."""
+    """A loader of bench/ scripts by stem (bench/ is not a package): load_bench("bench_x");
+    load_bench("gen_x", "tools") loads a script of another folder."""
     import importlib.util
 
-    def load(stem: str):
-        spec = importlib.util.spec_from_file_location(stem, root / "bench" / f"{stem}.py")
+    def load(stem: str, folder: str = "bench"):
+        spec = importlib.util.spec_from_file_location(stem, root / folder / f"{stem}.py")
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)
         return module

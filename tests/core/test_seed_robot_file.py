@@ -3,7 +3,6 @@ config/base_local_planner.yaml by tools/gen_seed_robot.py: the committed file is
 one, and it follows its sources."""
 from __future__ import annotations
 
-import importlib.util
 import math
 import shutil
 from pathlib import Path
@@ -15,20 +14,12 @@ from slam_predict.robot_file import load_robot
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def generator():
-    spec = importlib.util.spec_from_file_location("gen_seed_robot",
-                                                  ROOT / "tools" / "gen_seed_robot.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def test_the_committed_seed_robot_is_the_generated_one():
-    assert generator().main(["--check"]) == 0, (
+def test_the_committed_seed_robot_is_the_generated_one(load_bench):
+    assert load_bench("gen_seed_robot", "tools").main(["--check"]) == 0, (
         "config/robots/seed_realistic.yaml is stale: run python tools/gen_seed_robot.py")
 
 
-def test_the_seed_robot_follows_its_sources(tmp_path):
+def test_the_seed_robot_follows_its_sources(tmp_path, load_bench):
     config = tmp_path / "config"
     config.mkdir()
     for name in ("robot.yaml", "base_local_planner.yaml"):
@@ -38,7 +29,7 @@ def test_the_seed_robot_follows_its_sources(tmp_path):
     sim["sim"]["odom"]["error"][2] = math.radians(3.0)
     (config / "robot.yaml").write_text(yaml.safe_dump(sim))
     out = tmp_path / "seed.yaml"
-    out.write_text(generator().seed_robot_text(config))
+    out.write_text(load_bench("gen_seed_robot", "tools").seed_robot_text(config))
     robot = load_robot(out)
     reference = load_robot(ROOT / "config" / "robots" / "seed_realistic.yaml")
     assert robot.to_sensor_config() != reference.to_sensor_config()

@@ -1,18 +1,6 @@
 """bench/bench_karto_diff.py's acceptance figures and median row, and run discovery for runs of
 any in-loop back-end (bench/gmapping_diff/collected_runs.py), on hand-made records."""
-import importlib.util
 import json
-from pathlib import Path
-
-ROOT = Path(__file__).resolve().parents[3]
-
-
-def _bench():
-    spec = importlib.util.spec_from_file_location("bench_karto_diff",
-                                                  ROOT / "bench" / "bench_karto_diff.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def record(indices, poses, loops, error, cpu):
@@ -20,8 +8,8 @@ def record(indices, poses, loops, error, cpu):
             "error": {"trans_mean_m": error}, "cpu_s": cpu}
 
 
-def test_agreement_and_median_row():
-    bench = _bench()
+def test_agreement_and_median_row(load_bench):
+    bench = load_bench("bench_karto_diff")
     real = record([0, 3, 7], [[0, 0, 0], [1, 0, 0], [2, 0, 0]], [[7, 0]], 0.2, 2.0)
     same = record([0, 3, 7], [[0, 0, 0], [1.005, 0, 0], [2, 0, 0]], [[7, 0]], 0.2, 3.0)
     off = record([0, 3, 7], [[0, 0, 0], [1.02, 0, 0], [2, 0.5, 0]], [[7, 3]], 0.3, 4.0)
@@ -33,8 +21,8 @@ def test_agreement_and_median_row():
     assert "3/3 same" in row and "2/3 same" in row and "| 100.0 |" in row and "| 1.00 |" in row
 
 
-def test_runs_of_any_back_end_are_found(tmp_path):
-    bench = _bench()
+def test_runs_of_any_back_end_are_found(tmp_path, load_bench):
+    bench = load_bench("bench_karto_diff")
     for name, backend in (("run_000", "karto"), ("run_001", "gmapping")):
         run = tmp_path / "w" / name
         run.mkdir(parents=True)

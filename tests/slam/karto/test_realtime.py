@@ -1,7 +1,6 @@
 """The async node's real-time emulation: its queue and mapper events against a time-stepped
 reference, its cost model against the real library's CPU times, and the back-end in
 ``scan_gate: async``."""
-import importlib.util
 import json
 import os
 from collections import deque
@@ -115,18 +114,10 @@ def test_bad_async_cost_is_an_input_error():
         slam.params_from_dict("karto", {"async_cost": {"cpu_factor": -1.0}}, "karto.yaml")
 
 
-def _bench():
-    spec = importlib.util.spec_from_file_location("bench_karto_compute",
-                                                  ROOT / "bench" / "bench_karto_compute.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 @pytest.mark.skipif(not (KARTO_REF / "intel" / "real.json").is_file(),
                     reason=f"no real-library output in {KARTO_REF}")
-def test_default_costs_are_the_bench_fit_and_predict_the_real_cpu(root):
-    bench = _bench()
+def test_default_costs_are_the_bench_fit_and_predict_the_real_cpu(root, load_bench):
+    bench = load_bench("bench_karto_compute")
     runs = bench.load(KARTO_REF)
     fitted = bench.fit(runs)
     shipped = slam.load_params("karto", root / "config" / "karto.yaml").async_cost
