@@ -487,9 +487,8 @@ def warmup() -> None:
     inflate(grid, 0, 0, 6, 6, r, costs, dist, bins.reshape(dist.shape).astype(np.int64),
             len(uniq), False, pool, pool.copy(), pool.copy())
     cost = np.ones((6, 6))
-    work = np.zeros(36, np.int64)
-    grid_search(cost, 0, 0, 5, 5, 5, 5, 5, 5, 1.0, np.empty(300), np.empty(300, np.int64),
-                np.empty(36), np.empty(36, np.int64), work, work.copy(), 1)
+    grid_search(cost, 0, 0, 5, 5, 5, 5, 5, 5, 1.0, np.empty(300), np.empty(300, np.int32),
+                np.empty(36), np.empty(36, np.int32), np.zeros(36, np.int32), 1)
     target_distance(grid, np.zeros((6, 6), np.bool_), np.array([0]), np.array([0]),
                     np.empty((6, 6)), np.empty((36, 2), np.int32), 0, 0, -1)
     obstacle_update(grid, 0.0, 0.0, 0.1, 0.05, 0.05, np.array([[0.45, 0.35]]), 3.0, 2.5,
