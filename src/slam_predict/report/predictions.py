@@ -15,12 +15,14 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from slam_predict.errors import InputError
 from slam_predict.paths import PROJECT_ROOT
 from slam_predict.report import html as H
 from slam_predict.report.campaign import Campaign
 from slam_predict.report.models import COMPONENTS, LABELS, UNITS, ModelEntry
+from slam_predict.report.sections import robot_text
 
 LOG = logging.getLogger(__name__)
 SHIPPED_WORLDS = PROJECT_ROOT / "worlds"
@@ -124,7 +126,6 @@ class FeatureCache:
 
     def _plan_features(self, name: str, card: dict) -> dict[str, float]:
         from slam_predict.features.plan import plan_features
-        from slam_predict.report.robot_predictions import robot_sightline
         from slam_predict.world.load import load_plan
 
         if name not in self._worlds:
@@ -269,8 +270,30 @@ def predictions_section(entry: ModelEntry, campaign: Campaign, cache: FeatureCac
         body += H.image(png, f"predicted vs measured, model {entry.name}",
                         "Each point is one world: measured = mean over its runs; bar = the "
                         "model's interval; dashed line = perfect prediction.")
-    from slam_predict.report.robot_predictions import plan_model_robot_note
-
     body += H.notes(setup_notes(entry, campaign) + plan_model_robot_note(campaign) + extra
                     + result.notes)
     return H.section(f"Predictions of {entry.name} for this campaign's worlds", body, level=3)
+
+
+def plan_model_robot_note(campaign: Campaign) -> list[str]:
+    """The note a plan-only model's predictions get when the runs record their robots."""
+    robots: dict[str, int] = {}
+    for run in campaign.runs:
+        if isinstance(run.record.get("sensor"), dict):
+            text = robot_text(run.record["sensor"])
+            robots[text] = robots.get(text, 0) + 1
+    if not robots:
+        return []
+    listing = "; ".join(f"{text} ({n} runs)" for text, n in robots.items())
+    return [f"this plan-only model does not take the robot into account: it predicts the "
+            f"errors of its training runs' robot, whatever robot these runs used ({listing}); "
+            "the differences include the robot, not only the model's error. A robot-aware "
+            "model (e.g. models/own-robots) scores each run with its own robot"]
+
+
+def robot_sightline(card: dict[str, Any]) -> dict[str, Any] | None:
+    """The sight-line configuration a robot-aware card's features need (None otherwise)."""
+    stored = card.get("sightline")
+    if not isinstance(stored, dict):
+        return None
+    return {k: v for k, v in stored.items() if k != "ranges_m"}

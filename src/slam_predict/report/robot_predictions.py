@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Any
 
 import numpy as np
 
@@ -146,27 +145,3 @@ def robot_predictions_section(entry, campaign: Campaign, cache: FeatureCache) ->
     body += H.notes(result.notes)
     return H.section(f"Predictions of {entry.name} for this campaign's runs, per robot", body,
                      level=3)
-
-
-def plan_model_robot_note(campaign: Campaign) -> list[str]:
-    """The note a plan-only model's predictions get when the runs record their robots."""
-    robots: dict[str, int] = {}
-    for run in campaign.runs:
-        if isinstance(run.record.get("sensor"), dict):
-            text = robot_text(run.record["sensor"])
-            robots[text] = robots.get(text, 0) + 1
-    if not robots:
-        return []
-    listing = "; ".join(f"{text} ({n} runs)" for text, n in robots.items())
-    return [f"this plan-only model does not take the robot into account: it predicts the "
-            f"errors of its training runs' robot, whatever robot these runs used ({listing}); "
-            "the differences include the robot, not only the model's error. A robot-aware "
-            "model (e.g. models/own-robots) scores each run with its own robot"]
-
-
-def robot_sightline(card: dict[str, Any]) -> dict[str, Any] | None:
-    """The sight-line configuration a robot-aware card's features need (None otherwise)."""
-    stored = card.get("sightline")
-    if not isinstance(stored, dict):
-        return None
-    return {k: v for k, v in stored.items() if k != "ranges_m"}
