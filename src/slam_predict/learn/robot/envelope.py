@@ -8,7 +8,8 @@ own-robots, 2026-12-05: ε_r at 360° rose from 0.0293 to 0.0325 rad as the rang
 query, without refitting:
 
 1. the model is evaluated on a grid of robots for the plan (:func:`robot_axes`: the training
-   range of each input, plus a node at its worse plausible limit);
+   range of each input, plus a node at its worse plausible limit; the rows are
+   :func:`~slam_predict.learn.robot.monotone_check.grid_rows`, as the training-time check's);
 2. each grid value is raised to the largest value of any grid robot at least as good
    (:func:`envelope`: a running maximum along each input, from the best robot to the worst);
 3. the query is read from that grid by multilinear interpolation (:func:`interpolate`), which
@@ -21,13 +22,12 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-# Robot input → +1 when a larger value is a worse robot, −1 when a smaller one is.
-WORSE_DIRECTION = {"laser_range_max_m": -1, "laser_fov_deg": -1, "odom_xy_error": 1,
-                   "odom_yaw_error": 1}
+from slam_predict.learn.robot.monotone_check import WORSE
+
 # Nodes across the training range of each input: the laser range most (the error changes
 # fastest with it, roughly as a power of it), geometric.
 INNER_NODES = {"laser_range_max_m": 8, "laser_fov_deg": 4, "odom_xy_error": 4,
@@ -45,7 +45,7 @@ def robot_axes(input_ranges: Mapping[str, Sequence[float]]) -> dict[str, np.ndar
     maximum). A robot better than the training range reads the range's best edge: the
     models' extrapolation towards better robots is not trusted."""
     axes = {}
-    for name, direction in WORSE_DIRECTION.items():
+    for name, direction in WORSE.items():
         low, high = (float(v) for v in input_ranges[name])
         count = INNER_NODES[name]
         if name == "laser_range_max_m":
@@ -58,30 +58,6 @@ def robot_axes(input_ranges: Mapping[str, Sequence[float]]) -> dict[str, np.ndar
         nodes = np.unique(np.append(inner, worst))
         axes[name] = nodes[::-1] if direction < 0 else nodes
     return axes
-
-
-def grid_inputs(names: Sequence[str], axes: Mapping[str, np.ndarray],
-                plan_features: Mapping[str, float],
-                derived: Callable[[float], Mapping[str, float]]) -> np.ndarray:
-    """(N, d) model input rows of every grid robot (row-major over ``axes``' order) for one
-    plan: robot inputs from the grid, plan features constant, plan × robot inputs from
-    ``derived(laser range)``."""
-    order = list(axes)
-    mesh = np.meshgrid(*(axes[n] for n in order), indexing="ij")
-    columns = {n: m.ravel() for n, m in zip(order, mesh, strict=True)}
-    ranges = columns["laser_range_max_m"]
-    needs_derived = any(n not in columns and n not in plan_features for n in names)
-    by_range = ({float(r): derived(float(r)) for r in axes["laser_range_max_m"]}
-                if needs_derived else {})
-    X = np.empty((ranges.size, len(names)))
-    for j, name in enumerate(names):
-        if name in columns:
-            X[:, j] = columns[name]
-        elif name in plan_features:
-            X[:, j] = float(plan_features[name])
-        else:
-            X[:, j] = [by_range[float(r)][name] for r in ranges]
-    return X
 
 
 def envelope(values: np.ndarray) -> np.ndarray:

@@ -175,7 +175,7 @@ class RobotModel:
                 value, low, high = (float(v[0]) for v in
                                     self._grid_prediction(model, component, x, confidence, runs))
             else:
-                grid = grid or self._robot_grid(plan_features)
+                grid = grid or self._robot_grid(plan_features, x[0])
                 axes, X, shape = grid
                 value, low, high = (
                     envelope.interpolate(envelope.envelope(v.reshape(shape)), axes, robot)
@@ -197,13 +197,15 @@ class RobotModel:
         check = (entry.get(model.kind) or {}).get("monotone") or {}
         return model.kind == "elasticnet" and check.get("passed") is True
 
-    def _robot_grid(self, plan_features: Mapping[str, float]):
-        """(axes, input rows, grid shape) of the envelope's robots for one plan."""
+    def _robot_grid(self, plan_features: Mapping[str, float], plan_row: np.ndarray):
+        """(axes, input rows, grid shape) of the envelope's robots for one plan (``plan_row``:
+        the query's input row, whose robot inputs the grid replaces)."""
+        from slam_predict.learn.robot.monotone_check import grid_rows
+
         axes = envelope.robot_axes(self.card["input_ranges"])
-        X = envelope.grid_inputs(self.names, axes, plan_features,
-                                 lambda r: derived_inputs(plan_features,
-                                                          {"laser_range_max_m": r}))
-        return axes, X, tuple(len(nodes) for nodes in axes.values())
+        rows = grid_rows(plan_row, self.names, axes, lambda r: derived_inputs(
+            plan_features, {"laser_range_max_m": r})["laser_blind_fraction"])
+        return axes, rows.reshape(-1, rows.shape[-1]), rows.shape[:-1]
 
     @staticmethod
     def _grid_prediction(model, component: str, X: np.ndarray, confidence: float,
