@@ -74,17 +74,12 @@ def run(args: argparse.Namespace) -> int:
 def models_against_thesis(dataset_csv: str, model: str, thesis) -> str:
     """The markdown of :func:`slam_predict.learn.against.leave_one_out_against` for the
     components the seed study's table holds."""
-    import os
-    from pathlib import Path
-
     from slam_predict.learn import against
-    from slam_predict.learn.card import read_card
     from slam_predict.learn.dataset import read_dataset
+    from slam_predict.learn.model import resolve_store
     from slam_predict.learn.store import default_models_dir
 
-    folder = Path(model) if (os.sep in model or Path(model).is_dir()) \
-        else default_models_dir() / model
-    card = read_card(folder)
+    card = resolve_store(default_models_dir(), model, None, None).card
     chosen = against.card_models(card, ["trans_mean", "rot_mean"])
     rows = against.leave_one_out_against(read_dataset(dataset_csv),
                                          against.card_learning_config(card), chosen, thesis)

@@ -273,10 +273,6 @@ class SearchWork:
         self.stamp += 1
         return self.stamp
 
-    def settled(self, cells: int) -> np.ndarray:
-        """Which of the first ``cells`` cells the last search settled (bool)."""
-        return self.mark[:cells] == 2 * self.stamp + 1
-
 
 def _search(cell_cost: np.ndarray, start, goal, tol_cells: int,
             work: SearchWork | None = None):
