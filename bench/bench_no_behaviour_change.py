@@ -103,10 +103,15 @@ def world_path(tree: Path, world: str) -> Path:
     imported = ROOT / "out" / "thesis_worlds" / f"{world}.world"
     if not imported.is_file():
         table = ROOT.parent / "shared" / "data" / "thesis" / "environments.csv"
+        staging = imported.parent / f".import-{world}"   # import-thesis wants a new folder
+        shutil.rmtree(staging, ignore_errors=True)
         subprocess.run([sys.executable, "-m", "slam_predict.cli.main", "worlds", "import-thesis",
-                        str(table), "--out", str(imported.parent), "--only", world],
+                        str(table), "--out", str(staging), "--only", world],
                        cwd=ROOT, check=True, capture_output=True,
                        env=dict(os.environ, PYTHONPATH=str(ROOT / "src")))
+        for item in staging.iterdir():
+            item.replace(imported.parent / item.name)
+        staging.rmdir()
     return imported
 
 
