@@ -27,6 +27,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="leave out runs that explored less than this share of the "
                              "reachable free area: failed explorations (default "
                              f"{MIN_COVERAGE:g}, as the robot-aware learner; 0: every run)")
+    parser.add_argument("--parts", metavar="YAML",
+                        help="declared building parts (e.g. the buildings a setting was fitted "
+                             "on and the rest): the collection chain's bars and run ends for "
+                             "each part")
     parser.add_argument("--out", metavar="MD", help="also write the markdown tables to MD")
     parser.add_argument("--plot", metavar="PNG",
                         help="also write the ratios ours/theirs against free area to PNG")
@@ -58,6 +62,8 @@ def run(args: argparse.Namespace) -> int:
     comparisons = [compare_campaign(Path(c), thesis, args.min_runs,
                                     min_coverage=args.min_coverage) for c in args.campaigns]
     text = markdown_report(comparisons, Path(args.thesis).name)
+    if args.parts:
+        text += parts_report(args.parts, comparisons, [Path(c) for c in args.campaigns])
     if args.loo_dataset:
         text += "\n" + models_against_thesis(args.loo_dataset, args.loo_model, thesis)
     if args.out:
@@ -69,6 +75,19 @@ def run(args: argparse.Namespace) -> int:
         write_bytes(args.plot, ratio_vs_area_png(comparisons))
     print(text, end="")
     return 0
+
+
+def parts_report(parts_file: str, comparisons, folders) -> str:
+    """The markdown of each declared part's bars, over the buildings of all campaigns."""
+    from slam_predict.collect.fidelity import Comparison
+    from slam_predict.collect.fidelity_parts import load_parts, part_lines
+
+    parts = load_parts(parts_file)
+    pooled = Comparison(", ".join(c.name for c in comparisons),
+                        [row for c in comparisons for row in c.rows],
+                        {w: r for c in comparisons for w, r in c.per_run.items()})
+    return "\n".join(["", f"### The chain's bars by part ({parts_file})",
+                      *part_lines(pooled, parts, folders)]) + "\n"
 
 
 def models_against_thesis(dataset_csv: str, model: str, thesis) -> str:

@@ -36,7 +36,7 @@ class Bar:
     """One acceptance bar: ``figure`` of a comparison must lie in [low, high]."""
 
     label: str
-    figure: str          # "spearman:<key>", "ratio:<key>" or "size_trend"
+    figure: str          # "spearman:<key>", "ratio:<key>", "extreme:<key>" or "size_trend"
     low: float
     high: float
 
@@ -46,6 +46,8 @@ class Bar:
             return comparison.spearman(key)
         if kind == "ratio":
             return comparison.median_ratio(key)
+        if kind == "extreme":
+            return comparison.extreme_ratio(key)
         return comparison.size_trend()
 
     def holds(self, comparison: Comparison) -> bool:
@@ -95,6 +97,13 @@ class Comparison:
     def ratios(self, key: str) -> np.ndarray:
         """Per-building ours / theirs of ``key``."""
         return self.values(key, "ours") / self.values(key, "theirs")
+
+    def extreme_ratio(self, key: str) -> float:
+        """The per-building ours / theirs of ``key`` farthest from 1 on a log scale (nan when
+        no building has one)."""
+        ratios = self.ratios(key) if self.rows else np.array([])
+        ratios = ratios[np.isfinite(ratios) & (ratios > 0)]
+        return float(ratios[np.argmax(np.abs(np.log(ratios)))]) if len(ratios) else float("nan")
 
     def size_trend(self) -> float:
         """Spearman rank correlation of the ε_t ratio with the free area (nan under 3 buildings

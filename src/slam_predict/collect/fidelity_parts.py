@@ -1,0 +1,111 @@
+"""A fidelity campaign judged in declared parts: buildings a setting was fitted on, and the rest.
+
+A parts file (YAML) names the campaign's building subsets before the judged part is collected::
+
+    declared: 2026-12-05, commit abc1234
+    fitted: [slam_compute.rebuild_s_per_line_cell]   # the settings fitted on the 'fit' part
+    parts:
+      fit: [Borchen4_updated, ...]
+      judge: [130604-Plan_updated, ...]
+
+Each part is compared with the seed study on its own (:func:`part_comparison`) against the
+chain's bars (:data:`CHAIN_BARS`: ε_t, ε_r and path median ratios, ε_t Spearman, the size trend
+and the widest per-building ε_t and path ratio), and its run ends are checked
+(:func:`run_end_lines`: no run ends ``stuck``, every run covers ≥ :data:`FULL_COVERAGE` of the
+reachable floor).
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+from slam_predict.collect.fidelity import Bar, Comparison, bootstrap_intervals
+from slam_predict.collect.store import RunStore
+from slam_predict.config import load_yaml
+from slam_predict.errors import InputError
+
+FULL_COVERAGE = 0.95   # share of the reachable free floor a complete exploration maps
+
+# The collection chain's bars on buildings it was not fitted on (ours ÷ the seed study).
+CHAIN_BARS = (
+    Bar("ε_t median ratio in [0.9, 1.1]", "ratio:trans_mean", 0.9, 1.1),
+    Bar("ε_t Spearman ≥ 0.9", "spearman:trans_mean", 0.9, 1.0),
+    Bar("ε_r median ratio in [0.8, 1.25]", "ratio:rot_mean", 0.8, 1.25),
+    Bar("path length median ratio in [0.85, 1.15]", "ratio:path_length_mean", 0.85, 1.15),
+    Bar("no size trend: Spearman(ε_t ratio, free area) in [-0.3, 0.3]", "size_trend", -0.3, 0.3),
+    Bar("widest building ε_t ratio in [0.6, 1.6]", "extreme:trans_mean", 0.6, 1.6),
+    Bar("widest building path ratio in [0.6, 1.6]", "extreme:path_length_mean", 0.6, 1.6),
+)
+
+
+def load_parts(path: Path | str) -> dict[str, list[str]]:
+    """Part name → building names of a parts file; InputError naming the file when it has no
+    ``parts`` mapping of name lists or a building sits in two parts."""
+    data = load_yaml(path)
+    parts = data.get("parts")
+    if not isinstance(parts, dict) or not parts:
+        raise InputError("needs a 'parts' mapping of part name to building names", path)
+    seen: dict[str, str] = {}
+    for name, worlds in parts.items():
+        if not isinstance(worlds, list) or not all(isinstance(w, str) for w in worlds):
+            raise InputError(f"part '{name}' must be a list of building names", path)
+        for world in worlds:
+            if world in seen:
+                raise InputError(f"building '{world}' is in parts '{seen[world]}' and "
+                                 f"'{name}'", path)
+            seen[world] = str(name)
+    return {str(name): list(worlds) for name, worlds in parts.items()}
+
+
+def part_comparison(comparison: Comparison, name: str, worlds: Sequence[str]) -> Comparison:
+    """The buildings of ``comparison`` that are in ``worlds``, as a comparison of their own."""
+    wanted = set(worlds)
+    rows = [row for row in comparison.rows if row["world"] in wanted]
+    per_run = {w: runs for w, runs in comparison.per_run.items() if w in wanted}
+    return Comparison(f"{comparison.name}: {name}", rows, per_run)
+
+
+def run_ends(folders: Sequence[Path], worlds: Sequence[str]) -> dict[str, list[str]]:
+    """Every finished run of ``worlds`` in the campaign ``folders`` that ended ``stuck`` or
+    below :data:`FULL_COVERAGE`, as 'world run k (reason, coverage c)' lines by kind."""
+    out: dict[str, list[str]] = {"stuck": [], "low coverage": []}
+    wanted = set(worlds)
+    for folder in folders:
+        store = RunStore(folder)
+        for world in store.worlds():
+            if world not in wanted:
+                continue
+            for record in store.records(world):
+                coverage = float(record.get("coverage", 1.0))
+                line = (f"{world} run {record.get('run_index', '?')} "
+                        f"({record.get('stop_reason')}, coverage {coverage:.3f})")
+                if record.get("stop_reason") == "stuck":
+                    out["stuck"].append(line)
+                if coverage < FULL_COVERAGE:
+                    out["low coverage"].append(line)
+    return out
+
+
+def part_lines(comparison: Comparison, parts: Mapping[str, Sequence[str]],
+               folders: Sequence[Path], draws: int = 2000) -> list[str]:
+    """Markdown: for each part, the chain's bars with 95 % bootstrap intervals and the runs
+    that ended stuck or incomplete."""
+    lines: list[str] = []
+    for name, worlds in parts.items():
+        part = part_comparison(comparison, name, worlds)
+        missing = sorted(set(worlds) - {row["world"] for row in part.rows})
+        lines += ["", f"#### Part '{name}': {len(part.rows)} of {len(worlds)} buildings, "
+                  f"{part.runs} runs", ""]
+        intervals = bootstrap_intervals(part, CHAIN_BARS, draws)
+        for bar in CHAIN_BARS:
+            low, high = intervals[bar.label]
+            verdict = "pass" if bar.holds(part) else "FAIL"
+            lines.append(f"- {bar.label}: {bar.value(part):.2f} [95 % {low:.2f}, {high:.2f}] "
+                         f"({verdict})")
+        ends = run_ends(folders, worlds)
+        for kind, runs in ends.items():
+            lines.append(f"- runs {kind}: {len(runs)}" + (f" ({'; '.join(runs)})" if runs
+                                                          else ""))
+        if missing:
+            lines.append(f"- not collected yet (or no run kept): {', '.join(missing)}")
+    return lines
