@@ -17,7 +17,9 @@
 #              (the map rebuild twice as dear per traced cell; docs/notes/fidelity.md, 2026-12-03).
 #   fidelity_seed_study (issue #16): the same buildings under config/fidelity/seed_study.yaml
 #              (Stage's fixed odometry biases, the calibrated compute delay): the fidelity
-#              campaign whose settings the robots campaign and own-realistic use.
+#              campaign whose settings the robots campaign and own-realistic use. Since
+#              2026-12-05 every seed-study building with a plan (44): the buildings of its
+#              parts.yaml, the 17 the compute level was fitted on and the 27 that judge it.
 #   robots (issue #18): 21 seed-study buildings of <= 2,000 m2, each explored with 4 robot
 #              configurations of config/robot_campaign/design.yaml (28 configurations, a
 #              Latin hypercube over laser range, fov and odometry error), 2 runs each (168 runs),
@@ -94,6 +96,11 @@ WORLDS_DIR="$ROOT/out/thesis_worlds"
 BUILDINGS="$THESIS_BUILDINGS"
 [ "$WITH_LARGE" = 1 ] && BUILDINGS="$THESIS_BUILDINGS $LARGE_BUILDINGS"
 case "$NAME" in
+  fidelity_seed_study)   # every building of its declared parts: fitted-on, then judged
+    BUILDINGS="$(python -c 'import sys, yaml
+parts = yaml.safe_load(open(sys.argv[1]))["parts"]
+print(" ".join(w for part in parts.values() for w in part))' \
+      "$ROOT/data/campaigns/fidelity_seed_study/parts.yaml")" ;;
   robots_more) BUILDINGS="$MORE_ROBOT_BUILDINGS" ;;
   robots*) BUILDINGS="$ROBOT_BUILDINGS" ;;
 esac
