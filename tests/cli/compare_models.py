@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import csv
 import json
+import shutil
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -52,7 +53,17 @@ def train(models_dir: Path, name: str, campaign: str, slam: str | None = None,
     config = from_dict(LearningConfig, LEARNING)
     folder = train_store(data, config, run_evaluation(data, config), name, models_dir,
                          f"test model: {campaign}", feature_config=card["feature_config"])
-    if slam is not None:
-        path = folder / "card.json"
-        path.write_text(json.dumps({**json.loads(path.read_text()), "slam": slam}, indent=2))
+    return relabel(folder, slam=slam) if slam is not None else folder
+
+
+def relabel(folder: Path, **card_changes) -> Path:
+    """Change entries of the card of model ``folder`` (its files' checksums stay valid)."""
+    path = folder / "card.json"
+    path.write_text(json.dumps({**json.loads(path.read_text()), **card_changes}, indent=2))
     return folder
+
+
+def copy_as(source: Path, target: Path, slam: str) -> Path:
+    """A copy of model folder ``source`` at ``target``, named after it, labelled ``slam``."""
+    shutil.copytree(source, target)
+    return relabel(target, slam=slam, name=target.name)

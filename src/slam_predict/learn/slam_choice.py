@@ -30,8 +30,8 @@ from slam_predict.learn.store import MODELS_ENV, SHIPPED_MODELS, list_stores
 LOG = logging.getLogger(__name__)
 DEFAULT_SLAM = "gmapping"   # the algorithm of a card without a ``slam`` field
 TRAIN_HINTS = {
-    PLAN_KIND: "slam-predict learn dataset, then learn train on the campaign",
-    ROBOT_KIND: "slam-predict learn train --runs on the campaign with --design",
+    PLAN_KIND: "slam-predict learn dataset on the campaign, then learn train DATASET --slam {}",
+    ROBOT_KIND: "slam-predict learn train --runs DATA --design DESIGN --slam {}",
 }
 
 
@@ -53,9 +53,10 @@ def search_dirs(models_dir: os.PathLike | str | None = None) -> list[Path]:
 
 def train_hint(slam: str, kind: str = PLAN_KIND) -> str:
     """How to make a model of ``slam``'s error (one clause, for error messages)."""
-    return (f"to make one, collect {slam} runs (slam-predict collect WORLDS --slam {slam} "
-            f"--out DATA; for karto the settings config/collect_karto.yaml) and train on them "
-            f"for {slam} ({TRAIN_HINTS[kind]}; docs/howto/choose-slam.md)")
+    settings = " --settings config/collect_karto.yaml" if slam == "karto" else ""
+    return (f"to make one, collect {slam} runs (slam-predict collect WORLDS --slam {slam}"
+            f"{settings} --out DATA) and train on them ({TRAIN_HINTS[kind].format(slam)}; "
+            "docs/howto/choose-slam.md)")
 
 
 def find_model(slam: str, kind: str, name: str = "best",
