@@ -213,3 +213,27 @@ def test_refusals_are_one_line_exit_2(models, tmp_path, call, request, argv, fol
              "robots": request.getfixturevalue("robot_models_dir")}[folder]
     err = one_line_error(call, SMALL, *argv, "--models-dir", str(where))
     assert all(word in err for word in words), err
+
+
+def test_features_are_computed_once_per_feature_version():
+    """Two models of one feature version (and sight-line configuration) share the plan's
+    features; another version or a sight-line reader gets its own computation."""
+    from types import SimpleNamespace
+
+    from slam_predict.cli.predict_compare import predictions
+
+    def model(version, sightline=None):
+        return SimpleNamespace(card={"feature_version": version}, sightline_config=sightline)
+
+    def check(models, fresh):
+        given = []
+
+        def predict(world, model, features=None):
+            given.append(features)
+            return {"features": {"for": id(model)}}
+        predictions("plan", models, predict)
+        assert [features is None for features in given] == fresh
+
+    check({"gmapping": model("2+a"), "karto": model("2+a")}, [True, False])
+    check({"gmapping": model("2+a"), "karto": model("2+b")}, [True, True])
+    check({"gmapping": model("2+a"), "karto": model("2+a", {"rays": 8})}, [True, True])

@@ -24,12 +24,13 @@ PER_PREDICTION = ("setting", "model_store", "model_takes_robot", "robot", "failu
 
 
 def predictions(world, models: dict, predict) -> dict[str, dict]:
-    """{algorithm: its model's result}, the features computed once per configuration."""
+    """{algorithm: its model's result}, the features computed once per feature version (the
+    definition and the hash of the whole configuration) and sight-line configuration."""
     computed: dict[str, dict] = {}
     results = {}
     for slam, model in models.items():
-        key = json.dumps([model.feature_config, model.sightline_config], sort_keys=True,
-                         default=str)
+        key = json.dumps([model.card["feature_version"], model.sightline_config],
+                         sort_keys=True, default=str)
         results[slam] = predict(world, model, computed.get(key))
         computed[key] = results[slam]["features"]
     return results
