@@ -175,10 +175,8 @@ def predictor(args: argparse.Namespace, robot, component: str):
     """predict(world, model, features=None) → the result of one model, robot-aware or not."""
     def predict(world, model, features=None) -> dict:
         if model.takes_robot:
-            result = predict_robot.predict(world, model, robot, args.robot, component, features)
-        else:
-            result = predict_plan(world, model, component, features)
-        return result
+            return predict_robot.predict(world, model, robot, args.robot, component, features)
+        return predict_plan(world, model, component, features)
     return predict
 
 
