@@ -197,6 +197,8 @@ REFUSALS = [
      ["either --slam or --compare"]),
     (["--compare", "gmapping", "karto", "--simulate", "1", "--out", "x"], "both",
      ["--compare only predicts"]),
+    (["--slam", "karto", "--simulate", "1", "--out", "x", "--settings", "config/collect.yaml"],
+     "both", ["config/collect.yaml", "slam.type is gmapping, not karto"]),
     (["--slam", "karto", "--model", "tiny-gmapping"], "both",
      ["--slam karto:", "tiny-gmapping was trained on gmapping runs, not karto"]),
 ]
@@ -237,3 +239,21 @@ def test_features_are_computed_once_per_feature_version():
     check({"gmapping": model("2+a"), "karto": model("2+a")}, [True, False])
     check({"gmapping": model("2+a"), "karto": model("2+b")}, [True, True])
     check({"gmapping": model("2+a"), "karto": model("2+a", {"rays": 8})}, [True, True])
+
+
+def test_simulate_takes_the_algorithms_settings():
+    """``--slam karto --simulate`` simulates with Karto's shipped settings, as collect does."""
+    import argparse
+
+    from slam_predict.cli.predict_simulate import SIM_OPTIONS, check_options
+
+    def options(slam):
+        return argparse.Namespace(**{**dict.fromkeys(SIM_OPTIONS), "out": "sim"},
+                                  simulate="1", slam=slam)
+
+    args = options("slam_toolbox")
+    check_options(args)
+    assert Path(args.settings).name == "collect_karto.yaml"
+    args = options(None)
+    check_options(args)
+    assert args.settings is None     # collect's default, config/collect.yaml
