@@ -119,8 +119,7 @@ def check_trained_for(path: Path, slam: str, setting: str | None = None) -> Path
     card = read_card(path)
     if trained_for(card) != slam:
         raise InputError(f"model {path.name} was trained on {trained_for(card)} runs, not "
-                         f"{slam}: choose a model trained for {slam} (or no --model)",
-                         path / CARD)
+                         f"{slam}: name a model trained for {slam}", path / CARD)
     if setting is not None and kind_of(card) == PLAN_KIND and card["setting"] != setting:
         raise InputError(f"model was trained for the {card['setting']} setting, not "
                          f"{setting}", path / CARD)
