@@ -44,8 +44,9 @@ def lds(root, robot_models_dir):
 def test_json_has_the_four_components_of_the_robot_aware_model(lds, root, robot_models_dir):
     assert lds["model_store"] == "own-robots" and lds["model_takes_robot"] is True
     assert lds["setting"] == "robots" and lds["confidence"] == 0.9
-    assert list(lds)[:8] == ["world", "plan", "setting", "model_store", "model_takes_robot",
-                             "robot", "failure", "confidence"]
+    assert list(lds)[:9] == ["world", "plan", "slam", "setting", "model_store",
+                             "model_takes_robot", "robot", "failure", "confidence"]
+    assert lds["slam"] == "gmapping"
     model = RobotModel.load(robot_models_dir / "own-robots")
     robot = load_robot(root / ROBOTS / "lds_360_3p5.yaml")
     plan = load_plan(root / WORLD)

@@ -196,7 +196,7 @@ def test_bad_folders_are_refused(trained, tmp_path):
     # the plan-only predict refuses a robot-aware folder by name and never picks it as best
     with pytest.raises(InputError, match="is a robot-aware model"):
         resolve_store(trained[0].parent, "own-robots", None, None)
-    with pytest.raises(InputError, match="no trained model"):
+    with pytest.raises(InputError, match="no model of gmapping.s error"):
         resolve_store(trained[0].parent, "best", None, None)
 
 

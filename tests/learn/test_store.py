@@ -112,7 +112,7 @@ def test_resolve_by_name_best_and_setting(tiny_models, tmp_path):
         resolve_store(models, "a-lo", "realistic", None)
     with pytest.raises(InputError, match="trained for the optimistic setting"):
         resolve_store(models, "c-opt", "realistic", None)
-    with pytest.raises(InputError, match="no trained model for the fancy setting"):
+    with pytest.raises(InputError, match="no model of gmapping's error for the fancy setting"):
         resolve_store(models, "best", "fancy", None)
 
 

@@ -1,4 +1,4 @@
-"""``slam-predict predict PLAN``: GMapping's expected localization error from a floor plan.
+"""``slam-predict predict PLAN``: a SLAM algorithm's expected localization error from a plan.
 
 Prints the four components (mean and std over runs of the mean relation error: translation in
 m, rotation in rad and deg), each with its 90 % interval and the model used; ``--json`` prints
@@ -12,6 +12,11 @@ no such folder: one-line error, exit 2). ``--simulate N|auto --out DIR`` also ru
 explorations of PLAN (with ``--robot`` and ``--settings``) and prints the measured components
 beside the prediction (:mod:`slam_predict.cli.predict_simulate`): the robot-aware one when such
 a folder is installed, else the plan-only one with a note that it ignores the robot.
+
+``--slam A`` predicts with the model whose card says it was trained for SLAM algorithm A
+(default gmapping; :mod:`slam_predict.learn.slam_choice`); ``--compare A B`` predicts for both
+side by side and says which is expected to be more accurate
+(:mod:`slam_predict.cli.predict_compare`).
 """
 from __future__ import annotations
 
@@ -25,7 +30,7 @@ from slam_predict.cli.predict_format import LABELS, format_text  # noqa: F401  (
 from slam_predict.errors import InputError
 
 NAME = "predict"
-HELP = "predict GMapping's localization error on a floor plan"
+HELP = "predict a SLAM algorithm's localization error on a floor plan (default GMapping)"
 COMPONENT_CHOICES = ("all", "trans_mean", "trans_std", "rot_mean", "rot_std")
 
 
@@ -51,8 +56,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_renamed_option(parser, "--setting", setting)
     parser.add_argument("--models-dir", metavar="DIR", help="model folders (default models/)")
     parser.add_argument("--slam", metavar="NAME",
-                        help="the SLAM algorithm whose error is predicted: gmapping (default; "
-                             "every shipped model); karto (or slam_toolbox) has no shipped model")
+                        help="the SLAM algorithm whose error is predicted, by the model whose "
+                             "card says it was trained for it: gmapping (default; every shipped "
+                             "model) or karto (also spelt slam_toolbox; no shipped model)")
+    parser.add_argument("--compare", nargs=2, metavar=("A", "B"),
+                        help="predict for SLAM algorithms A and B side by side (e.g. gmapping "
+                             "karto), each by its own model, and say which is expected to be more "
+                             "accurate here (lower mean translational error) and how sure that "
+                             "is; 'too close to call' below a probability of 0.75")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     plan_checks.add_arguments(parser)
     predict_simulate.add_arguments(parser)
@@ -96,20 +107,18 @@ def load_world(args: argparse.Namespace):
     return load_plan_from_args(args)
 
 
-def predict_plan(world, args: argparse.Namespace, setting: str | None) -> dict:
-    """The plan-only prediction for ``world`` (a loaded, checked plan): world/ (free space) →
-    features/ (the card's feature configuration) → learn/ (the ``--model`` folder)."""
+def predict_plan(world, model, component: str = "all",
+                 features: dict[str, float] | None = None) -> dict:
+    """The plan-only prediction of ``model`` (a loaded plan-only model) for ``world`` (a
+    loaded, checked plan): world/ (free space) → features/ (the card's feature configuration;
+    ``features`` when already computed) → learn/."""
     from slam_predict.features.plan import plan_features
-    from slam_predict.learn.model import PlanModel, resolve_store
-    from slam_predict.learn.store import default_models_dir
     from slam_predict.world.plausibility import free_space
 
-    model = PlanModel(resolve_store(args.models_dir or default_models_dir(), args.model,
-                                    setting, None))
-    model.check_feature_version()
     space, unreachable = free_space(world)
-    features = plan_features(world, model.feature_config)
-    result = model.predict(features, component=args.component)
+    if features is None:
+        features = plan_features(world, model.feature_config)
+    result = model.predict(features, component=component)
     result["free_space"] = space
     result["warnings"] = unreachable + result["warnings"]
     result["world"] = world.name
@@ -117,51 +126,96 @@ def predict_plan(world, args: argparse.Namespace, setting: str | None) -> dict:
     return result
 
 
-def check_slam_option(name: str | None) -> None:
-    """InputError (one line, what to do) unless ``--slam`` names an algorithm the models know."""
-    from slam_predict.learn.card import SLAM_ALGORITHMS
+def algorithms_of(args: argparse.Namespace) -> list[str]:
+    """The SLAM algorithms to predict for: --compare's two, else --slam's (default gmapping);
+    InputError (one line) for an unknown name or an option --compare does not take."""
+    from slam_predict.learn.slam_choice import DEFAULT_SLAM
     from slam_predict.slam import canonical_name
 
-    if name is None or canonical_name(name) in SLAM_ALGORITHMS:
-        return
-    name = canonical_name(name)
-    raise InputError(f"--slam {name}: no model of {name}'s error is shipped (every model was "
-                     f"trained on {', '.join(SLAM_ALGORITHMS)} runs); to make one, collect "
-                     f"{name} runs (slam-predict collect WORLDS --slam {name} --out DATA) and "
-                     "train on them (slam-predict learn dataset, learn train; "
-                     "docs/howto/slam-backend.md)")
+    if not args.compare:
+        return [canonical_name(args.slam) if args.slam else DEFAULT_SLAM]
+    names = [canonical_name(name, "--compare") for name in args.compare]
+    if args.slam:
+        raise InputError("give either --slam or --compare, not both")
+    if names[0] == names[1]:
+        raise InputError(f"--compare {' '.join(args.compare)}: name two different SLAM "
+                         "algorithms")
+    if args.model != "best":
+        raise InputError("--compare takes each algorithm's own model (the one whose card says "
+                         "it was trained for it): give no --model")
+    if args.simulate is not None:
+        raise InputError("--compare only predicts: simulate one algorithm at a time "
+                         "(--slam A --simulate N)")
+    return names
+
+
+def load_models(args: argparse.Namespace, algorithms: list[str], setting: str | None) -> dict:
+    """{algorithm: the model that predicts its error}: robot-aware with --robot (None under
+    --simulate when there is none: the plan-only one then), else plan-only."""
+    from slam_predict.learn.model import PlanModel, resolve_store
+
+    models = {}
+    for slam in algorithms:
+        try:
+            model = predict_robot.load_model(args, args.simulate is None, slam) \
+                if args.robot else None
+            if model is None:
+                model = PlanModel(resolve_store(args.models_dir, args.model, setting, None, slam))
+                model.check_feature_version()
+        except InputError as exc:
+            if not (args.slam or args.compare):
+                raise
+            option = f"--compare {' '.join(algorithms)}" if args.compare else f"--slam {slam}"
+            raise InputError(f"{option}: {exc.problem}", exc.path) from None
+        models[slam] = model
+    return models
+
+
+def predictor(args: argparse.Namespace, robot, component: str):
+    """predict(world, model, features=None) → the result of one model, robot-aware or not."""
+    def predict(world, model, features=None) -> dict:
+        if model.takes_robot:
+            return predict_robot.predict(world, model, robot, args.robot, component, features)
+        return predict_plan(world, model, component, features)
+    return predict
 
 
 def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.predict import components_of
 
     components = components_of(args.component)  # before the (slow) feature computation
-    check_slam_option(args.slam)
+    algorithms = algorithms_of(args)
     predict_simulate.check_options(args)
     setting = args.setting or ("realistic" if args.model == "best" else None)
-    robot = robot_model = None
+    robot = None
     if args.robot:
         from slam_predict.robot_file import load_robot
 
         robot = load_robot(args.robot, force=args.force)  # a bad robot file is the first error
-        robot_model = predict_robot.load_model(args, required=args.simulate is None)
+    models = load_models(args, algorithms, setting)
+    if args.compare:
+        from slam_predict.cli import predict_compare
 
-    def predict(world) -> dict:
+        world = plan_checks.load_checked(load_world, args)
         plan_checks.show_progress()
-        if robot_model is not None:
-            return predict_robot.predict(world, robot_model, robot, args.robot, args.component)
-        return predict_plan(world, args, setting)
+        return predict_compare.run(args, world, models, predictor(args, robot, "all"),
+                                   components)
+    slam, model = algorithms[0], models[algorithms[0]]
+    predict = predictor(args, robot, args.component)
+
+    def predict_world(world) -> dict:
+        plan_checks.show_progress()
+        return {**predict(world, model), "slam": slam}
 
     world = plan_checks.load_checked(load_world, args)
     plan = plan_checks.plan_used(world, args)
     if args.simulate is not None:
         return predict_simulate.run(args, world, components,
-                                    lambda w: {**predict(w), "plan": plan})
-    result = {**predict(world), "plan": plan}
+                                    lambda w: {**predict_world(w), "plan": plan})
+    result = {**predict_world(world), "plan": plan}
     if args.json:
-        robot_keys = (["model_takes_robot", "robot", "failure"] if robot_model is not None
-                      else [])
-        keys = ["world", "plan", "setting", "model_store", *robot_keys, "confidence",
+        robot_keys = (["model_takes_robot", "robot", "failure"] if model.takes_robot else [])
+        keys = ["world", "plan", "slam", "setting", "model_store", *robot_keys, "confidence",
                 *components, "free_space", "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))
     else:

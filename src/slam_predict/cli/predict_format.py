@@ -10,6 +10,12 @@ import math
 
 LABELS = {"trans_mean": "mean translational error", "trans_std": "std of translational error",
           "rot_mean": "mean rotational error", "rot_std": "std of rotational error"}
+SLAM_LABELS = {"gmapping": "GMapping", "karto": "Karto"}   # as the back-ends' ``label``
+
+
+def slam_label(name: str | None) -> str:
+    """The human-readable name of a SLAM algorithm (GMapping when None)."""
+    return SLAM_LABELS.get(name or "gmapping", name or "")
 
 
 def interval_text(entry: dict, digits: int) -> str:
@@ -47,14 +53,15 @@ def header(result: dict) -> list[str]:
     """The first line(s): world, model, interval level; with a robot-aware model the robot
     and what the model took of it."""
     conf = f"{100 * result['confidence']:g} %"
+    slam = slam_label(result.get("slam"))
     if not result.get("model_takes_robot"):
-        return [f"{result['world']}: predicted GMapping localization error "
+        return [f"{result['world']}: predicted {slam} localization error "
                 f"(setting {result['setting']}, model {result['model_store']}, {conf} "
                 "intervals)"]
     from slam_predict.cli.predict_robot import robot_text
 
     robot = result["robot"]
-    return [f"{result['world']}: predicted GMapping localization error for robot "
+    return [f"{result['world']}: predicted {slam} localization error for robot "
             f"{robot['name']} ({robot['file']})",
             f"model {result['model_store']} (robot-aware: takes the robot into account), "
             f"{conf} intervals; robot inputs: {robot_text(result)}"]

@@ -22,27 +22,40 @@ from typing import Any
 
 from slam_predict.errors import InputError
 from slam_predict.learn.card import DEFAULT_ROBOT_MODEL as DEFAULT_MODEL
+from slam_predict.learn.card import ROBOT_KIND
 from slam_predict.learn.card import ROBOT_TRAIN_HINT as TRAIN_HINT
+from slam_predict.learn.slam_choice import DEFAULT_SLAM
 
 
-def model_path(model: str, models_dir: str | None) -> Path:
-    """The folder ``--model`` names (``best``: own-robots) under ``models_dir`` or as a path."""
-    from slam_predict.learn.store import default_models_dir
+def model_path(model: str, models_dir: str | None, slam: str = DEFAULT_SLAM) -> Path:
+    """The folder ``--model`` names (a path, or the first searched directory holding it);
+    ``best``: own-robots for GMapping, else the best robot-aware model trained for ``slam``
+    (:func:`slam_predict.learn.slam_choice.find_model`)."""
+    from slam_predict.learn.slam_choice import find_model, search_dirs
 
+    if model == "best" and slam != DEFAULT_SLAM:
+        return find_model(slam, ROBOT_KIND, "best", models_dir)
     name = DEFAULT_MODEL if model == "best" else model
     if os.sep in name or Path(name).is_dir():
         return Path(name)
-    return Path(models_dir or default_models_dir()) / name
+    dirs = search_dirs(models_dir)
+    return next((d / name for d in dirs if (d / name).exists()), dirs[0] / name)
 
 
-def load_model(args: argparse.Namespace, required: bool):
-    """The robot-aware :class:`RobotModel` for ``--robot``, or None when ``required`` is
-    False (``--simulate``) and there is none (no folder, or a plan-only one): then the
-    plan-only prediction is shown with a note. InputError (one line) otherwise."""
-    from slam_predict.learn.card import CARD, ROBOT_KIND, kind_of, read_card
+def load_model(args: argparse.Namespace, required: bool, slam: str = DEFAULT_SLAM):
+    """The robot-aware :class:`RobotModel` trained for ``slam`` for ``--robot``, or None when
+    ``required`` is False (``--simulate``) and there is none (no folder, or a plan-only one):
+    then the plan-only prediction is shown with a note. InputError (one line) otherwise."""
+    from slam_predict.learn.card import CARD, kind_of, read_card
     from slam_predict.learn.model import load_model as load_folder
+    from slam_predict.learn.slam_choice import check_trained_for
 
-    path = model_path(args.model, args.models_dir)
+    try:
+        path = model_path(args.model, args.models_dir, slam)
+    except InputError:
+        if not required:
+            return None
+        raise
     if not (path / CARD).is_file():
         if not required and args.model == "best":
             return None
@@ -51,6 +64,7 @@ def load_model(args: argparse.Namespace, required: bool):
     if kind_of(read_card(path)) != ROBOT_KIND and not required:
         return None
     model = load_folder(path, ROBOT_KIND)
+    check_trained_for(path, slam)
     model.check_feature_version()
     if args.setting:
         raise InputError(f"--thesis-setting applies to the plan-only models: the robot-aware model "
@@ -79,16 +93,19 @@ def robot_summary(robot, robot_path: str, model, inputs: dict[str, float]) -> di
             "angular_resolution_deg": angular_resolution_deg(sensor_dict(robot), robot_path)}
 
 
-def predict(world, model, robot, robot_path: str, component: str = "all") -> dict[str, Any]:
+def predict(world, model, robot, robot_path: str, component: str = "all",
+            features: dict[str, float] | None = None) -> dict[str, Any]:
     """The robot-aware prediction for ``world`` (a loaded, checked plan) and ``robot`` (a
     :class:`~slam_predict.robot_file.RobotDescription` read from ``robot_path``): world/
-    (free space) → features/ (every feature the model reads) → learn/."""
+    (free space) → features/ (every feature the model reads; ``features`` when already
+    computed) → learn/."""
     from slam_predict.features.plan import plan_features
     from slam_predict.learn.predict import components_of
     from slam_predict.world.plausibility import free_space
 
     space, unreachable = free_space(world)
-    features = plan_features(world, model.feature_config, model.sightline_config)
+    if features is None:
+        features = plan_features(world, model.feature_config, model.sightline_config)
     inputs = model.inputs(robot)
     confidence = float(model.card.get("confidence", 0.9))
     raw = model.predict(features, inputs, confidence)

@@ -60,6 +60,9 @@ def check_options(args: argparse.Namespace) -> None:
         return
     if args.out is None:
         raise InputError("--simulate needs --out DIR")
+    from slam_predict.collect.settings import settings_for_slam
+
+    args.settings = settings_for_slam(args.slam, args.settings)   # --slam A: as collect
     defaults = {"seed": 0, "jobs": 1, "max_runs": 60, "no_progress": False}
     for key, value in defaults.items():
         if getattr(args, key) is None:
@@ -147,12 +150,19 @@ def setup_note(records, card: dict | None) -> str | None:
 def format_text(result: dict, components) -> str:
     """Measured and predicted values per component, then notes and warnings."""
     from slam_predict.cli.plan_checks import plan_line
-    from slam_predict.cli.predict_format import LABELS, entry_text, model_tag, value_text
+    from slam_predict.cli.predict_format import (
+        LABELS,
+        entry_text,
+        model_tag,
+        slam_label,
+        value_text,
+    )
     from slam_predict.words import plural
 
     sim = result["simulation"]
     robot = sim["robot"] or "the settings' robot"
-    lines = [f"{result['world']}: GMapping localization error measured over "
+    slam = slam_label(result.get("slam"))
+    lines = [f"{result['world']}: {slam} localization error measured over "
              f"{plural(sim['runs'], 'simulated run')} ({sim['runs_new']} new; robot {robot}, "
              f"seed {sim['seed']}, in {sim['out']}), 95 % intervals", plan_line(result["plan"]),
              model_line(result)]
@@ -204,7 +214,7 @@ def run(args: argparse.Namespace, world, components, predict) -> int:
     result.setdefault("model_takes_robot", False)
     if args.json:
         robot = ["robot", "failure"] if result["model_takes_robot"] else []
-        keys = ["world", "plan", "setting", "model_store", "model_takes_robot", *robot,
+        keys = ["world", "plan", "slam", "setting", "model_store", "model_takes_robot", *robot,
                 "confidence",
                 *components, "simulation", "free_space", "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))

@@ -3,8 +3,8 @@
 The returned model predicts from a plan's feature vector (computed by
 :func:`slam_predict.features.plan.plan_features` with the model's :attr:`feature_config` and
 :attr:`sightline_config`) plus, for a robot-aware model, the robot's inputs; it never computes
-plan features itself. Both families take an optional SLAM algorithm name, which today must be
-``gmapping`` (every model was trained on GMapping runs) or absent.
+plan features itself. A card names the SLAM algorithm its model was trained for
+(:mod:`~slam_predict.learn.slam_choice`, which also picks the folder for an algorithm).
 
 - :class:`PlanModel` (card kind ``plan``): :meth:`PlanModel.predict` gives the report form of
   each component (:func:`slam_predict.learn.predict.predict_features`); a robot is not an
@@ -14,13 +14,11 @@ plan features itself. Both families take an optional SLAM algorithm name, which 
 """
 from __future__ import annotations
 
-import logging
 import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.card import (  # noqa: F401  (check_slam re-exported)
     CARD,
     PLAN_KIND,
@@ -30,9 +28,8 @@ from slam_predict.learn.card import (  # noqa: F401  (check_slam re-exported)
     kind_of,
     read_card,
 )
-from slam_predict.learn.store import ModelStore, list_stores
-
-LOG = logging.getLogger(__name__)
+from slam_predict.learn.slam_choice import DEFAULT_SLAM, find_model
+from slam_predict.learn.store import ModelStore
 
 
 class PlanModel:
@@ -96,37 +93,14 @@ def load_model(path: os.PathLike | str, kind: str | None = None,
     return PlanModel(ModelStore(path, feature_version))
 
 
-def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
-                  feature_version: str | None) -> ModelStore:
-    """The model folder ``name`` (a name under ``models_dir`` or a path), or the best one.
+def resolve_store(models_dir: os.PathLike | str | None, name: str, setting: str | None,
+                  feature_version: str | None, slam: str = DEFAULT_SLAM) -> ModelStore:
+    """The plan-only model folder ``name`` (a name under ``models_dir`` or a path), or the
+    best one for ``setting``, trained for SLAM algorithm ``slam``.
 
-    ``best``: among the compatible stores for ``setting``, the highest ``priority`` in the
-    card, then the most training buildings, then the name.
+    ``best``: among the compatible stores, the highest ``priority`` in the card, then the most
+    training buildings, then the name; ``models_dir`` None searches ``$SLAM_PREDICT_MODELS``
+    and the package's ``models/`` (:func:`slam_predict.learn.slam_choice.find_model`).
     """
-    models_dir = Path(models_dir)
-    if name != "best":
-        path = Path(name) if (os.sep in name or Path(name).is_dir()) else models_dir / name
-        if not path.exists() and os.sep not in name:
-            names = [p.name for p in list_stores(models_dir)]
-            raise InputError(f"no model named '{name}' in {models_dir}" + did_you_mean(name, names)
-                             + (f" (available: {', '.join(names)})" if names else ""))
-        store = load_model(path, PLAN_KIND, feature_version).store
-        if setting is not None and store.card["setting"] != setting:
-            raise InputError(f"model was trained for the {store.card['setting']} setting, not "
-                             f"{setting}", path / CARD)
-        return store
-    candidates = []
-    for path in list_stores(models_dir):
-        try:
-            card = read_card(path)
-        except InputError as exc:
-            LOG.warning("skipping %s", exc.one_line())
-            continue
-        if kind_of(card) == PLAN_KIND and (setting is None
-                                                   or card["setting"] == setting):
-            candidates.append((-int(card.get("priority", 0)),
-                               -len(card["training_buildings"]), path.name, path))
-    if not candidates:
-        raise InputError(f"no trained model for the {setting} setting in {models_dir}; train one "
-                         "with 'slam-predict learn train'")
-    return load_model(sorted(candidates)[0][3], PLAN_KIND, feature_version).store
+    path = find_model(slam, PLAN_KIND, name, models_dir, setting)
+    return load_model(path, PLAN_KIND, feature_version).store

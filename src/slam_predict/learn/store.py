@@ -71,12 +71,16 @@ def skilful(metrics: dict[str, Any]) -> bool:
     return all(r2 > 0 for r2 in evaluation_r2(metrics))
 
 
+SHIPPED_MODELS = Path(__file__).resolve().parents[3] / "models"   # the package's models/
+MODELS_ENV = "SLAM_PREDICT_MODELS"
+
+
 def default_models_dir() -> Path:
     """``$SLAM_PREDICT_MODELS`` or the package's ``models/`` folder."""
-    env = os.environ.get("SLAM_PREDICT_MODELS")
+    env = os.environ.get(MODELS_ENV)
     if env:
         return Path(env)
-    return Path(__file__).resolve().parents[3] / "models"
+    return SHIPPED_MODELS
 
 
 def save_store(path: os.PathLike | str, card: dict[str, Any],
