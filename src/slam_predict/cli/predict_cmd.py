@@ -117,18 +117,23 @@ def predict_plan(world, args: argparse.Namespace, setting: str | None) -> dict:
     return result
 
 
-def check_slam_option(name: str | None) -> None:
-    """InputError (one line, what to do) unless ``--slam`` names an algorithm the models know."""
-    from slam_predict.learn.card import SLAM_ALGORITHMS
+def check_slam_option(name: str | None, models_dir: str | None = None) -> None:
+    """InputError (one line, what to do) unless ``--slam`` names an algorithm a model of
+    ``models_dir`` (default models/) was trained on."""
+    from slam_predict.learn.model import trained_slams
+    from slam_predict.learn.store import default_models_dir
     from slam_predict.slam import canonical_name
 
-    if name is None or canonical_name(name) in SLAM_ALGORITHMS:
+    if name is None:
         return
     name = canonical_name(name)
+    trained = trained_slams(models_dir or default_models_dir())
+    if name in trained:
+        return
     raise InputError(f"--slam {name}: no model of {name}'s error is shipped (every model was "
-                     f"trained on {', '.join(SLAM_ALGORITHMS)} runs); to make one, collect "
+                     f"trained on {', '.join(trained) or 'gmapping'} runs); to make one, collect "
                      f"{name} runs (slam-predict collect WORLDS --slam {name} --out DATA) and "
-                     "train on them (slam-predict learn dataset, learn train; "
+                     f"train on them (slam-predict learn dataset, learn train --slam {name}; "
                      "docs/howto/slam-backend.md)")
 
 
@@ -136,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.predict import components_of
 
     components = components_of(args.component)  # before the (slow) feature computation
-    check_slam_option(args.slam)
+    check_slam_option(args.slam, args.models_dir)
     predict_simulate.check_options(args)
     setting = args.setting or ("realistic" if args.model == "best" else None)
     robot = robot_model = None

@@ -3,8 +3,8 @@
 The returned model predicts from a plan's feature vector (computed by
 :func:`slam_predict.features.plan.plan_features` with the model's :attr:`feature_config` and
 :attr:`sightline_config`) plus, for a robot-aware model, the robot's inputs; it never computes
-plan features itself. Both families take an optional SLAM algorithm name, which today must be
-``gmapping`` (every model was trained on GMapping runs) or absent.
+plan features itself. Both families take an optional SLAM algorithm name, which must be the
+one the card records (``slam``; gmapping when absent) or absent.
 
 - :class:`PlanModel` (card kind ``plan``): :meth:`PlanModel.predict` gives the report form of
   each component (:func:`slam_predict.learn.predict.predict_features`); a robot is not an
@@ -25,6 +25,7 @@ from slam_predict.learn.card import (  # noqa: F401  (check_slam re-exported)
     CARD,
     PLAN_KIND,
     ROBOT_KIND,
+    card_slam,
     check_kind,
     check_slam,
     kind_of,
@@ -75,7 +76,7 @@ class PlanModel:
         plan-only model does not read ``robot``."""
         from slam_predict.learn.predict import predict_features
 
-        check_slam(slam)
+        check_slam(slam, self.card)
         return predict_features(dict(features), self.store, component)
 
 
@@ -130,3 +131,14 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
         raise InputError(f"no trained model for the {setting} setting in {models_dir}; train one "
                          "with 'slam-predict learn train'")
     return load_model(sorted(candidates)[0][3], PLAN_KIND, feature_version).store
+
+
+def trained_slams(models_dir: os.PathLike | str) -> list[str]:
+    """The SLAM algorithms the readable model folders of ``models_dir`` were trained on."""
+    slams = set()
+    for path in list_stores(Path(models_dir)):
+        try:
+            slams.add(card_slam(read_card(path)))
+        except InputError as exc:
+            LOG.warning("skipping %s", exc.one_line())
+    return sorted(slams)
