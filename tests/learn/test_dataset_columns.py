@@ -193,3 +193,27 @@ def test_learn_train_slam_trains_on_one_algorithm_and_the_card_says_which(tmp_pa
     err = capsys.readouterr().err
     assert "no rows of SLAM algorithm 'gmapping'" in err and "--slam" in err
     assert not (tmp_path / "ev").exists()
+
+
+def test_predict_slam_picks_a_model_of_that_algorithm(tmp_path, capsys):
+    """--slam karto: refused while no folder was trained on Karto runs; with one, --model best
+    picks it, and a named GMapping folder is refused."""
+    import shutil
+
+    world = str(ROOT / "worlds" / "tiny.world")
+    models = tmp_path / "models"
+    shutil.copytree(ROOT / "models" / "thesis-realistic", models / "thesis-realistic")
+    base = ["predict", world, "--models-dir", str(models), "--json"]
+    assert main([*base, "--slam", "karto"]) == 2
+    assert "no model of karto's error is shipped" in capsys.readouterr().err
+    card_path = models / "thesis-realistic" / "card.json"
+    card = json.loads(card_path.read_text())
+    shutil.copytree(models / "thesis-realistic", models / "karto-own")
+    (models / "karto-own" / "card.json").write_text(json.dumps({**card, "slam": "karto",
+                                                                "name": "karto-own"}))
+    assert main([*base, "--slam", "slam_toolbox"]) == 0
+    assert json.loads(capsys.readouterr().out)["model_store"] == "karto-own"
+    assert main([*base, "--slam", "gmapping"]) == 0
+    assert json.loads(capsys.readouterr().out)["model_store"] == "thesis-realistic"
+    assert main([*base, "--slam", "karto", "--model", "thesis-realistic"]) == 2
+    assert "trained on gmapping runs" in capsys.readouterr().err

@@ -102,10 +102,12 @@ def predict_plan(world, args: argparse.Namespace, setting: str | None) -> dict:
     from slam_predict.features.plan import plan_features
     from slam_predict.learn.model import PlanModel, resolve_store
     from slam_predict.learn.store import default_models_dir
+    from slam_predict.slam import canonical_name
     from slam_predict.world.plausibility import free_space
 
+    slam = canonical_name(args.slam) if args.slam else None
     model = PlanModel(resolve_store(args.models_dir or default_models_dir(), args.model,
-                                    setting, None))
+                                    setting, None, slam))
     model.check_feature_version()
     space, unreachable = free_space(world)
     features = plan_features(world, model.feature_config)

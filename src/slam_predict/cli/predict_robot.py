@@ -55,6 +55,11 @@ def load_model(args: argparse.Namespace, required: bool):
     if args.setting:
         raise InputError(f"--thesis-setting applies to the plan-only models: the robot-aware model "
                          f"{model.name} takes the robot itself as input")
+    if getattr(args, "slam", None):
+        from slam_predict.learn.card import check_slam
+        from slam_predict.slam import canonical_name
+
+        check_slam(canonical_name(args.slam), model.card)
     return model
 
 

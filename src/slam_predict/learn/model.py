@@ -98,11 +98,12 @@ def load_model(path: os.PathLike | str, kind: str | None = None,
 
 
 def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
-                  feature_version: str | None) -> ModelStore:
+                  feature_version: str | None, slam: str | None = None) -> ModelStore:
     """The model folder ``name`` (a name under ``models_dir`` or a path), or the best one.
 
-    ``best``: among the compatible stores for ``setting``, the highest ``priority`` in the
-    card, then the most training buildings, then the name.
+    ``best``: among the compatible stores for ``setting`` (and trained on SLAM algorithm
+    ``slam`` when given), the highest ``priority`` in the card, then the most training
+    buildings, then the name. A named folder must have been trained on ``slam`` when given.
     """
     models_dir = Path(models_dir)
     if name != "best":
@@ -115,6 +116,7 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
         if setting is not None and store.card["setting"] != setting:
             raise InputError(f"model was trained for the {store.card['setting']} setting, not "
                              f"{setting}", path / CARD)
+        check_slam(slam, store.card)
         return store
     candidates = []
     for path in list_stores(models_dir):
@@ -123,13 +125,14 @@ def resolve_store(models_dir: os.PathLike | str, name: str, setting: str | None,
         except InputError as exc:
             LOG.warning("skipping %s", exc.one_line())
             continue
-        if kind_of(card) == PLAN_KIND and (setting is None
-                                                   or card["setting"] == setting):
+        if kind_of(card) == PLAN_KIND and (setting is None or card["setting"] == setting) \
+                and (slam is None or card_slam(card) == slam):
             candidates.append((-int(card.get("priority", 0)),
                                -len(card["training_buildings"]), path.name, path))
     if not candidates:
-        raise InputError(f"no trained model for the {setting} setting in {models_dir}; train one "
-                         "with 'slam-predict learn train'")
+        of = f" of SLAM algorithm {slam}" if slam else ""
+        raise InputError(f"no trained model{of} for the {setting} setting in {models_dir}; train "
+                         "one with 'slam-predict learn train'")
     return load_model(sorted(candidates)[0][3], PLAN_KIND, feature_version).store
 
 
