@@ -42,14 +42,15 @@ def parse_args(argv=None) -> argparse.Namespace:
 
 
 def load_tables(args: argparse.Namespace, config):
-    from slam_predict.learn.robot.dataset import build_dataset, plan_features, read_runs
+    from slam_predict.learn.robot.records import read_runs
+    from slam_predict.learn.robot.rundata import build_run_data, plan_features
 
     runs, skipped = read_runs(args.data, config.min_coverage, config.max_urange_m)
     worlds = sorted({r.world for r in runs})
     features, version, _ = plan_features(worlds, args.features,
                                          None if args.features else args.worlds,
                                          None, None, args.jobs)
-    data = build_dataset(runs, skipped, features, version)
+    data = build_run_data(runs, skipped, features, version)
     return data.tables(config.plan_features, config.sightline_input)
 
 

@@ -38,15 +38,20 @@ def train(models_dir: Path, name: str, campaign: str, slam: str | None = None,
           scale: float = 1.0) -> Path:
     """``models_dir/name`` trained on ``campaign``'s errors (times ``scale``), its card
     relabelled to ``slam`` when given."""
+    from slam_predict.collect.fidelity_parts import load_parts
     from slam_predict.config import from_dict
     from slam_predict.learn import dataset as ds
+    from slam_predict.learn.sources import read_error_table
     from slam_predict.learn.config import LearningConfig
     from slam_predict.learn.results import run_evaluation
     from slam_predict.learn.train import train_store
 
     card = own_robots_card()
-    rows = ds.read_error_table(ROOT / "data" / "campaigns" / campaign / "summary.csv",
-                               "realistic")
+    folder = ROOT / "data" / "campaigns" / campaign
+    rows = read_error_table(folder / "summary.csv", "realistic")
+    if (folder / "parts.yaml").is_file():   # a growing campaign: the buildings of its first part
+        first = next(iter(load_parts(folder / "parts.yaml").values()))
+        rows = [row for row in rows if row.world in first]
     for row in rows:
         row.targets = {k: v * scale for k, v in row.targets.items()}
     data = ds.join(rows, plan_features(), card["feature_version"])

@@ -12,6 +12,7 @@ import pytest
 from slam_predict.collect.summary import COLUMNS, write_summary
 from slam_predict.config import to_dict
 from slam_predict.learn import dataset as ds
+from slam_predict.learn import sources
 from slam_predict.sensor import LaserConfig, SensorConfig, sensor_hash
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -56,7 +57,7 @@ def test_two_robots_in_one_world_give_two_rows(tmp_path):
     assert trans[sensor_hash(SMALL_LASER)] == pytest.approx(0.7)
     assert [row["runs"] for row in rows] == ["2", "2", "2"]
 
-    errors = ds.read_error_table(tmp_path / "summary.csv", "realistic")
+    errors = sources.read_error_table(tmp_path / "summary.csv", "realistic")
     assert [(e.world, e.robot) for e in errors] == keys
     features = {"a": {"area": 1.0}, "b": {"area": 2.0}}
     data = ds.join(errors, features, "v")
@@ -72,7 +73,7 @@ def test_a_world_listed_twice_with_one_robot_is_refused(tmp_path):
     path.write_text("world,robot,trans_mean,trans_std,rot_mean,rot_std\n"
                     "a,h1,1,1,1,1\na,h2,1,1,1,1\na,h1,1,1,1,1\n")
     with pytest.raises(ds.InputError, match="'a' with robot h1 appears twice"):
-        ds.read_error_table(path)
+        sources.read_error_table(path)
 
 
 def test_committed_campaign_gives_the_committed_summary(tmp_path):
@@ -88,6 +89,6 @@ def test_committed_campaign_gives_the_committed_summary(tmp_path):
     for old, new in zip(committed, regenerated, strict=True):
         assert new["robot"] == ""
         assert {k: new[k] for k in COLUMNS if k != "robot"} == old
-    rows = ds.read_error_table(REALISTIC / "summary.csv")
+    rows = sources.read_error_table(REALISTIC / "summary.csv")
     assert [r.world for r in rows] == [row["world"] for row in committed]
     assert all(r.robot == "" for r in rows)

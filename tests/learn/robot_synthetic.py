@@ -193,21 +193,23 @@ def fast_config(**changes):
 
 
 def load(folder: Path, worlds: dict[str, dict], version: str = "synthetic-v1"):
-    """The RobotDataset of a synthetic campaign folder with its true plan features (runs
+    """The RunData of a synthetic campaign folder with its true plan features (runs
     skipped by the failed-exploration rule, ``metric.runs.MIN_COVERAGE``)."""
-    from slam_predict.learn.robot.dataset import build_dataset, read_runs
+    from slam_predict.learn.robot.records import read_runs
+    from slam_predict.learn.robot.rundata import build_run_data
 
     runs, skipped = read_runs([folder])
     features = {w: {k: v for k, v in f.items()} for w, f in worlds.items()}
-    return build_dataset(runs, skipped, features, version)
+    return build_run_data(runs, skipped, features, version)
 
 
 def true_point_values(data, worlds: dict[str, dict], robots: list[dict]) -> dict:
     """Noise-free POINT values: expected trans_mean m and the runs' true trans std m."""
     mean, std = [], []
-    for p in data.points:
-        robot = robots[int(p.config[1:])]
-        trans = expected(worlds[p.world], robot)[0]
+    points = data.point_dataset()
+    for world, config in zip(points.worlds, points.robot, strict=True):
+        robot = robots[int(config[1:])]
+        trans = expected(worlds[world], robot)[0]
         s = sigma(robot)
         mean.append(trans)
         std.append(trans * math.sqrt(math.exp(s * s) - 1.0))

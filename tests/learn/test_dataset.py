@@ -9,6 +9,7 @@ import pytest
 
 from slam_predict.errors import InputError
 from slam_predict.learn import dataset as ds
+from slam_predict.learn import sources
 
 
 def write_csv(path, header, rows):
@@ -21,7 +22,7 @@ def write_csv(path, header, rows):
 
 def test_thesis_table_is_read_with_stripped_header(shared_data):
     path = shared_data / "thesis" / "stats_realistic.csv"
-    rows = ds.read_error_table(path, "realistic")
+    rows = sources.read_error_table(path, "realistic")
     assert len(rows) == 88
     with open(path, newline="") as handle:
         raw = list(csv.reader(handle))
@@ -33,7 +34,7 @@ def test_thesis_table_is_read_with_stripped_header(shared_data):
                            "rot_mean": float(first[7]), "rot_std": float(first[8])}
     assert row.reference["ref_voronoi_distance"] == float(first[1])
     assert row.reference["ref_total_len"] == float(first[3])
-    assert row.setting == "realistic" and row.slam_config_hash == ds.THESIS_SLAM
+    assert row.setting == "realistic" and row.slam_config_hash == sources.THESIS_SLAM
     assert math.isnan(row.runs)
 
 
@@ -43,7 +44,7 @@ def test_summary_table_with_runs_and_reference(tmp_path):
                       "path_length_mean", "rotation_mean", "coverage_mean"],
                      [["a", 5, 0.1, 0.01, 0.02, 0.002, 100.0, 30.0, 0.9],
                       ["b", 7, 0.2, 0.02, 0.03, 0.003, 200.0, 60.0, 0.95]])
-    rows = ds.read_error_table(path, "optimistic")
+    rows = sources.read_error_table(path, "optimistic")
     assert [r.world for r in rows] == ["a", "b"]
     assert rows[1].runs == 7 and rows[1].targets["rot_std"] == 0.003
     assert rows[0].reference == {"ref_total_len": 100.0, "ref_total_rot": 30.0}
@@ -61,7 +62,7 @@ def test_summary_table_with_runs_and_reference(tmp_path):
 def test_bad_tables_name_file_and_problem(tmp_path, header, row, message):
     path = write_csv(tmp_path / "bad.csv", header, [row])
     with pytest.raises(InputError) as err:
-        ds.read_error_table(path)
+        sources.read_error_table(path)
     assert str(path) in err.value.one_line() and message in err.value.one_line()
 
 
@@ -69,7 +70,7 @@ def test_duplicate_building_is_refused(tmp_path):
     path = write_csv(tmp_path / "dup.csv", ["world", *ds.COMPONENTS],
                      [["a", 1, 1, 1, 1], ["a", 2, 2, 2, 2]])
     with pytest.raises(InputError, match="appears twice"):
-        ds.read_error_table(path)
+        sources.read_error_table(path)
 
 
 def _rows(names):
@@ -112,7 +113,7 @@ def test_csv_round_trip_keeps_everything(tmp_path):
 
 
 def test_reference_as_features_is_marked_unshippable(shared_data):
-    rows = ds.read_error_table(shared_data / "thesis" / "stats_realistic.csv", "realistic")
+    rows = sources.read_error_table(shared_data / "thesis" / "stats_realistic.csv", "realistic")
     data = ds.join(rows, {r.world: {"dummy": 0.0} for r in rows}, "v")
     ref = ds.reference_as_features(data, ["ref_voronoi_distance"])
     assert ref.feature_names == ["voronoi_distance"]

@@ -9,6 +9,7 @@ from sklearn.metrics import mean_squared_error, r2_score
 from slam_predict.config import from_dict
 from slam_predict.learn import dataset as ds
 from slam_predict.learn import evaluate as ev
+from slam_predict.learn import sources
 from slam_predict.learn.config import LearningConfig
 
 
@@ -36,7 +37,7 @@ def test_scores_equal_sklearn():
 
 @pytest.fixture(scope="module")
 def thesis(shared_data):
-    rows = ds.read_error_table(shared_data / "thesis" / "stats_realistic.csv", "realistic")
+    rows = sources.read_error_table(shared_data / "thesis" / "stats_realistic.csv", "realistic")
     data = ds.join(rows, {r.world: {"dummy": 0.0} for r in rows}, "v")
     return ds.reference_as_features(data, ["ref_voronoi_distance", "ref_voronoi_rotation"])
 

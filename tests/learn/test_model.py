@@ -8,7 +8,7 @@ import pytest
 from slam_predict.errors import InputError
 from slam_predict.features.plan import compute, plan_features
 from slam_predict.features.sightline import SightlineConfig, sightline_features
-from slam_predict.learn.card import PLAN_KIND, ROBOT_KIND
+from slam_predict.learn.card import PLAN_KIND, ROBOT_KIND, card_slam
 from slam_predict.learn.model import PlanModel, check_slam, load_model
 from slam_predict.learn.predict import predict_features
 from slam_predict.learn.robot.predict import RobotModel
@@ -32,11 +32,16 @@ def test_load_model_returns_the_family_of_the_card():
         load_model(MODELS / "nope")
 
 
-def test_slam_algorithm_is_gmapping_or_absent():
-    check_slam(None)
-    check_slam("gmapping")
-    with pytest.raises(InputError, match="no model of SLAM algorithm 'karto'"):
-        check_slam("karto")
+def test_slam_algorithm_is_the_cards_or_absent():
+    card = load_model(MODELS / "thesis-realistic").card
+    check_slam(None, card)
+    check_slam("gmapping", card)
+    check_slam("karto")                                   # a known algorithm, no card
+    with pytest.raises(InputError, match="no model of SLAM algorithm 'karto'.*gmapping runs"):
+        check_slam("karto", card)
+    with pytest.raises(InputError, match="did you mean 'karto'"):
+        check_slam("kartto")
+    assert card_slam({"name": "old"}) == "gmapping" and card_slam({"slam": "karto"}) == "karto"
 
 
 def test_plan_model_predicts_as_the_store_from_features_of_features_plan():

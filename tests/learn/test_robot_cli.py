@@ -58,6 +58,16 @@ def test_evaluate_and_train(inputs, tmp_path, capsys):
         "these measured point means): mean ε_t 0." in page and "(32 points)" in page
     header = (out / "robots_eval.csv").read_text().splitlines()[0]
     assert header.startswith("protocol,component,model,n_points,median_pct_error,r2,coverage")
+    from slam_predict.learn.dataset import read_dataset
+    from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+
+    for points in (read_dataset(out / "points.csv"),
+                   read_dataset(models / "own-robots" / "training_points.csv")):
+        assert len(points) == 32 and sorted(points.robot_inputs) == sorted(ROBOT_INPUTS)
+        assert set(points.setting) == {"robots"} and set(points.slam) == {"gmapping"}
+        assert set(points.runs) == {2.0} and len(set(points.robot)) == 4
+    card = json.loads((models / "own-robots" / "card.json").read_text())
+    assert card["slam"] == "gmapping"
     card = json.loads((models / "own-robots" / "card.json").read_text())
     assert card["robot_learning_config"]["seed"] == 3
     metrics = card["components"]["trans_mean"]["models"]["elasticnet"]["metrics"]

@@ -10,13 +10,10 @@ import numpy as np
 import pytest
 
 from slam_predict.errors import InputError
-from slam_predict.learn.robot.dataset import (
-    build_dataset,
-    plan_features,
-    points_csv,
-    read_runs,
-    runs_csv,
-)
+from slam_predict.learn.dataset import to_csv_text
+from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+from slam_predict.learn.robot.records import read_runs
+from slam_predict.learn.robot.rundata import build_run_data, plan_features, runs_csv
 from slam_predict.sensor import sensor_hash
 
 from . import robot_synthetic as syn
@@ -32,19 +29,22 @@ def campaign(tmp_path_factory):
 def test_tables_match_a_hand_computation(campaign):
     folder, worlds, robots, records = campaign
     data = syn.load(folder / "data", worlds)
-    assert len(data.runs) == 144 and len(data.points) == 72 and data.skipped == {}
+    points = data.point_dataset()
+    assert len(data.runs) == 144 and len(points) == 72 and data.skipped == {}
     assert data.worlds == sorted(worlds) and list(data.configs) == [f"c{i:02d}" for i in range(6)]
+    assert set(points.setting) == {"robots"} and set(points.slam) == {"gmapping"}
     by_point = defaultdict(list)
     for rec in records:
         by_point[rec["design"]["point"]].append(rec["metric"])
-    for p in data.points:
-        metrics = by_point[p.point]
-        assert p.runs == 2 and p.point == f"{p.world}/{p.config}"
+    for i, (world, config) in enumerate(zip(points.worlds, points.robot, strict=True)):
+        metrics = by_point[f"{world}/{config}"]
+        assert points.runs[i] == 2
         for name in ("trans_mean", "rot_mean"):
             a, b = (m[name] for m in metrics)
-            assert p.targets[name] == pytest.approx((a + b) / 2, rel=1e-12)
+            assert points.target(name)[i] == pytest.approx((a + b) / 2, rel=1e-12)
             std = name.replace("mean", "std")
-            assert p.targets[std] == pytest.approx(abs(a - b) / math.sqrt(2), rel=1e-12)
+            assert points.target(std)[i] == pytest.approx(abs(a - b) / math.sqrt(2),
+                                                          rel=1e-12)
     robot = robots[3]
     row = next(r for r in data.runs if r.config == "c03")
     assert row.robot["laser_range_max_m"] == robot["range_max"]
@@ -89,7 +89,8 @@ def test_numeric_tables_and_subsets(campaign):
     assert len(sub.point_X) == 6 and len(sub.run_X) == 12 and set(sub.run_world) == {"w03"}
     assert np.all(sub.point_X[sub.run_point] == sub.run_X)
     assert runs_csv(data).splitlines()[0].startswith("world,run_index,seed,config,point")
-    assert points_csv(data, ["junk"]).splitlines()[0].endswith("rot_mean,rot_std,junk")
+    header = to_csv_text(data.point_dataset(["building_area"])).splitlines()[0]
+    assert header.endswith("rot_std," + ",".join(ROBOT_INPUTS) + ",building_area")
 
 
 def test_runs_without_design_skips_and_missing_features(tmp_path, caplog):
@@ -113,7 +114,7 @@ def test_runs_without_design_skips_and_missing_features(tmp_path, caplog):
     assert sorted(r.replicate for r in mine) == [0, 1]
     features = {w: v for w, v in worlds.items() if w != "w02"}
     with caplog.at_level(logging.WARNING):
-        data = build_dataset(runs, skipped, features, "v1")
+        data = build_run_data(runs, skipped, features, "v1")
     assert data.worlds == ["w00", "w01"] and data.skipped["no plan features"] == 4
     assert "1 building without plan features left out: w02" in caplog.text
     with pytest.raises(InputError, match="'building_aera' is not in the feature table "
@@ -146,7 +147,6 @@ def edit(path, change):
     (lambda r: r.pop("settings_file"), "names no settings_file or GMapping config hash"),
     (lambda r: r.update(settings_file="config/nope.yaml"),
      "settings file config/nope.yaml of the run not found"),
-    (lambda r: r.update(slam={"type": "karto"}), "SLAM back-end 'karto'"),
     (lambda r: r["design"].update(point="w01/c00"), "point 'w01/c00' is w0. × c00 here but"),
     (lambda r: r["sensor"]["odom"].update(model="fixed"),
      "runs mix odometry models .*uniform_per_run in .*: their error numbers describe"),
@@ -160,6 +160,24 @@ def test_bad_records_are_one_line_errors_naming_the_file(tmp_path, change, messa
     with pytest.raises(InputError, match=message) as err:
         read_runs([tmp_path])
     assert target in err.value.one_line() and "\n" not in err.value.one_line()
+
+
+def test_runs_of_another_slam_algorithm_are_left_out_and_counted(tmp_path):
+    rng = np.random.default_rng(1)
+    records = syn.write_campaign(tmp_path, syn.buildings(2, rng), syn.robot_configs(2, rng), 2,
+                                 rng)
+    everything, _ = read_runs([tmp_path])
+    edit(records[1]["path"], lambda r: r.update(slam={"type": "karto", "params_hash": "k"}))
+    runs, skipped = read_runs([tmp_path])
+    assert skipped == {"SLAM karto": 1} and len(runs) == len(everything) - 1
+    assert {r.slam for r in runs} == {"gmapping"}
+    assert records[1]["path"] not in {r.source for r in runs}
+    # the karto run alone: the robot-aware models' range cap is GMapping's (learn/robot/domain)
+    with pytest.raises(InputError, match="SLAM back-end 'karto'") as err:
+        read_runs([tmp_path], slam="karto")
+    assert records[1]["path"] in err.value.one_line()
+    with pytest.raises(InputError, match="unknown SLAM algorithm 'cartographer'"):
+        read_runs([tmp_path], slam="cartographer")
 
 
 def test_unreadable_missing_and_empty_campaigns(tmp_path):

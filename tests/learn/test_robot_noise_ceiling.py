@@ -4,8 +4,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from slam_predict.learn.robot.dataset import RobotTables
 from slam_predict.learn.robot.evaluate import replicate_r2_ceiling
+from slam_predict.learn.robot.rundata import RobotTables
 
 
 def tables_of(runs_per_point: list[list[float]]) -> RobotTables:

@@ -37,10 +37,11 @@ def trained(tmp_path_factory):
     fitted = fit_all(tables, config)
     card = build_card(data, tables, config, [], BEST, fitted,
                       {"name": "own-robots", "feature_config": {"some": "config"}})
-    from slam_predict.learn.robot.dataset import points_csv
+    from slam_predict.learn.dataset import to_csv_text
 
     save_robot_store(folder / "models" / "own-robots", card, fitted,
-                     points_csv(data, config.plan_features), plain_forms(fitted, tables.point_X))
+                     to_csv_text(data.point_dataset(config.plan_features)),
+                     plain_forms(fitted, tables.point_X))
     return folder / "models" / "own-robots", fitted, data
 
 
@@ -71,7 +72,8 @@ def test_round_trip_gives_identical_predictions(trained):
     model = RobotModel.load(folder)
     assert model.feature_config == {"some": "config"}
     assert all(isinstance(m, PlainComponentModel) for m in model.models.values())
-    for point in data.points[:10]:
+    for members in data.groups[:10]:
+        point = members[0]
         plan = {k: data.features[point.world][k] for k in PLAN}
         result = model.predict(plan, point.robot)
         x = model.row(plan, point.robot)

@@ -40,6 +40,10 @@ def _common(parser: argparse.ArgumentParser) -> None:
                                 help="estimator kinds (single fregression elasticnet "
                                      "random_forest gradient_boosting)")
     add_renamed_option(parser, "--models", kinds)
+    parser.add_argument("--slam", metavar="NAME",
+                        help="SLAM algorithm to learn: only its rows (DATASET) or runs (--runs) "
+                             "are used and the card records it (gmapping, the default, or "
+                             "karto)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     add_force_argument(parser)
 
@@ -131,13 +135,14 @@ def _feature_config(path):
 
 def run_dataset(args: argparse.Namespace) -> int:
     from slam_predict.learn import dataset as ds
+    from slam_predict.learn import sources
 
     check_at_least(args.jobs, 1, "--jobs")
     check_out_file(args.out, args.force)
     check_out_file(ds.meta_path(args.out), args.force, "the JSON beside --out")
     if args.save_features:
         check_out_file(args.save_features, args.force, "--save-features")
-    errors = ds.read_error_table(args.errors, args.setting or "")
+    errors = sources.read_error_table(args.errors, args.setting or "")
     if args.slam_config_hash:
         for row in errors:
             row.slam_config_hash = args.slam_config_hash
@@ -151,12 +156,12 @@ def run_dataset(args: argparse.Namespace) -> int:
         features, version = features_from_worlds(args.worlds, [r.world for r in errors],
                                                  feature_config, args.jobs)
         if args.save_features:
-            ds.write_feature_table(features, version, args.save_features,
+            sources.write_feature_table(features, version, args.save_features,
                                    {"feature_config": feature_config,
                                     "worlds": os.path.abspath(args.worlds)})
     else:
         feature_config = ds.read_meta(args.features).get("feature_config") or {}
-        features = ds.read_feature_table(args.features)
+        features = sources.read_feature_table(args.features)
         version = args.feature_version or ""
         if not version and not all("feature_version" in v for v in features.values()):
             raise InputError("features table has no feature_version column: give "
@@ -172,17 +177,19 @@ def run_dataset(args: argparse.Namespace) -> int:
     return 0
 
 
-def _read(path: str, reference=None):
+def _read(path: str, slam: str, reference=None):
+    """The dataset's rows of SLAM algorithm ``slam`` (ref_* columns as features when
+    ``reference`` names them)."""
     from slam_predict.learn import dataset as ds
 
-    data = ds.read_dataset(path)
+    data = ds.read_dataset(path).select_slam(slam)
     if reference:
         data = ds.reference_as_features(data, reference)
     return data
 
 
 def run_evaluate(args: argparse.Namespace) -> int:
-    from slam_predict.cli.learn_robots_cmd import run_folded
+    from slam_predict.cli.learn_robots_cmd import run_folded, slam_option
     from slam_predict.learn.results import run_evaluation, write_evaluation
     from slam_predict.learn.tables import best_table
 
@@ -192,7 +199,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
     check_at_least(args.jobs, 1, "--jobs")
     check_out_dir(args.out, args.force, inputs=(args.dataset, args.config))
     config = load_learning_config(args)
-    data = _read(args.dataset, args.reference_features)
+    data = _read(args.dataset, slam_option(args), args.reference_features)
     outcome = run_evaluation(data, config, n_jobs=args.jobs)
     write_evaluation(data, config, outcome, args.out, args.title)
     print(best_table(outcome.summary), end="")
@@ -201,7 +208,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
 
 
 def run_train(args: argparse.Namespace) -> int:
-    from slam_predict.cli.learn_robots_cmd import run_folded
+    from slam_predict.cli.learn_robots_cmd import run_folded, slam_option
     from slam_predict.learn.dataset import read_meta
     from slam_predict.learn.results import run_evaluation, write_evaluation
     from slam_predict.learn.store import default_models_dir
@@ -217,7 +224,7 @@ def run_train(args: argparse.Namespace) -> int:
         check_out_dir(args.evaluation_out, args.force, "--evaluation-out",
                       inputs=(args.dataset, args.config))
     config = load_learning_config(args)
-    data = _read(args.dataset)
+    data = _read(args.dataset, slam_option(args))
     check_trainable(data)
     outcome = run_evaluation(data, config, n_jobs=args.jobs)
     if args.evaluation_out:

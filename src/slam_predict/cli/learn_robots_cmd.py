@@ -125,9 +125,23 @@ def run_folded(args: argparse.Namespace, train: bool) -> bool:
         models_dir=args.models_dir if train else None,
         description=args.description if train else "", config=args.config,
         models=args.models, folds=args.folds, repeats=args.repeats, seed=args.seed,
+        slam=args.slam,
         jobs=args.jobs, force=args.force,
         evaluation_from=getattr(args, "evaluation_from", None) if train else None))
     return True
+
+
+def slam_option(args: argparse.Namespace) -> str:
+    """The algorithm of ``--slam`` (its registry name; gmapping when not given)."""
+    from slam_predict.learn.card import DEFAULT_SLAM, check_slam
+    from slam_predict.slam import canonical_name
+
+    name = getattr(args, "slam", None)
+    if name is None:
+        return DEFAULT_SLAM
+    name = canonical_name(name)
+    check_slam(name)
+    return name
 
 
 def default_config_path() -> Path:
@@ -200,7 +214,7 @@ def _header(data, tables, config, plan: list[str], outcomes: dict | None = None)
 
     skipped = ", ".join(f"{n} {reason}" for reason, n in sorted(data.skipped.items()))
     return [f"- runs: {len(data.runs)} used" + (f" (skipped: {skipped})" if skipped else ""),
-            f"- points: {len(data.points)} ({plural(len(data.worlds), 'building')} × "
+            f"- points: {len(data.groups)} ({plural(len(data.worlds), 'building')} × "
             f"{plural(len(data.configs), 'configuration')} present)",
             f"- plan features ({data.feature_version}): {', '.join(plan)}; robot inputs: "
             "laser_range_max_m (capped at GMapping's maxUrange "
@@ -239,10 +253,11 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
     """The evaluation folder, atomically; its features.csv (+ .json sidecar with the feature
     configuration) is reusable as ``--features``."""
     from slam_predict.atomic import atomic_dir
-    from slam_predict.learn import dataset as ds
-    from slam_predict.learn.robot.dataset import points_csv, runs_csv
+    from slam_predict.learn.dataset import to_csv_text
     from slam_predict.learn.robot.evaluate import report_markdown
     from slam_predict.learn.robot.inputs import DERIVED_INPUTS, ROBOT_INPUTS
+    from slam_predict.learn.robot.rundata import runs_csv
+    from slam_predict.learn.sources import write_feature_table
     from slam_predict.learn.tables import csv_text
 
     plan = [n for n in tables.names if n not in ROBOT_INPUTS]
@@ -255,8 +270,8 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
         (tmp / "robots_eval.csv").write_text(csv_text(summary))
         (tmp / "robots_predictions.csv").write_text(csv_text(rows))
         (tmp / "runs.csv").write_text(runs_csv(data))
-        (tmp / "points.csv").write_text(points_csv(data, plan))
-        ds.write_feature_table(data.features, data.feature_version, tmp / "features.csv",
+        (tmp / "points.csv").write_text(to_csv_text(data.point_dataset(plan)))
+        write_feature_table(data.features, data.feature_version, tmp / "features.csv",
                                feature_meta)
         (tmp / "best.json").write_text(json.dumps({"best": best}, indent=2) + "\n")
 
@@ -271,9 +286,10 @@ def _designs(paths: list[str] | None):
 
 
 def run(args: argparse.Namespace) -> int:
-    from slam_predict.learn.robot.dataset import build_dataset, plan_features, read_runs
     from slam_predict.learn.robot.evaluate import best_models, evaluate, summarize
     from slam_predict.learn.robot.outcomes import exploration_outcomes
+    from slam_predict.learn.robot.records import read_runs
+    from slam_predict.learn.robot.rundata import build_run_data, plan_features
     from slam_predict.paths import portable_path
 
     target = _check_outputs(args)
@@ -284,12 +300,13 @@ def run(args: argparse.Namespace) -> int:
         for path in args.design:
             require_file(path, "design file")
     feature_config = _feature_config(args.feature_config)
-    runs, skipped = read_runs(args.data, config.min_coverage, config.max_urange_m)
+    slam = slam_option(args)
+    runs, skipped = read_runs(args.data, config.min_coverage, config.max_urange_m, slam)
     features, version, full_config = plan_features(
         sorted({r.world for r in runs}), args.features, args.worlds, feature_config,
         args.feature_version, args.jobs)
-    data = build_dataset(runs, skipped, features, version)
-    outcomes = exploration_outcomes(args.data, config.min_coverage)
+    data = build_run_data(runs, skipped, features, version)
+    outcomes = exploration_outcomes(args.data, config.min_coverage, slam)
     bounds = None
     if args.design:
         from slam_predict.learn.robot.domain import design_ranges
@@ -311,7 +328,7 @@ def run(args: argparse.Namespace) -> int:
                          {"feature_config": full_config,
                           "features_from": portable_path(args.worlds or args.features)},
                          outcomes)
-    print(f"{len(data.runs)} runs, {len(data.points)} points, {len(data.worlds)} buildings, "
+    print(f"{len(data.runs)} runs, {len(data.groups)} points, {len(data.worlds)} buildings, "
           f"{len(data.configs)} configurations; best: "
           + ", ".join(f"{c} {m}" for c, m in best.items()))
     if args.out:
@@ -362,6 +379,7 @@ def _train(args, target: Path, data, config, summary, best, full_config, bounds,
                       {"name": args.name, "description": args.description,
                        "feature_config": full_config, "sources": sources,
                        "design_bounds": bounds, "exploration": outcomes,
-                       "outcome_runs": outcome_runs(args.data, data.max_urange_m)}, args.jobs)
+                       "outcome_runs": outcome_runs(args.data, data.max_urange_m, data.slam)},
+                      args.jobs)
     card = read_card(target)
     return {c: e["best"] for c, e in card["components"].items()}

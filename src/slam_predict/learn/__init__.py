@@ -2,7 +2,9 @@
 (+ a non-linear model and conformal intervals), the evaluation protocol, the model store and
 prediction from a plan's feature vector.
 
-Modules: :mod:`dataset` (join + provenance), :mod:`estimators` / :mod:`conformal`
+Modules: :mod:`dataset` (the one dataset format of both families: join, provenance, optional
+robot and SLAM-algorithm columns), :mod:`sources` (the error and feature tables a dataset is
+built from), :mod:`estimators` / :mod:`conformal`
 (scikit-learn estimators), :mod:`models` (model ids → estimators), :mod:`evaluate` (splits,
 leave-one-out), :mod:`results` / :mod:`tables` / :mod:`plots` (output folder), :mod:`train`,
 :mod:`card` (the model card of both families), :mod:`store`, :mod:`model`

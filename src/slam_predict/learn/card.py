@@ -5,7 +5,9 @@ Every card has the :data:`REQUIRED` keys: ``format`` (:data:`FORMAT`), ``name``,
 ``feature_version`` and ``features`` (the plan feature columns), ``components`` (per error
 component: ``unit``, ``best`` model id, ``models`` {id: {``metrics``, ``plain``…}}),
 ``versions`` (library versions), ``files`` (name → SHA-256) and ``training_buildings``.
-Optional: ``kind`` (:data:`PLAN_KIND`, the default, or :data:`ROBOT_KIND`), ``description``,
+Optional: ``kind`` (:data:`PLAN_KIND`, the default, or :data:`ROBOT_KIND`), ``slam`` (the SLAM
+algorithm of the training runs, :data:`SLAM_ALGORITHMS`; :data:`DEFAULT_SLAM` when absent, as in
+cards written before it was recorded), ``description``,
 ``created``, ``priority``, ``feature_config``, ``confidence`` (interval level, 0.9 if absent),
 ``sources``.
 
@@ -115,11 +117,24 @@ def confidence(card: Mapping[str, Any]) -> float:
     return card.get("confidence", 0.9)
 
 
-SLAM_ALGORITHMS = ("gmapping",)   # the SLAM algorithms the models were trained on
+SLAM_ALGORITHMS = ("gmapping", "karto")   # the SLAM algorithms a dataset row or card may name
+DEFAULT_SLAM = "gmapping"   # the algorithm of a row or card that names none
 
 
-def check_slam(slam: str | None) -> None:
-    """InputError unless ``slam`` is None or a SLAM algorithm the models know."""
-    if slam is not None and slam not in SLAM_ALGORITHMS:
-        raise InputError(f"no model of SLAM algorithm '{slam}' (the models know "
+def card_slam(card: Mapping[str, Any]) -> str:
+    """The SLAM algorithm whose runs the card's models were trained on (:data:`DEFAULT_SLAM`
+    when it names none)."""
+    return str(card.get("slam", DEFAULT_SLAM))
+
+
+def check_slam(slam: str | None, card: Mapping[str, Any] | None = None) -> None:
+    """InputError unless ``slam`` is None or a SLAM algorithm of :data:`SLAM_ALGORITHMS` and,
+    with a ``card``, the one its models were trained on."""
+    if slam is None:
+        return
+    if slam not in SLAM_ALGORITHMS:
+        raise InputError(f"unknown SLAM algorithm '{slam}' (the models know "
                          f"{', '.join(SLAM_ALGORITHMS)})" + did_you_mean(slam, SLAM_ALGORITHMS))
+    if card is not None and slam != card_slam(card):
+        raise InputError(f"no model of SLAM algorithm '{slam}': model '{card.get('name')}' "
+                         f"was trained on {card_slam(card)} runs")

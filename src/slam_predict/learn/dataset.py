@@ -1,22 +1,29 @@
-"""Learning dataset: per-building error statistics joined with feature vectors, with provenance.
+"""The learning dataset: one row per building (and robot configuration), the ONE format both
+model families are built from and read back.
 
-One row per building and robot configuration: ``world``, ``robot`` (the robot configuration hash
-of the collection summary, :func:`slam_predict.sensor.sensor_hash`; empty for the thesis tables
-and older summaries), provenance (``setting``, ``slam_config_hash``, ``feature_version``,
-``runs``), the four targets (``trans_mean``, ``trans_std`` in m; ``rot_mean``, ``rot_std`` in
-rad), optional reference columns (``ref_*``: numbers known only from the source table, e.g. the
-thesis' own Voronoi distance; never used as features) and the features.
+Columns: ``world``; ``robot`` (the robot configuration's key: the hash of the collection
+summary, :func:`slam_predict.sensor.sensor_hash`, or a design configuration id; empty for the
+thesis tables and older summaries); ``slam`` (optional: the SLAM algorithm of the row's runs,
+one of :data:`~slam_predict.learn.card.SLAM_ALGORITHMS`; written only when a row is not
+``gmapping``, absent = gmapping); provenance (``setting``, ``slam_config_hash``,
+``feature_version``, ``runs``); the four targets (``trans_mean``, ``trans_std`` in m;
+``rot_mean``, ``rot_std`` in rad; a std is empty for a row of one run); reference columns
+(``ref_*``: numbers known only from the source table, e.g. the thesis' own Voronoi distance;
+never used as features); optional robot
+columns (:data:`~slam_predict.learn.robot.inputs.ROBOT_INPUTS`, in their units) and the
+features. A plan-only dataset has no robot columns; the robot-aware models' POINT rows (one per
+building × robot configuration, :mod:`slam_predict.learn.robot.rundata`) have them.
 
-Error statistics come from the collection summary (``world, runs, trans_mean, …``) or from the
-seed thesis' tables (``dataset, Voronoi distance, …, transError.mean.mean, …``; header names
-after the first carry a leading space).
+Old files stay readable: a robot-aware model folder's ``training_points.csv`` written before
+this format (columns ``world, config, point, runs``, robot inputs, targets, features: ``config``
+is the robot key, ``point`` is dropped, provenance empty). The tables a dataset is built from
+are read by :mod:`slam_predict.learn.sources`.
 """
 from __future__ import annotations
 
 import csv
 import io
 import json
-import logging
 import math
 import os
 from collections.abc import Mapping, Sequence
@@ -26,20 +33,15 @@ import numpy as np
 
 from slam_predict.atomic import write_text
 from slam_predict.errors import InputError, did_you_mean, require_file
-
-LOG = logging.getLogger(__name__)
+from slam_predict.learn.card import DEFAULT_SLAM, check_slam
+from slam_predict.learn.robot.inputs import ROBOT_INPUTS
 
 COMPONENTS = ("trans_mean", "trans_std", "rot_mean", "rot_std")
 UNITS = {"trans_mean": "m", "trans_std": "m", "rot_mean": "rad", "rot_std": "rad"}
 PROVENANCE = ("setting", "slam_config_hash", "feature_version", "runs")
+STD_COMPONENTS = ("trans_std", "rot_std")   # may be empty in a file: NaN for one run
 REF_PREFIX = "ref_"
-THESIS_TARGETS = {"transError.mean.mean": "trans_mean", "transError.mean.std": "trans_std",
-                  "rotError.mean.mean": "rot_mean", "rotError.mean.std": "rot_std"}
-THESIS_REFERENCE = {"Voronoi distance": "ref_voronoi_distance",
-                    "Voronoi rotation": "ref_voronoi_rotation",
-                    "totalLen": "ref_total_len", "totalRot": "ref_total_rot"}
-SUMMARY_REFERENCE = {"path_length_mean": "ref_total_len", "rotation_mean": "ref_total_rot"}
-THESIS_SLAM = "thesis-gmapping"  # slam_config_hash of rows taken from the thesis tables
+LEGACY_POINT_COLUMNS = ("config", "point")   # robot key and point id of old POINT files
 
 
 @dataclass
@@ -53,21 +55,24 @@ class ErrorRow:
     slam_config_hash: str = ""
     reference: dict[str, float] = field(default_factory=dict)
     robot: str = ""
+    slam: str = DEFAULT_SLAM
 
 
 @dataclass
 class Dataset:
-    """Buildings × (features, targets) with per-row provenance.
+    """Buildings (× robot configurations) × (features, targets) with per-row provenance.
 
     Attributes:
         worlds: building names, one per row.
         feature_names: column names of ``X``.
         X: (n, F) feature matrix.
         Y: (n, 4) targets in the order of COMPONENTS.
-        runs: (n,) number of runs per building (NaN when unknown).
+        runs: (n,) number of runs per row (NaN when unknown).
         setting, slam_config_hash, feature_version: per-row provenance strings.
         reference: name → (n,) reference columns (never features).
-        robot: (n,) robot configuration hashes ('' = unknown); None = all unknown.
+        robot: (n,) robot configuration keys ('' = unknown); None = all unknown.
+        slam: (n,) SLAM algorithm of each row's runs; None = all gmapping.
+        robot_inputs: robot input → (n,) values in its unit; empty for a plan-only dataset.
     """
 
     worlds: list[str]
@@ -80,10 +85,14 @@ class Dataset:
     feature_version: list[str]
     reference: dict[str, np.ndarray] = field(default_factory=dict)
     robot: list[str] | None = None
+    slam: list[str] | None = None
+    robot_inputs: dict[str, np.ndarray] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.robot is None:
             self.robot = [""] * len(self.worlds)
+        if self.slam is None:
+            self.slam = [DEFAULT_SLAM] * len(self.worlds)
 
     def __len__(self) -> int:
         return len(self.worlds)
@@ -99,7 +108,8 @@ class Dataset:
         return Dataset(pick(self.worlds), list(self.feature_names), self.X[rows], self.Y[rows],
                        self.runs[rows], pick(self.setting), pick(self.slam_config_hash),
                        pick(self.feature_version),
-                       {k: v[rows] for k, v in self.reference.items()}, pick(self.robot))
+                       {k: v[rows] for k, v in self.reference.items()}, pick(self.robot),
+                       pick(self.slam), {k: v[rows] for k, v in self.robot_inputs.items()})
 
     def unique(self, attribute: str) -> str:
         """The single value of a provenance column; InputError when rows disagree."""
@@ -113,6 +123,30 @@ class Dataset:
         return {name: [float(np.nanmin(self.X[:, j])), float(np.nanmax(self.X[:, j]))]
                 for j, name in enumerate(self.feature_names)}
 
+    def columns(self, names: Sequence[str]) -> np.ndarray:
+        """The (n, len(names)) columns ``names``, each a feature or a robot input."""
+        out = []
+        for name in names:
+            if name in self.robot_inputs:
+                out.append(self.robot_inputs[name])
+            elif name in self.feature_names:
+                out.append(self.X[:, self.feature_names.index(name)])
+            else:
+                raise InputError(f"dataset has no column '{name}'"
+                                 + did_you_mean(name, [*self.feature_names, *self.robot_inputs]))
+        return np.column_stack(out) if out else np.zeros((len(self), 0))
+
+    def select_slam(self, slam: str = DEFAULT_SLAM) -> Dataset:
+        """The rows of SLAM algorithm ``slam``; InputError naming the algorithms present when
+        none is."""
+        check_slam(slam)
+        rows = [i for i, name in enumerate(self.slam) if name == slam]
+        if not rows:
+            present = ", ".join(sorted(set(self.slam)))
+            raise InputError(f"the dataset has no rows of SLAM algorithm '{slam}' (it holds "
+                             f"{present}): give --slam NAME")
+        return self if len(rows) == len(self) else self.subset(rows)
+
 
 def component_index(component: str) -> int:
     """Column of ``component`` in Y; InputError with a hint when unknown."""
@@ -122,10 +156,10 @@ def component_index(component: str) -> int:
     return COMPONENTS.index(component)
 
 
-# ----------------------------------------------------------------------------- reading tables
+# ----------------------------------------------------------------------------- CSV cells
 
-def _read_csv(path: str) -> list[dict[str, str]]:
-    """Rows of a CSV file as dicts with stripped header names and values."""
+def read_csv_rows(path: str) -> list[dict[str, str]]:
+    """Rows of a CSV file as dicts with stripped header names and values (+ ``__line__``)."""
     require_file(path, "table")
     with open(path, newline="", encoding="utf-8") as handle:
         reader = csv.reader(handle)
@@ -147,7 +181,9 @@ def _read_csv(path: str) -> list[dict[str, str]]:
     return rows
 
 
-def _number(row: Mapping[str, str], column: str, path: str, allow_empty: bool = False) -> float:
+def number(row: Mapping[str, str], column: str, path: str, allow_empty: bool = False) -> float:
+    """The number in ``column`` of a row of :func:`read_csv_rows`; InputError naming the line
+    when it is not one (empty → NaN when ``allow_empty``, else non-finite is refused)."""
     text = row[column]
     if text == "" and allow_empty:
         return math.nan
@@ -161,75 +197,12 @@ def _number(row: Mapping[str, str], column: str, path: str, allow_empty: bool = 
     return value
 
 
-def _require_columns(rows: list[dict[str, str]], needed: Sequence[str], path: str) -> None:
+def require_columns(rows: list[dict[str, str]], needed: Sequence[str], path: str) -> None:
+    """InputError (with a hint) naming the first column of ``needed`` the table lacks."""
     have = [c for c in rows[0] if c != "__line__"]
     for column in needed:
         if column not in have:
             raise InputError(f"missing column '{column}'" + did_you_mean(column, have), path)
-
-
-def read_error_table(path: os.PathLike | str, setting: str = "") -> list[ErrorRow]:
-    """Per-building error statistics from a collection summary or a thesis stats table.
-
-    ``setting`` fills rows whose table has no ``setting`` column (the thesis tables).
-    """
-    path = os.fspath(path)
-    rows = _read_csv(path)
-    if "dataset" in rows[0] and "transError.mean.mean" in rows[0]:
-        result = _thesis_rows(rows, path, setting)
-    else:
-        result = _summary_rows(rows, path, setting)
-    seen = set()
-    for row in result:
-        if (row.world, row.robot) in seen:
-            robot = f" with robot {row.robot}" if row.robot else ""
-            raise InputError(f"building '{row.world}'{robot} appears twice", path)
-        seen.add((row.world, row.robot))
-    return result
-
-
-def _thesis_rows(rows, path: str, setting: str) -> list[ErrorRow]:
-    _require_columns(rows, ["dataset", *THESIS_TARGETS], path)
-    out = []
-    for row in rows:
-        targets = {name: _number(row, col, path) for col, name in THESIS_TARGETS.items()}
-        reference = {name: _number(row, col, path) for col, name in THESIS_REFERENCE.items()
-                     if col in row}
-        out.append(ErrorRow(row["dataset"], targets, math.nan, setting, THESIS_SLAM, reference))
-    return out
-
-
-def _summary_rows(rows, path: str, setting: str) -> list[ErrorRow]:
-    _require_columns(rows, ["world", *COMPONENTS], path)
-    hash_column = next((c for c in ("slam_config_hash", "config_hash") if c in rows[0]), None)
-    out = []
-    for row in rows:
-        targets = {name: _number(row, name, path) for name in COMPONENTS}
-        runs = _number(row, "runs", path, allow_empty=True) if "runs" in row else math.nan
-        reference = {name: _number(row, col, path, allow_empty=True)
-                     for col, name in SUMMARY_REFERENCE.items() if col in row}
-        out.append(ErrorRow(row["world"], targets, runs, row.get("setting") or setting,
-                            row[hash_column] if hash_column else "", reference,
-                            row.get("robot") or ""))
-    return out
-
-
-def read_feature_table(path: os.PathLike | str) -> dict[str, dict[str, float]]:
-    """World → {feature: value} from a CSV with a ``world`` column and numeric features.
-
-    A ``feature_version`` column, if present, is kept as the pseudo-feature of that name (str).
-    """
-    path = os.fspath(path)
-    rows = _read_csv(path)
-    _require_columns(rows, ["world"], path)
-    skip = {"world", "__line__", "feature_version"}
-    out: dict[str, dict[str, float]] = {}
-    for row in rows:
-        values = {c: _number(row, c, path, allow_empty=True) for c in row if c not in skip}
-        if "feature_version" in row:
-            values["feature_version"] = row["feature_version"]  # type: ignore[assignment]
-        out[row["world"]] = values
-    return out
 
 
 # ----------------------------------------------------------------------------- joining
@@ -249,6 +222,8 @@ def join(errors: Sequence[ErrorRow], features: Mapping[str, Mapping[str, float]]
     Buildings without features are dropped (logged); features must have the same names for
     every building. ``setting`` overrides empty per-row settings.
     """
+    import logging
+
     by_norm = {_normalise(name): name for name in features}
     matched = []
     for row in errors:
@@ -258,8 +233,8 @@ def join(errors: Sequence[ErrorRow], features: Mapping[str, Mapping[str, float]]
         matched.append((row, features[key]))
     dropped = len(errors) - len(matched)
     if dropped:
-        LOG.info("%d of %d buildings have no feature vector and are left out", dropped,
-                 len(errors))
+        logging.getLogger(__name__).info("%d of %d buildings have no feature vector and are "
+                                         "left out", dropped, len(errors))
     if len(matched) < 2:
         raise InputError(f"only {len(matched)} buildings have both errors and features")
     names = [k for k in matched[0][1] if k != "feature_version"]
@@ -278,7 +253,7 @@ def join(errors: Sequence[ErrorRow], features: Mapping[str, Mapping[str, float]]
         feature_version=versions,
         reference={k: np.array([row.reference.get(k, math.nan) for row, _ in matched])
                    for k in refs},
-        robot=[row.robot for row, _ in matched])
+        robot=[row.robot for row, _ in matched], slam=[row.slam for row, _ in matched])
 
 
 def reference_as_features(data: Dataset, columns: Sequence[str]) -> Dataset:
@@ -293,25 +268,40 @@ def reference_as_features(data: Dataset, columns: Sequence[str]) -> Dataset:
     X = np.column_stack([data.reference[c] for c in columns])
     return Dataset(list(data.worlds), [c[len(REF_PREFIX):] for c in columns], X, data.Y.copy(),
                    data.runs.copy(), list(data.setting), list(data.slam_config_hash),
-                   ["reference-table"] * len(data), dict(data.reference), list(data.robot))
+                   ["reference-table"] * len(data), dict(data.reference), list(data.robot),
+                   list(data.slam), dict(data.robot_inputs))
 
 
 # ----------------------------------------------------------------------------- CSV round trip
 
+def _cell(value: float) -> str:
+    return repr(float(value))
+
+
+def _target_cell(value: float) -> str:
+    """A target: empty for NaN (the std of a POINT row of one run)."""
+    return "" if math.isnan(value) else repr(float(value))
+
+
 def to_csv_text(data: Dataset) -> str:
-    """The dataset as CSV text (provenance, targets, ``ref_*`` columns, then features)."""
+    """The dataset as CSV text (keys, provenance, targets, ``ref_*``, robot inputs, features);
+    the ``slam`` column only when a row is not gmapping."""
     refs = sorted(data.reference)
-    header = ["world", "robot", *PROVENANCE, *COMPONENTS, *refs, *data.feature_names]
+    inputs = list(data.robot_inputs)
+    with_slam = any(name != DEFAULT_SLAM for name in data.slam)
+    header = ["world", "robot", *(["slam"] if with_slam else []), *PROVENANCE, *COMPONENTS,
+              *refs, *inputs, *data.feature_names]
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(header)
     for i, world in enumerate(data.worlds):
         runs = "" if math.isnan(data.runs[i]) else f"{data.runs[i]:g}"
-        writer.writerow([world, data.robot[i], data.setting[i], data.slam_config_hash[i],
-                         data.feature_version[i], runs,
-                         *(repr(float(v)) for v in data.Y[i]),
-                         *(repr(float(data.reference[r][i])) for r in refs),
-                         *(repr(float(v)) for v in data.X[i])])
+        writer.writerow([world, data.robot[i], *([data.slam[i]] if with_slam else []),
+                         data.setting[i], data.slam_config_hash[i], data.feature_version[i],
+                         runs, *(_target_cell(v) for v in data.Y[i]),
+                         *(_cell(data.reference[r][i]) for r in refs),
+                         *(_cell(data.robot_inputs[k][i]) for k in inputs),
+                         *(_cell(v) for v in data.X[i])])
     return out.getvalue()
 
 
@@ -328,21 +318,6 @@ def write_dataset(data: Dataset, path: os.PathLike | str,
     write_text(path, to_csv_text(data))
 
 
-def write_feature_table(features: Mapping[str, Mapping[str, float]], version: str,
-                        path: os.PathLike | str,
-                        meta: Mapping[str, object] | None = None) -> None:
-    """Write {world: {feature: value}} as a CSV (world, feature_version, features...)."""
-    names = list(next(iter(features.values())))
-    out = io.StringIO()
-    writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(["world", "feature_version", *names])
-    for world, vector in features.items():
-        writer.writerow([world, version, *(repr(float(vector[n])) for n in names)])
-    if meta is not None:
-        write_text(meta_path(path), json.dumps(dict(meta), indent=2, default=str) + "\n")
-    write_text(path, out.getvalue())
-
-
 def read_meta(path: os.PathLike | str) -> dict[str, object]:
     """The sidecar of a dataset CSV ({} when absent); InputError when unreadable."""
     side = meta_path(path)
@@ -356,23 +331,41 @@ def read_meta(path: os.PathLike | str) -> dict[str, object]:
 
 
 def read_dataset(path: os.PathLike | str) -> Dataset:
-    """Read a dataset CSV written by :func:`write_dataset`."""
+    """Read a dataset CSV written by :func:`write_dataset` (or an old POINT file, module
+    doc)."""
     path = os.fspath(path)
-    rows = _read_csv(path)
-    _require_columns(rows, ["world", *PROVENANCE, *COMPONENTS], path)
-    fixed = {"world", "robot", "__line__", *PROVENANCE, *COMPONENTS}
+    rows = read_csv_rows(path)
+    legacy = "config" in rows[0] and "robot" not in rows[0]
+    robot_key = "config" if legacy else "robot"
+    strings = () if legacy else PROVENANCE[:3]
+    require_columns(rows, ["world", *strings, "runs", *COMPONENTS], path)
+    fixed = {"world", "robot", "slam", "__line__", *PROVENANCE, *COMPONENTS,
+             *(LEGACY_POINT_COLUMNS if legacy else ())}
     refs = [c for c in rows[0] if c.startswith(REF_PREFIX)]
-    names = [c for c in rows[0] if c not in fixed and c not in refs]
+    inputs = [c for c in ROBOT_INPUTS if c in rows[0]]
+    names = [c for c in rows[0] if c not in fixed and c not in refs and c not in inputs]
     if not names:
         raise InputError("dataset has no feature columns", path)
+    slams = [r.get("slam") or DEFAULT_SLAM for r in rows]
+    for row, slam in zip(rows, slams, strict=True):
+        _check_slam_cell(slam, path, row)
+    text = lambda column: [r.get(column, "") for r in rows]  # noqa: E731
     return Dataset(
-        worlds=[r["world"] for r in rows], feature_names=names,
-        X=np.array([[_number(r, n, path, allow_empty=True) for n in names] for r in rows]),
-        Y=np.array([[_number(r, c, path) for c in COMPONENTS] for r in rows]),
-        runs=np.array([_number(r, "runs", path, allow_empty=True) for r in rows]),
-        setting=[r["setting"] for r in rows],
-        slam_config_hash=[r["slam_config_hash"] for r in rows],
-        feature_version=[r["feature_version"] for r in rows],
-        reference={c: np.array([_number(r, c, path, allow_empty=True) for r in rows])
+        worlds=text("world"), feature_names=names,
+        X=np.array([[number(r, n, path, allow_empty=True) for n in names] for r in rows]),
+        Y=np.array([[number(r, c, path, allow_empty=c in STD_COMPONENTS) for c in COMPONENTS]
+                    for r in rows]),
+        runs=np.array([number(r, "runs", path, allow_empty=True) for r in rows]),
+        setting=text("setting"), slam_config_hash=text("slam_config_hash"),
+        feature_version=text("feature_version"),
+        reference={c: np.array([number(r, c, path, allow_empty=True) for r in rows])
                    for c in refs},
-        robot=[r.get("robot") or "" for r in rows])
+        robot=text(robot_key), slam=slams,
+        robot_inputs={c: np.array([number(r, c, path) for r in rows]) for c in inputs})
+
+
+def _check_slam_cell(slam: str, path: str, row: Mapping[str, str]) -> None:
+    try:
+        check_slam(slam)
+    except InputError as exc:
+        raise InputError(exc.problem, path, int(row["__line__"])) from None

@@ -72,7 +72,7 @@ class PlanModel:
         plan-only model does not read ``robot``."""
         from slam_predict.learn.predict import predict_features
 
-        check_slam(slam)
+        check_slam(slam, self.store.card)
         return predict_features(dict(features), self.store, component)
 
 

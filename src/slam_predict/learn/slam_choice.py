@@ -12,33 +12,30 @@ from __future__ import annotations
 
 import logging
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 from slam_predict.errors import InputError, did_you_mean
-from slam_predict.learn.card import (
+from slam_predict.learn.card import (  # noqa: F401  (DEFAULT_SLAM re-exported)
     CARD,
     DEFAULT_ROBOT_MODEL,
+    DEFAULT_SLAM,
     PLAN_KIND,
     ROBOT_KIND,
+    card_slam,
     kind_of,
     read_card,
 )
 from slam_predict.learn.store import MODELS_ENV, SHIPPED_MODELS, list_stores
 
 LOG = logging.getLogger(__name__)
-DEFAULT_SLAM = "gmapping"   # the algorithm of a card without a ``slam`` field
 TRAIN_HINTS = {
     PLAN_KIND: "slam-predict learn dataset on the campaign, then learn train DATASET --slam {}",
     ROBOT_KIND: "slam-predict learn train --runs DATA --design DESIGN --slam {}",
 }
 
 
-def trained_for(card: Mapping[str, Any]) -> str:
-    """The SLAM algorithm whose runs the card's model was trained on (``gmapping`` when the
-    card names none)."""
-    return str(card.get("slam") or DEFAULT_SLAM)
+trained_for = card_slam   # the SLAM algorithm a card's model was trained for
 
 
 def search_dirs(models_dir: os.PathLike | str | None = None) -> list[Path]:

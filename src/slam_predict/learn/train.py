@@ -36,6 +36,7 @@ def check_trainable(data: Dataset) -> None:
                          "use features computed by slam_predict (slam-predict learn dataset "
                          "--worlds DIR)")
     data.unique("setting")
+    data.unique("slam")
     bad = [n for j, n in enumerate(data.feature_names) if not np.isfinite(data.X[:, j]).all()]
     if bad:
         raise InputError(f"feature '{bad[0]}' has missing values; drop it or recompute features")
@@ -101,7 +102,8 @@ def train_store(data: Dataset, config: LearningConfig, outcome: Outcome, name: s
     card = {
         "name": name, "description": description,
         "created": datetime.date.today().isoformat(), "priority": int(priority),
-        "setting": data.unique("setting"), "slam_config_hash": data.unique("slam_config_hash"),
+        "setting": data.unique("setting"), "slam": data.unique("slam"),
+        "slam_config_hash": data.unique("slam_config_hash"),
         "feature_version": data.unique("feature_version"),
         "feature_config": feature_config or {}, "features": list(data.feature_names),
         "feature_ranges": data.feature_ranges(),

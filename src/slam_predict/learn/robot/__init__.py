@@ -2,7 +2,8 @@
 
 Modules: :mod:`inputs` (the robot as four numbers, the derived plan × robot input),
 :mod:`records` / :mod:`outcomes` (run records of a design campaign), :mod:`domain` (GMapping's
-maxUrange, the design's bounds), :mod:`dataset` (one row per building × robot configuration),
+maxUrange, the design's bounds), :mod:`rundata` (the runs with their plan features; POINT rows
+as rows of the one learning dataset),
 :mod:`config` (``config/robot_learning.yaml``), :mod:`models` / :mod:`trend` /
 :mod:`monotone` (the regressors on the log scale), :mod:`evaluate` (held-out buildings,
 configurations or both), :mod:`train` (the model folder), :mod:`plain` (numpy-only forms),
@@ -22,8 +23,8 @@ import importlib
 import sys
 from collections.abc import Iterator
 
-MODULES = ("agreement", "config", "dataset", "domain", "evaluate", "inputs", "models",
-           "monotone", "outcomes", "plain", "predict", "records", "train", "trend")
+MODULES = ("agreement", "config", "domain", "evaluate", "inputs", "models",
+           "monotone", "outcomes", "plain", "predict", "records", "rundata", "train", "trend")
 
 
 @contextlib.contextmanager

@@ -77,7 +77,7 @@ class TrendBoostingConfig(RobotBoostingConfig):
     continues past their training range (model side: log of a size or of the range, so the
     trend is a power law).
 
-    Defaults (measured 2026-12-04, docs/learning.md "Monotone trees and repeated evaluation"):
+    Defaults (measured 2026-12-04, docs/notes/learning.md "Monotone trees and repeated evaluation"):
     shallower trees (depth 2, 300 stages, ≥ 5 rows per leaf), monotone in the inputs whose
     direction is known — the error does not fall with the building's area, the laser's blind
     fraction or the odometry error, and does not rise with the laser's range or field of view."""

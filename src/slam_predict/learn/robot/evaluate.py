@@ -33,8 +33,8 @@ from slam_predict.learn.card import PROTOCOLS
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.evaluate import percentage_errors, scores
 from slam_predict.learn.robot.config import RobotLearningConfig
-from slam_predict.learn.robot.dataset import RobotTables
 from slam_predict.learn.robot.models import fit_component, group_folds, is_std
+from slam_predict.learn.robot.rundata import RobotTables
 from slam_predict.learn.tables import SYMBOLS, err, fmt, markdown
 
 LOG = logging.getLogger(__name__)

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from slam_predict.errors import InputError
+from slam_predict.learn.card import DEFAULT_SLAM
 
 FAILURE_COVERAGE = 0.9   # a run that maps less of the free area than this failed
 FILE = "failure.json"
@@ -38,15 +39,15 @@ class OutcomeRun:
     coverage: float
 
 
-def outcome_runs(folders: Sequence[os.PathLike | str],
-                 max_urange_m: float | None) -> list[OutcomeRun]:
-    """Every run record of the campaign folders (range capped at ``max_urange_m``, m)."""
+def outcome_runs(folders: Sequence[os.PathLike | str], max_urange_m: float | None,
+                 slam: str = DEFAULT_SLAM) -> list[OutcomeRun]:
+    """Every run record of SLAM algorithm ``slam`` in the campaign folders (range capped at
+    ``max_urange_m``, m)."""
     from slam_predict.learn.robot.inputs import inputs_from_sensor
-    from slam_predict.learn.robot.records import find_records, read_record
+    from slam_predict.learn.robot.records import slam_records
 
     out = []
-    for path in find_records(folders):
-        record = read_record(path)
+    for path, record in slam_records(folders, slam):
         coverage = record.get("coverage")
         if isinstance(coverage, bool) or not isinstance(coverage, (int, float)) \
                 or not math.isfinite(coverage):
@@ -61,8 +62,8 @@ def outcome_table(runs: Sequence[OutcomeRun], data, names: Sequence[str],
                   threshold: float = FAILURE_COVERAGE
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(X (n, d) raw inputs ``names``, failed (n,) 0/1, building (n,)) of the runs whose
-    building has plan features in ``data`` (a :class:`~slam_predict.learn.robot.dataset.
-    RobotDataset`)."""
+    building has plan features in ``data`` (a :class:`~slam_predict.learn.robot.rundata.
+    RunData`)."""
     kept = [r for r in runs if r.world in data.features]
     if not kept:
         raise InputError("no run of a building with plan features: no failure model")

@@ -49,7 +49,6 @@ from sklearn.utils.validation import check_is_fitted, validate_data
 
 from slam_predict.errors import InputError
 from slam_predict.learn.robot.config import RobotLearningConfig
-from slam_predict.learn.robot.dataset import RobotTables
 from slam_predict.learn.robot.inputs import ROBOT_INPUTS
 from slam_predict.learn.robot.plain import (  # noqa: F401  (is_std, MEANS, STDS re-exported)
     MEANS,
@@ -58,6 +57,7 @@ from slam_predict.learn.robot.plain import (  # noqa: F401  (is_std, MEANS, STDS
     chi2_log_bias,
     is_std,
 )
+from slam_predict.learn.robot.rundata import RobotTables
 
 LOG = logging.getLogger(__name__)
 STD_FLOOR = 1e-3   # a point's std below 1e-3 × its mean is taken as that (log of 0 is -inf)

@@ -7,7 +7,7 @@ directions, smaller odometry error or a smaller building never make GMapping's e
 on average. :class:`MonotoneBoosting` is squared-loss gradient boosting (as scikit-learn's
 ``GradientBoostingRegressor``, which has no monotonic constraints) built from
 ``DecisionTreeRegressor`` stages with ``monotonic_cst``: each stage is monotone in the
-constrained inputs, and so is their sum. Measured 2026-12-04 (docs/learning.md).
+constrained inputs, and so is their sum. Measured 2026-12-04 (docs/notes/learning.md).
 """
 from __future__ import annotations
 

@@ -16,26 +16,21 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from slam_predict.errors import InputError
+from slam_predict.learn.card import DEFAULT_SLAM
 from slam_predict.words import plural
 
 NEAR_FACTOR = 1.25   # configurations within this factor of the robot's range are "near"
 
 
-def exploration_outcomes(folders: Sequence[os.PathLike | str],
-                         min_coverage: float) -> dict[str, Any]:
+def exploration_outcomes(folders: Sequence[os.PathLike | str], min_coverage: float,
+                         slam: str = DEFAULT_SLAM) -> dict[str, Any]:
     """{"min_coverage", "by_config": {config: {"range_m", "runs", "failed"}}} over every run
-    record of the campaign folders (range_m: the laser's range_max, m; failed: runs whose
-    coverage is below ``min_coverage``)."""
-    from slam_predict.learn.robot.records import (
-        design_entry,
-        find_records,
-        read_record,
-        skip_reason,
-    )
+    record of SLAM algorithm ``slam`` in the campaign folders (range_m: the laser's range_max,
+    m; failed: runs whose coverage is below ``min_coverage``)."""
+    from slam_predict.learn.robot.records import design_entry, skip_reason, slam_records
 
     by_config: dict[str, dict[str, Any]] = {}
-    for path in find_records(folders):
-        record = read_record(path)
+    for path, record in slam_records(folders, slam):
         try:
             range_m = float(record["sensor"]["laser"]["range_max"])
         except (KeyError, TypeError, ValueError):

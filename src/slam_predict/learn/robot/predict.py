@@ -13,8 +13,6 @@ maxUrange). Load it with :func:`slam_predict.learn.model.load_model`.
 """
 from __future__ import annotations
 
-import csv
-import io
 import json
 import math
 import os
@@ -160,7 +158,7 @@ class RobotModel:
         """
         from slam_predict.learn.card import check_slam
 
-        check_slam(slam)
+        check_slam(slam, self.card)
         x = self.row(plan_features, robot)
         grid = None
         out: dict[str, dict] = {}
@@ -385,10 +383,12 @@ def _component_model(store: ModelStore, component: str, kind: str | None) -> Log
 
 
 def _read_points(path: Path, names: list[str]) -> tuple[np.ndarray, list[str]]:
-    """The (n, d) input columns ``names`` of ``training_points.csv`` and each row's building."""
+    """The (n, d) input columns ``names`` of ``training_points.csv`` (the learning dataset's
+    POINT rows, :func:`slam_predict.learn.dataset.read_dataset`) and each row's building."""
+    from slam_predict.learn.dataset import read_dataset
+
     try:
-        rows = list(csv.DictReader(io.StringIO(path.read_text(encoding="utf-8"))))
-        return (np.array([[float(r[n]) for n in names] for r in rows], dtype=float),
-                [str(r["world"]) for r in rows])
-    except (OSError, KeyError, ValueError, TypeError) as exc:
-        raise InputError(f"corrupt training points ({exc.__class__.__name__})", path) from None
+        points = read_dataset(path)
+        return points.columns(names), list(points.worlds)
+    except InputError as exc:
+        raise InputError(f"corrupt training points ({exc.problem})", path) from None

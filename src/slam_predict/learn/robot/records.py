@@ -9,9 +9,15 @@ run's GMapping settings, :mod:`~slam_predict.learn.robot.domain`), ``coverage`` 
 config = :func:`slam_predict.sensor.sensor_hash` of their ``sensor`` dict, point =
 ``world/config`` and replicate = their rank by run_index within the point.
 
-A POINT row is one building × robot configuration: ``world, config, point, runs``, the robot
-inputs and the four components — ``trans_mean``/``rot_mean`` the mean over the point's runs,
-``trans_std``/``rot_std`` their sample standard deviation (ddof = 1; NaN with one run).
+A POINT is one building × robot configuration: its runs grouped by :func:`point_groups`, its
+four components by :func:`point_targets` — ``trans_mean``/``rot_mean`` the mean over the
+point's runs, ``trans_std``/``rot_std`` their sample standard deviation (ddof = 1; NaN with one
+run). POINT rows are rows of the one learning dataset (:class:`slam_predict.learn.dataset.
+Dataset`, built by :mod:`slam_predict.learn.robot.rundata`).
+
+Each run's SLAM algorithm is run.json's ``slam.type`` (gmapping when absent); the campaigns are
+read for one algorithm (``slam``): runs of another are left out, counted under
+``SLAM <name>``.
 
 Runs with ``coverage`` below the minimum (``min_coverage``; config/robot_learning.yaml: 0.5, the
 failed-exploration rule ``metric.runs.MIN_COVERAGE``)
@@ -32,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from slam_predict.errors import InputError
+from slam_predict.learn.card import DEFAULT_SLAM, check_slam
 from slam_predict.learn.dataset import COMPONENTS
 from slam_predict.learn.robot.inputs import (
     ROBOT_INPUTS,
@@ -47,7 +54,6 @@ RUN_TARGETS = ("trans_mean", "rot_mean")        # per-run metric values (m, rad)
 REQUIRED = ("world", "run_index", "seed", "coverage", "sensor")
 RUN_COLUMNS = ("world", "run_index", "seed", "config", "point", "replicate", *ROBOT_INPUTS,
                "coverage", *RUN_TARGETS)
-POINT_COLUMNS = ("world", "config", "point", "runs", *ROBOT_INPUTS, *COMPONENTS)
 
 
 @dataclass
@@ -69,18 +75,7 @@ class RunRow:
     source: str = ""
     max_urange_m: float | None = None    # GMapping's maxUrange of the run's settings, m
     odom_model: str = ""                 # the sensor's odometry model (inputs.odom_model_of)
-
-
-@dataclass
-class PointRow:
-    """One building × configuration: run count, robot inputs, the four components."""
-
-    world: str
-    config: str
-    point: str
-    runs: int
-    robot: dict[str, float]
-    targets: dict[str, float]
+    slam: str = DEFAULT_SLAM             # the run's SLAM algorithm (run.json slam.type)
 
 
 # ----------------------------------------------------------------------------- run records
@@ -111,6 +106,27 @@ def read_record(path: os.PathLike | str) -> dict[str, Any]:
     if missing:
         raise InputError(f"run record has no '{missing[0]}'", path)
     return record
+
+
+def slam_of_record(record: Mapping[str, Any]) -> str:
+    """The SLAM algorithm of a run record: ``slam.type``, gmapping when it names none."""
+    slam = record.get("slam")
+    return str(slam.get("type") or DEFAULT_SLAM) if isinstance(slam, Mapping) else DEFAULT_SLAM
+
+
+def slam_records(folders: Sequence[os.PathLike | str], slam: str = DEFAULT_SLAM,
+                 skipped: dict[str, int] | None = None):
+    """(path, record) of every run record of the campaign folders whose SLAM algorithm is
+    ``slam``; the others are counted in ``skipped`` under ``SLAM <name>``."""
+    check_slam(slam)
+    for path in find_records(folders):
+        record = read_record(path)
+        other = slam_of_record(record)
+        if other != slam:
+            if skipped is not None:
+                skipped[f"SLAM {other}"] = skipped.get(f"SLAM {other}", 0) + 1
+            continue
+        yield path, record
 
 
 def _finite(value: Any) -> float | None:
@@ -184,21 +200,23 @@ def run_row(record: Mapping[str, Any], path, max_urange_m: float | None = None) 
                   rot_mean=float(record["metric"]["rot_mean"]),
                   resolution_deg=angular_resolution_deg(record["sensor"], path),
                   config_hashes={str(k): str(v) for k, v in hashes.items()}, source=str(path),
-                  max_urange_m=max_urange_m, odom_model=odom_model)
+                  max_urange_m=max_urange_m, odom_model=odom_model,
+                  slam=slam_of_record(record))
 
 
 def read_runs(folders: Sequence[os.PathLike | str], min_coverage: float = MIN_COVERAGE,
-              max_urange_m: float | None = None) -> tuple[list[RunRow], dict[str, int]]:
-    """(RUN rows, {skip reason: count}) of the campaign folders, checked for consistency;
-    ``max_urange_m``: GMapping's maxUrange, m, for every run (None: from each run's settings,
-    :class:`~slam_predict.learn.robot.domain.MaxUrangeSource`)."""
+              max_urange_m: float | None = None,
+              slam: str = DEFAULT_SLAM) -> tuple[list[RunRow], dict[str, int]]:
+    """(RUN rows, {skip reason: count}) of the campaign folders' runs of SLAM algorithm
+    ``slam``, checked for consistency; ``max_urange_m``: GMapping's maxUrange, m, for every run
+    (None: from each run's settings, :class:`~slam_predict.learn.robot.domain.
+    MaxUrangeSource`)."""
     from slam_predict.learn.robot.domain import MaxUrangeSource, common_max_urange
 
     rows: list[RunRow] = []
     skipped: dict[str, int] = {}
     caps = MaxUrangeSource(max_urange_m)
-    for path in find_records(folders):
-        record = read_record(path)
+    for path, record in slam_records(folders, slam, skipped):
         reason = skip_reason(record, min_coverage, path)
         if reason is not None:
             skipped[reason] = skipped.get(reason, 0) + 1
@@ -277,21 +295,20 @@ def _assign_replicates(rows: Sequence[RunRow]) -> None:
                 given.add(row.replicate)
 
 
-def point_rows(runs: Sequence[RunRow]) -> list[PointRow]:
-    """POINT rows: per point the mean and the sample std (``SAMPLE_STD_DDOF``, NaN for one
-    run) of the runs' errors, in order of first appearance."""
+def point_groups(runs: Sequence[RunRow]) -> dict[str, list[RunRow]]:
+    """Point id → its runs, points in order of first appearance."""
     groups: dict[str, list[RunRow]] = {}
     for row in runs:
         groups.setdefault(row.point, []).append(row)
-    out = []
-    for point, members in groups.items():
-        targets: dict[str, float] = {}
-        for name in RUN_TARGETS:
-            values = np.array([getattr(r, name) for r in members])
-            targets[name] = float(values.mean())
-            std = name.replace("_mean", "_std")
-            targets[std] = sample_std(values)
-        first = members[0]
-        out.append(PointRow(first.world, first.config, point, len(members), dict(first.robot),
-                            {c: targets[c] for c in COMPONENTS}))
-    return out
+    return groups
+
+
+def point_targets(members: Sequence[RunRow]) -> dict[str, float]:
+    """The four components of a point's runs: the mean and the sample std
+    (``SAMPLE_STD_DDOF``, NaN for one run) of their errors."""
+    targets: dict[str, float] = {}
+    for name in RUN_TARGETS:
+        values = np.array([getattr(r, name) for r in members])
+        targets[name] = float(values.mean())
+        targets[name.replace("_mean", "_std")] = sample_std(values)
+    return {c: targets[c] for c in COMPONENTS}

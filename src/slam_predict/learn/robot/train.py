@@ -29,9 +29,8 @@ import numpy as np
 from slam_predict.config import to_dict
 from slam_predict.errors import InputError
 from slam_predict.learn.card import POINTS_FILE, ROBOT_KIND
-from slam_predict.learn.dataset import COMPONENTS, UNITS
+from slam_predict.learn.dataset import COMPONENTS, UNITS, to_csv_text
 from slam_predict.learn.robot.config import RobotLearningConfig
-from slam_predict.learn.robot.dataset import RobotDataset, RobotTables, points_csv
 from slam_predict.learn.robot.failure import FILE as FAILURE_FILE
 from slam_predict.learn.robot.inputs import (
     DERIVED_INPUTS,
@@ -43,6 +42,7 @@ from slam_predict.learn.robot.inputs import (
 from slam_predict.learn.robot.models import fit_component
 from slam_predict.learn.robot.monotone_check import passes
 from slam_predict.learn.robot.plain import plain_component
+from slam_predict.learn.robot.rundata import RobotTables, RunData
 from slam_predict.learn.store import save_store
 
 LOG = logging.getLogger(__name__)
@@ -59,12 +59,12 @@ def input_ranges(tables: RobotTables,
     return out
 
 
-def design_summary(data: RobotDataset,
+def design_summary(data: RunData,
                    bounds: Mapping[str, Sequence[float]] | None = None) -> dict[str, Any]:
     """The design as trained on: configurations, buildings, counts, resolutions, and the
     design file's bounds in input units (None without the file)."""
-    runs = np.array([p.runs for p in data.points])
-    return {"configs": data.configs, "buildings": data.worlds, "points": len(data.points),
+    runs = np.array([len(members) for members in data.groups])
+    return {"configs": data.configs, "buildings": data.worlds, "points": len(runs),
             "runs": len(data.runs),
             "runs_per_point": {"min": int(runs.min()), "median": float(np.median(runs)),
                                "max": int(runs.max())},
@@ -102,7 +102,7 @@ def fit_all(tables: RobotTables, config: RobotLearningConfig,
     return fitted
 
 
-def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningConfig,
+def build_card(data: RunData, tables: RobotTables, config: RobotLearningConfig,
                summary: Sequence[dict], best: Mapping[str, str], fitted: Mapping[str, dict],
                meta: Mapping[str, Any]) -> dict[str, Any]:
     """The card of a robot-aware model folder (without files and versions); ``meta``:
@@ -127,7 +127,8 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
     return {
         "name": meta["name"], "kind": ROBOT_KIND, "description": meta.get("description", ""),
         "created": datetime.date.today().isoformat(), "priority": 0, "setting": ROBOT_KIND,
-        "slam_config_hash": ",".join(hashes.get("gmapping", [])), "config_hashes": hashes,
+        "slam": data.slam, "slam_config_hash": ",".join(hashes.get(data.slam, [])),
+        "config_hashes": hashes,
         "feature_version": data.feature_version,
         "feature_config": dict(meta.get("feature_config") or {}), "features": plan,
         "robot_inputs": list(ROBOT_INPUTS), "robot_units": dict(ROBOT_UNITS),
@@ -141,7 +142,7 @@ def build_card(data: RobotDataset, tables: RobotTables, config: RobotLearningCon
         "robot_learning_config": to_dict(config), "components": components}
 
 
-def _sightline_entries(data: RobotDataset, derived: list[str],
+def _sightline_entries(data: RunData, derived: list[str],
                        plan: list[str]) -> dict[str, Any]:
     """The card's sight-line sampling when the model reads sight lines (a derived input or
     the isotropy feature) and, with a derived input, the training buildings' curves (for the
@@ -198,7 +199,7 @@ MONOTONE_CHECK_TEXT = (
     "point of each training building; the best model is chosen among those that pass")
 
 
-def monotone_checks(data: RobotDataset, tables: RobotTables, config: RobotLearningConfig,
+def monotone_checks(data: RunData, tables: RobotTables, config: RobotLearningConfig,
                     fitted: Mapping[str, Mapping[str, Any]],
                     ranges: Mapping[str, Sequence[float]]) -> dict[str, dict[str, dict]]:
     """{component: {kind: per-robot-input largest relative drop}} of every fitted model
@@ -239,7 +240,7 @@ def monotone_best(best: Mapping[str, str], summary: Sequence[dict],
     return out
 
 
-def train_robot_store(data: RobotDataset, config: RobotLearningConfig,
+def train_robot_store(data: RunData, config: RobotLearningConfig,
                       summary: Sequence[dict], best: Mapping[str, str],
                       out: os.PathLike | str, meta: Mapping[str, Any],
                       n_jobs: int = 1) -> Path:
@@ -272,11 +273,11 @@ def train_robot_store(data: RobotDataset, config: RobotLearningConfig,
         failure, card["failure"] = failure_model(data, tables, config, meta["outcome_runs"])
         extra[FAILURE_FILE] = json.dumps(failure.to_form()) + "\n"
     plan = [n for n in tables.names if n not in ROBOT_INPUTS]
-    return save_robot_store(out, card, fitted, points_csv(data, plan),
+    return save_robot_store(out, card, fitted, to_csv_text(data.point_dataset(plan)),
                             plain_forms(fitted, tables.point_X), extra)
 
 
-def failure_model(data: RobotDataset, tables: RobotTables, config: RobotLearningConfig,
+def failure_model(data: RunData, tables: RobotTables, config: RobotLearningConfig,
                   runs: Sequence) -> tuple[Any, dict[str, Any]]:
     """(the failure probability model fitted on every run of ``runs``, its card entry with
     the leave-one-building-out evaluation) (:mod:`~slam_predict.learn.robot.failure`)."""

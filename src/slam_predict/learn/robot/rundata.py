@@ -1,8 +1,13 @@
-"""Robot-aware learning data: RUN and POINT rows (:mod:`slam_predict.learn.robot.records`)
-joined with plan features into numeric tables and CSVs (issue #18).
+"""Robot-aware learning data: the RUN rows of design campaigns
+(:mod:`slam_predict.learn.robot.records`) with their buildings' plan features, as numeric tables
+and as POINT rows of the one learning dataset (:class:`slam_predict.learn.dataset.Dataset`:
+one row per building × robot configuration, with the robot columns).
 
-See :mod:`slam_predict.learn.robot.records` for the rows; plan features are joined per world
-(a feature table, or computed from plans).
+:class:`RunData` holds the runs and the plan features (a feature table, or computed from plans,
+:func:`plan_features`); :meth:`RunData.point_dataset` gives the POINT rows (written as the
+evaluation's ``points.csv`` and a model folder's ``training_points.csv`` by
+:func:`slam_predict.learn.dataset.to_csv_text`), :meth:`RunData.tables` the numeric RUN and
+POINT tables the models are fitted on.
 """
 from __future__ import annotations
 
@@ -19,20 +24,15 @@ import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.features.sightline import COLUMN_PREFIX, PLAN_COLUMNS, curve_columns
-from slam_predict.learn.dataset import COMPONENTS
+from slam_predict.learn.card import ROBOT_KIND
+from slam_predict.learn.dataset import COMPONENTS, Dataset
 from slam_predict.learn.robot.inputs import DERIVED_INPUTS, ROBOT_INPUTS, derived_inputs
-from slam_predict.learn.robot.records import (  # noqa: F401  (re-exported)
-    POINT_COLUMNS,
+from slam_predict.learn.robot.records import (
     RUN_COLUMNS,
     RUN_TARGETS,
-    PointRow,
     RunRow,
-    find_records,
-    point_rows,
-    read_record,
-    read_runs,
-    run_row,
-    skip_reason,
+    point_groups,
+    point_targets,
 )
 from slam_predict.words import plural
 
@@ -86,18 +86,17 @@ class RobotTables:
 
 
 @dataclass
-class RobotDataset:
-    """RUN and POINT rows with the plan features of their buildings.
+class RunData:
+    """RUN rows with the plan features of their buildings.
 
     Attributes:
-        runs, points: the rows (only buildings that have features).
+        runs: the rows (only buildings that have features; one SLAM algorithm).
         features: building → {feature: value} for every building with runs.
         feature_version: the features' version string.
         skipped: skip reason → number of runs.
     """
 
     runs: list[RunRow]
-    points: list[PointRow]
     features: dict[str, dict[str, float]]
     feature_version: str
     skipped: dict[str, int] = field(default_factory=dict)
@@ -105,12 +104,23 @@ class RobotDataset:
     @property
     def worlds(self) -> list[str]:
         """The buildings, sorted."""
-        return sorted({p.world for p in self.points})
+        return sorted({r.world for r in self.runs})
+
+    @property
+    def groups(self) -> list[list[RunRow]]:
+        """The runs of each POINT (building × configuration), in order of first appearance."""
+        return list(point_groups(self.runs).values())
 
     @property
     def configs(self) -> dict[str, dict[str, float]]:
         """Configuration id → robot inputs, sorted by id."""
-        return {p.config: dict(p.robot) for p in sorted(self.points, key=lambda p: p.config)}
+        return {m[0].config: dict(m[0].robot)
+                for m in sorted(self.groups, key=lambda m: m[0].config)}
+
+    @property
+    def slam(self) -> str:
+        """The runs' SLAM algorithm (one: :func:`read_runs` reads one)."""
+        return self.runs[0].slam
 
     @property
     def max_urange_m(self) -> float | None:
@@ -169,6 +179,26 @@ class RobotDataset:
                     raise InputError(f"plan feature '{name}' is missing for building '{world}'")
         return names
 
+    def point_dataset(self, names: Sequence[str] = ()) -> Dataset:
+        """The POINT rows as the learning dataset: one row per building × configuration with
+        its run count, four components, robot inputs and the columns ``names`` (plan features
+        and derived inputs; default: every plan feature)."""
+        names = list(names) or self.feature_names()
+        groups = self.groups
+        first = [m[0] for m in groups]
+        targets = [point_targets(m) for m in groups]
+        return Dataset(
+            worlds=[r.world for r in first], feature_names=names,
+            X=np.array([[self.input_value(r.world, r.robot, n) for n in names] for r in first],
+                       dtype=float).reshape(len(first), len(names)),
+            Y=np.array([[t[c] for c in COMPONENTS] for t in targets], dtype=float),
+            runs=np.array([len(m) for m in groups], dtype=float),
+            setting=[ROBOT_KIND] * len(first),
+            slam_config_hash=[r.config_hashes.get(r.slam, "") for r in first],
+            feature_version=[self.feature_version] * len(first),
+            robot=[r.config for r in first], slam=[r.slam for r in first],
+            robot_inputs={k: np.array([float(r.robot[k]) for r in first]) for k in ROBOT_INPUTS})
+
     def tables(self, plan_features: Sequence[str], derived: bool = False) -> RobotTables:
         """The numeric tables over ``plan_features`` (checked) [+ DERIVED_INPUTS when
         ``derived``: the sight-line curves are checked] + ROBOT_INPUTS."""
@@ -176,20 +206,19 @@ class RobotDataset:
         if derived:
             self.sightline_curves()
         names = plan + (list(DERIVED_INPUTS) if derived else []) + list(ROBOT_INPUTS)
-        index = {p.point: i for i, p in enumerate(self.points)}
-
-        def row(world: str, robot: Mapping[str, float]) -> list[float]:
-            return [self.input_value(world, robot, n) for n in names]
+        points = self.point_dataset(names[:-len(ROBOT_INPUTS)])
+        index = {m[0].point: i for i, m in enumerate(self.groups)}
         return RobotTables(
             names=names,
-            run_X=np.array([row(r.world, r.robot) for r in self.runs], dtype=float),
+            run_X=np.array([[self.input_value(r.world, r.robot, n) for n in names]
+                            for r in self.runs], dtype=float),
             run_y={k: np.array([getattr(r, k) for r in self.runs]) for k in RUN_TARGETS},
             run_point=np.array([index[r.point] for r in self.runs], dtype=int),
-            point_X=np.array([row(p.world, p.robot) for p in self.points], dtype=float),
-            point_y={c: np.array([p.targets[c] for p in self.points]) for c in COMPONENTS},
-            point_runs=np.array([p.runs for p in self.points], dtype=int),
-            point_world=np.array([p.world for p in self.points]),
-            point_config=np.array([p.config for p in self.points]))
+            point_X=points.columns(names),
+            point_y={c: points.target(c) for c in COMPONENTS},
+            point_runs=points.runs.astype(int),
+            point_world=np.array(points.worlds),
+            point_config=np.array(points.robot))
 
     def config_hashes(self) -> dict[str, list[str]]:
         """Component configuration (gmapping, sim, ...) → the distinct hashes of the runs."""
@@ -200,9 +229,8 @@ class RobotDataset:
         return {k: sorted(v) for k, v in sorted(out.items())}
 
 
-def build_dataset(runs: Sequence[RunRow], skipped: Mapping[str, int],
-                  features: Mapping[str, Mapping[str, Any]],
-                  feature_version: str) -> RobotDataset:
+def build_run_data(runs: Sequence[RunRow], skipped: Mapping[str, int],
+                   features: Mapping[str, Mapping[str, Any]], feature_version: str) -> RunData:
     """Join the RUN rows of :func:`read_runs` with the plan features (exact building names).
 
     Buildings without features are left out (logged, counted in ``skipped``); fewer than 2
@@ -219,8 +247,8 @@ def build_dataset(runs: Sequence[RunRow], skipped: Mapping[str, int],
     if len(worlds) < 2:
         raise InputError(f"only {plural(len(worlds), 'building')} with both runs and plan "
                          "features (need 2 or more)")
-    return RobotDataset(list(have), point_rows(have), {w: dict(features[w]) for w in worlds},
-                        feature_version, skipped)
+    return RunData(list(have), {w: dict(features[w]) for w in worlds}, feature_version,
+                   skipped)
 
 
 # ----------------------------------------------------------------------------- CSV texts
@@ -240,21 +268,11 @@ def _csv(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
     return out.getvalue()
 
 
-def runs_csv(data: RobotDataset) -> str:
+def runs_csv(data: RunData) -> str:
     """The RUN table as CSV (RUN_COLUMNS)."""
     return _csv(RUN_COLUMNS, [[r.world, r.run_index, r.seed, r.config, r.point, r.replicate,
                                *(r.robot[k] for k in ROBOT_INPUTS), r.coverage, r.trans_mean,
                                r.rot_mean] for r in data.runs])
-
-
-def points_csv(data: RobotDataset, plan_features: Sequence[str] = ()) -> str:
-    """The POINT table as CSV (POINT_COLUMNS, then the plan features and derived inputs)."""
-    names = list(plan_features)
-    return _csv((*POINT_COLUMNS, *names),
-                [[p.world, p.config, p.point, p.runs, *(p.robot[k] for k in ROBOT_INPUTS),
-                  *(p.targets[c] for c in COMPONENTS),
-                  *(data.input_value(p.world, p.robot, n) for n in names)]
-                 for p in data.points])
 
 
 # ----------------------------------------------------------------------------- plan features
@@ -268,7 +286,8 @@ def plan_features(worlds: Sequence[str], features_csv: os.PathLike | str | None 
     table (``learn dataset``'s format; version from its column or ``feature_version``) or
     computed on the plans in ``worlds_dir`` with ``feature_config`` (each plan loaded once; its
     sight-line curve columns, features/sightline.py, added)."""
-    from slam_predict.learn import dataset as ds
+    from slam_predict.learn.dataset import read_meta
+    from slam_predict.learn.sources import read_feature_table
 
     if worlds_dir is not None:
         from slam_predict.features.plan import full_feature_config
@@ -281,8 +300,8 @@ def plan_features(worlds: Sequence[str], features_csv: os.PathLike | str | None 
         return features, version, config
     if features_csv is None:
         raise InputError("give a feature table or a worlds folder")
-    config = dict(ds.read_meta(features_csv).get("feature_config") or {})
-    table = ds.read_feature_table(features_csv)
+    config = dict(read_meta(features_csv).get("feature_config") or {})
+    table = read_feature_table(features_csv)
     versions = {str(v["feature_version"]) for v in table.values() if "feature_version" in v}
     if feature_version:
         versions = {feature_version}
