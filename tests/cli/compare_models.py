@@ -41,9 +41,9 @@ def train(models_dir: Path, name: str, campaign: str, slam: str | None = None,
     from slam_predict.collect.fidelity_parts import load_parts
     from slam_predict.config import from_dict
     from slam_predict.learn import dataset as ds
-    from slam_predict.learn.sources import read_error_table
     from slam_predict.learn.config import LearningConfig
     from slam_predict.learn.results import run_evaluation
+    from slam_predict.learn.sources import read_error_table
     from slam_predict.learn.train import train_store
 
     card = own_robots_card()
