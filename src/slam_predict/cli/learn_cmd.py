@@ -210,6 +210,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
 def run_train(args: argparse.Namespace) -> int:
     from slam_predict.cli.learn_robots_cmd import run_folded, slam_option
     from slam_predict.learn.dataset import read_meta
+    from slam_predict.learn.provenance import campaign_folder, campaign_sources
     from slam_predict.learn.results import run_evaluation, write_evaluation
     from slam_predict.learn.store import default_models_dir
     from slam_predict.learn.train import check_trainable, train_store
@@ -233,6 +234,9 @@ def run_train(args: argparse.Namespace) -> int:
     sources = {"dataset": os.path.basename(args.dataset),
                **{k: os.path.basename(str(v)) for k, v in meta.items()
                   if k in ("errors", "features_from") and v}}
+    campaign = campaign_folder(meta["errors"]) if meta.get("errors") else None
+    if campaign is not None:
+        sources.update(campaign_sources([campaign]))
     out = train_store(data, config, outcome, args.name, args.models_dir or default_models_dir(),
                       args.description, args.priority, meta.get("feature_config") or {},
                       sources)

@@ -367,11 +367,12 @@ def _train(args, target: Path, data, config, summary, best, full_config, bounds,
            outcomes) -> dict[str, str]:
     """Write the model folder; the best kinds it ships (monotone ones only)."""
     from slam_predict.learn.card import read_card
+    from slam_predict.learn.provenance import campaign_sources
     from slam_predict.learn.robot.failure import outcome_runs
     from slam_predict.learn.robot.train import train_robot_store
     from slam_predict.paths import portable_path
 
-    sources = {"data": [portable_path(d) for d in args.data],
+    sources = {**campaign_sources(args.data),
                "features_from": portable_path(args.worlds or args.features),
                "design": _designs(args.design),
                "command": shlex.join(["slam-predict", *sys.argv[1:]])}
