@@ -106,13 +106,14 @@ def run(world_name: str, seed: int, settings_file: str, max_sim: float) -> dict:
             snap = grid_to_snapshot(full_extent_grid(loop.source.map(), loop.source.map_extent))
             diag.snapshot(loop.t, rule.last, snap)
             rule.add(loop.t, snap)
-        reason = stop_reason(settings.stop, rule, recorder.stuck, loop.t, 0.0,
-                             not loop.explorer.done) or ("max_sim" if loop.t >= max_sim else None)
+        reason = stop_reason(settings.stop, rule, loop.t, 0.0) or (
+            "max_sim" if loop.t >= max_sim else None)
         if reason:
             break
     return {"world": world_name, "seed": seed, "settings": settings_file, "stop": reason,
             "t": loop.t, "distance_m": loop.log.distance_m, "coverage": diag.coverage_now(),
             "explorer_stop": loop.explorer.log.stop_reason, "goals": diag.goals,
+            "stuck": recorder.stuck.record(settings.stop),
             "snapshots": diag.snapshots}
 
 
@@ -126,7 +127,8 @@ def report(result: dict) -> str:
     goals = result["goals"]
     lines = [f"{result['world']} seed {result['seed']}: {result['stop']} at {result['t']:.0f} s, "
              f"{result['distance_m']:.0f} m, coverage {result['coverage']:.3f}, explorer "
-             f"{result['explorer_stop']}, {len(goals)} goals",
+             f"{result['explorer_stop']}, {len(goals)} goals, longest still while exploring "
+             f"{result['stuck']['longest_still_s']:.0f} s",
              "snapshot  t s  dist m  coverage   mse   new  lost  changed"]
     for s in result["snapshots"]:
         m = s["mse"] or {"total": float("nan"), "new": float("nan"), "lost": float("nan"),

@@ -39,15 +39,19 @@ def test_widest_ratio_against_a_plain_search(tables):  # noqa: F811
 
 
 def test_run_ends_lists_stuck_and_incomplete_runs(tmp_path):
-    for world, index, reason, cov in [("a", 0, "map_converged", 0.99), ("a", 1, "stuck", 0.99),
-                                      ("b", 0, "map_converged", FULL_COVERAGE - 0.01),
-                                      ("c", 0, "stuck", 0.5)]:
+    for world, index, reason, cov, stuck in [
+            ("a", 0, "map_converged", 0.99, False), ("a", 1, "stuck", 0.99, None),
+            ("a", 2, "map_converged", 0.99, True),
+            ("b", 0, "map_converged", FULL_COVERAGE - 0.01, False), ("c", 0, "stuck", 0.5, None)]:
         folder = tmp_path / world / f"run_{index:03d}"
         folder.mkdir(parents=True)
-        (folder / "run.json").write_text(json.dumps(
-            {"run_index": index, "stop_reason": reason, "coverage": cov}))
+        record = {"run_index": index, "stop_reason": reason, "coverage": cov}
+        if stuck is not None:
+            record["stuck"] = {"longest_still_s": 400.0 if stuck else 3.0, "stuck": stuck}
+        (folder / "run.json").write_text(json.dumps(record))
     ends = run_ends([tmp_path], ["a", "b"])
-    assert ends["stuck"] == ["a run 1 (stuck, coverage 0.990)"]
+    assert ends["stuck"] == ["a run 1 (stuck, coverage 0.990)",
+                             "a run 2 (map_converged, coverage 0.990)"]
     assert ends["low coverage"] == ["b run 0 (map_converged, coverage 0.940)"]
 
 

@@ -28,9 +28,11 @@ def test_build_record_fields(run_record_keys):
     rule = SnapshotMSE(StopConfig(), 60.0)
     rule.times, rule.mses, rule.reason = [60.0, 120.0], [3.5], "map_converged"
     info = rec.RunInfo("square", "", 2, 7, odometry_error={"model": "x"})
-    end = rec.RunEnd("map_converged", {"t": 30.0, "reason": "no_frontiers"}, 40.0, 1.5, 3, 0.9)
+    stuck = {"longest_still_s": 12.5, "stuck": False}
+    end = rec.RunEnd("map_converged", {"t": 30.0, "reason": "no_frontiers"}, 40.0, 1.5, 3, 0.9,
+                     stuck)
     record = rec.build_record(info, settings, {"sim": "abc"}, end, traj, rule, 12.0, {"sim": 2})
-    assert set(record) == run_record_keys
+    assert set(record) == run_record_keys and record["stuck"] == stuck
     assert record["distance_m"] == pytest.approx(0.02 * 399)
     assert record["rotation_rad"] == pytest.approx(3 * math.pi / 2)
     assert record["snapshots"] == [{"t": 60.0, "mse": None}, {"t": 120.0, "mse": 3.5}]
@@ -43,9 +45,10 @@ def test_build_record_fields(run_record_keys):
 
 
 def test_build_record_of_a_run_without_snapshots():
-    """A run that ended before its first snapshot (stuck, a limit) has an empty list."""
+    """A run that ended before its first snapshot (a limit) has an empty list."""
     rule = SnapshotMSE(StopConfig(), 60.0)
-    end = rec.RunEnd("stuck", None, 30.0, 1.0, 0, None)
+    end = rec.RunEnd("max_sim_time", None, 30.0, 1.0, 0, None)
     record = rec.build_record(rec.RunInfo("square"), load_settings(), {}, end, square_run(), rule,
                               None, {})
-    assert record["snapshots"] == [] and record["stop_reason"] == "stuck"
+    assert record["snapshots"] == [] and record["stop_reason"] == "max_sim_time"
+    assert "stuck" not in record                          # not watched: no entry

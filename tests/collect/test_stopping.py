@@ -71,14 +71,24 @@ def test_stuck_detector_counts_from_the_last_move_of_more_than_stuck_distance():
 def test_stop_reason_order_and_limits():
     cfg = StopConfig(stuck_timeout_s=30.0, max_sim_time_s=100.0, max_wall_time_s=50.0)
     rule = SnapshotMSE(cfg, 60.0)
+    assert stop_reason(cfg, rule, 99.9, 0.0) is None
+    assert stop_reason(cfg, rule, 100.0 - 1e-7, 0.0) == "max_sim_time"
+    assert stop_reason(cfg, rule, 10.0, 50.0) == "wall_time_limit"
+    rule.reason = "map_converged"                       # the MSE rule comes first
+    assert stop_reason(cfg, rule, 200.0, 90.0) == "map_converged"
+
+
+def test_a_stuck_robot_is_recorded_not_stopped():
+    """The longest still time counts only while exploring; it flags the run at the timeout."""
+    cfg = StopConfig(stuck_timeout_s=30.0, max_sim_time_s=1e9)
+    idle = StuckDetector()
+    for t in range(0, 41):                              # standing still 0..40 s
+        idle.add(float(t), 0.0, 0.0, exploring=t <= 25)  # the explorer stopped at 25 s
+    assert idle.record(cfg) == {"longest_still_s": 25.0, "stuck": False}
     stuck = StuckDetector()
     stuck.add(0.0, 0.0, 0.0)
-    assert stop_reason(cfg, rule, stuck, 29.9, 0.0, exploring=True) is None
-    assert stop_reason(cfg, rule, stuck, 30.0, 0.0, exploring=True) == "stuck"
-    assert stop_reason(cfg, rule, stuck, 30.0, 0.0, exploring=False) is None  # idle robot
-    assert stop_reason(cfg, rule, stuck, 100.0 - 1e-7, 0.0, exploring=False) == "max_sim_time"
-    assert stop_reason(cfg, rule, stuck, 99.9, 0.0, exploring=False) is None
-    assert stop_reason(cfg, rule, stuck, 10.0, 50.0, exploring=True) == "wall_time_limit"
-    assert stop_reason(cfg, rule, stuck, 200.0, 50.0, exploring=True) == "stuck"
-    rule.reason = "map_converged"                       # the MSE rule comes first
-    assert stop_reason(cfg, rule, stuck, 200.0, 90.0, exploring=True) == "map_converged"
+    stuck.add(10.0, 1.0, 0.0)                           # moved: still from 10 s on
+    for t in range(11, 42):
+        stuck.add(float(t), 1.0, 0.0)
+    assert stuck.record(cfg) == {"longest_still_s": 31.0, "stuck": True}
+    assert stop_reason(cfg, SnapshotMSE(cfg, 60.0), 41.0, 0.0) is None   # the run goes on

@@ -121,17 +121,20 @@ def standing(t, now):
     return Sample(t, np.zeros(3), np.zeros(3), np.zeros(3))
 
 
-def test_stuck_only_while_exploring():
+def test_stuck_is_recorded_only_while_exploring_and_does_not_stop_the_run():
     stop = StopConfig(stuck_timeout_s=30.0, max_sim_time_s=100.0)
     m = make(stop)
     end = ticks(m, 200.0, lookup=standing)
-    assert m.reason == "stuck" and end == pytest.approx(30.1, abs=0.11)
+    assert m.reason == "max_sim_time" and end == pytest.approx(100.0)
+    assert m.stuck.record(stop)["stuck"]
     m = make(stop)
     ticks(m, 5.0, lookup=standing)
     m.set_explorer_end(5.0, "Exploration stopped.")
     end = ticks(m, 200.0, start=5.1, lookup=standing)
     assert m.reason == "max_sim_time" and end == pytest.approx(100.0)
     assert m.explorer_end == {"t": 5.0, "reason": "Exploration stopped."}
+    assert m.stuck.record(stop) == {"longest_still_s": pytest.approx(5.0, abs=0.11),
+                                    "stuck": False}
 
 
 def test_moving_robot_is_not_stuck_and_wall_limit():

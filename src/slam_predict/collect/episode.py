@@ -61,7 +61,8 @@ class Recorder:
         self.gt.append(np.array(state.true_pose, float))
         self.slam.append(np.array(loop.robot_pose_map, float))
         self.odom.append(np.array(state.odom_pose, float))
-        self.stuck.add(float(state.t), state.true_pose[0], state.true_pose[1])
+        self.stuck.add(float(state.t), state.true_pose[0], state.true_pose[1],
+                       not loop.explorer.done)
 
     def trajectories(self) -> rec.Trajectories:
         return rec.Trajectories(np.asarray(self.t), np.asarray(self.gt), np.asarray(self.slam),
@@ -89,8 +90,7 @@ def explore_until_stop(loop, settings: CollectSettings, folder: Path, free_area_
                                                          loop.source.map_extent))
             rule.add(loop.t, snapshot)
             rec.write_snapshot(folder, len(rule.times), snapshot)
-        reason = stop_reason(settings.stop, rule, recorder.stuck, loop.t,
-                             time.perf_counter() - wall_start, not loop.explorer.done)
+        reason = stop_reason(settings.stop, rule, loop.t, time.perf_counter() - wall_start)
         if reason:
             return reason, rule, recorder, explorer_end, time.perf_counter() - wall_start
 
@@ -162,7 +162,8 @@ def run_episode(spec, settings: CollectSettings | None = None,
                            odometry_error=loop.sim.odom_error,
                            sensor=to_dict(loop.sim.sensor))
         end = rec.RunEnd(reason, explorer_end, loop.t, wall, loop.log.stalls,
-                         coverage(world, grid, reach, loop.world_T_map))
+                         coverage(world, grid, reach, loop.world_T_map),
+                         recorder.stuck.record(settings.stop))
         record = rec.build_record(info, settings, settings.hashes(), end, traj, rule,
                                   world.free_area_m2, loop.timing,
                                   None if loop.delay is None else loop.delay.stats)

@@ -66,8 +66,9 @@ def part_comparison(comparison: Comparison, name: str, worlds: Sequence[str]) ->
 
 
 def run_ends(folders: Sequence[Path], worlds: Sequence[str]) -> dict[str, list[str]]:
-    """Every finished run of ``worlds`` in the campaign ``folders`` that ended ``stuck`` or
-    below :data:`FULL_COVERAGE`, as 'world run k (reason, coverage c)' lines by kind."""
+    """Every finished run of ``worlds`` in the campaign ``folders`` whose robot was stuck (the
+    run ended ``stuck``, as before 2026-12-05, or its record says ``stuck``) or that ended below
+    :data:`FULL_COVERAGE`, as 'world run k (reason, coverage c)' lines by kind."""
     out: dict[str, list[str]] = {"stuck": [], "low coverage": []}
     wanted = set(worlds)
     for folder in folders:
@@ -79,7 +80,8 @@ def run_ends(folders: Sequence[Path], worlds: Sequence[str]) -> dict[str, list[s
                 coverage = float(record.get("coverage", 1.0))
                 line = (f"{world} run {record.get('run_index', '?')} "
                         f"({record.get('stop_reason')}, coverage {coverage:.3f})")
-                if record.get("stop_reason") == "stuck":
+                if record.get("stop_reason") == "stuck" or (record.get("stuck") or {}).get(
+                        "stuck"):
                     out["stuck"].append(line)
                 if coverage < FULL_COVERAGE:
                     out["low coverage"].append(line)

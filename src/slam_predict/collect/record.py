@@ -70,7 +70,8 @@ class RunInfo:
 @dataclass
 class RunEnd:
     """How a run ended: stop reason, the explorer's end ({t, reason} or None), sim and wall
-    duration (s), stall count and coverage (0-1, None without a world)."""
+    duration (s), stall count, coverage (0-1, None without a world) and the stuck record
+    (:meth:`~slam_predict.collect.stopping.StuckDetector.record`, None when not watched)."""
 
     stop_reason: str | None
     explorer_end: dict[str, Any] | None
@@ -78,6 +79,7 @@ class RunEnd:
     wall_time_s: float
     stalls: int
     coverage: float | None
+    stuck: dict[str, Any] | None = None
 
 
 @functools.lru_cache(maxsize=1)
@@ -130,6 +132,7 @@ def build_record(info: RunInfo, settings, hashes: dict[str, str], end: RunEnd,
         "distance_m": path_length(traj.ground_truth),
         "rotation_rad": path_rotation(traj.ground_truth),
         "coverage": end.coverage, "stalls": int(end.stalls), "free_area_m2": free_area_m2,
+        **({"stuck": end.stuck} if end.stuck is not None else {}),
         "snapshots": [{"t": t, "mse": m}
                       for t, m in zip(rule.times, [None] + rule.mses, strict=False)],
         "metric": measure(traj, settings, info.seed),

@@ -6,11 +6,13 @@ Every ``interval_s`` of sim time (120 s for buildings under ``small_area_m2``) a
 the run stops when the mean squared error between two consecutive snapshots is below
 ``mse_threshold``, or after ``max_snapshots`` snapshots.
 
-The limits that also end a run (:func:`stop_reason`, in this order after the MSE rule): the
-robot is stuck (no ``STUCK_DISTANCE_M`` of ground-truth progress for ``stuck_timeout_s`` while
-the explorer still runs, :class:`StuckDetector`), ``max_sim_time_s`` of sim time, then
-``max_wall_time_s`` of wall time. The in-process episode and the ROS path's orchestrator both
-apply these two functions.
+The limits that also end a run (:func:`stop_reason`, in this order after the MSE rule):
+``max_sim_time_s`` of sim time, then ``max_wall_time_s`` of wall time. A robot that makes no
+``STUCK_DISTANCE_M`` of ground-truth progress for ``stuck_timeout_s`` while the explorer still
+runs is recorded as stuck (:class:`StuckDetector`: run.json ``stuck``), but the run goes on
+until the MSE rule ends it, as the seed study's orchestrator, which has no stuck rule, would
+(a stuck robot leaves the map unchanged, so the next snapshot ends the run). The in-process
+episode and the ROS path's orchestrator both apply these two functions.
 """
 from __future__ import annotations
 
@@ -114,14 +116,19 @@ class SnapshotMSE:
 
 
 class StuckDetector:
-    """Sim time since the robot last moved ``STUCK_DISTANCE_M`` (ground truth, m)."""
+    """Sim time since the robot last moved ``STUCK_DISTANCE_M`` (ground truth, m), and the
+    longest such time while the explorer was running."""
 
     def __init__(self, t0: float = 0.0):
         self._anchor: tuple | None = None
         self._anchor_t = float(t0)
+        self.longest_s = 0.0
 
-    def add(self, t: float, x: float, y: float) -> None:
-        """The ground-truth position (m) at sim time ``t`` (s); times must not decrease."""
+    def add(self, t: float, x: float, y: float, exploring: bool = True) -> None:
+        """The ground-truth position (m) at sim time ``t`` (s); times must not decrease.
+        ``exploring``: the explorer still runs (only then does standing still count)."""
+        if exploring:
+            self.longest_s = max(self.longest_s, self.still_for(t))
         if self._anchor is None or math.hypot(x - self._anchor[0],
                                               y - self._anchor[1]) > STUCK_DISTANCE_M:
             self._anchor, self._anchor_t = (float(x), float(y)), float(t)
@@ -130,19 +137,19 @@ class StuckDetector:
         """Sim time (s) at ``t`` since the robot last moved ``STUCK_DISTANCE_M``."""
         return t - self._anchor_t
 
+    def record(self, stop: StopConfig) -> dict:
+        """run.json's ``stuck``: the longest still time while exploring (s) and whether it
+        reached ``stuck_timeout_s``."""
+        return {"longest_still_s": round(self.longest_s, 3),
+                "stuck": bool(self.longest_s + TIME_EPS >= stop.stuck_timeout_s)}
 
-def stop_reason(stop: StopConfig, rule: SnapshotMSE, stuck: StuckDetector, elapsed_s: float,
-                wall_s: float, exploring: bool) -> str | None:
-    """Why the run ends at sim time ``elapsed_s`` after ``wall_s`` of wall time, or None.
 
-    ``rule``'s reason first, then ``stuck`` (only while ``exploring``: an explorer that has
-    stopped leaves the robot idle and the MSE rule decides), ``max_sim_time``,
-    ``wall_time_limit``.
-    """
+def stop_reason(stop: StopConfig, rule: SnapshotMSE, elapsed_s: float,
+                wall_s: float) -> str | None:
+    """Why the run ends at sim time ``elapsed_s`` after ``wall_s`` of wall time, or None:
+    ``rule``'s reason first, then ``max_sim_time``, ``wall_time_limit``."""
     if rule.reason:
         return rule.reason
-    if exploring and stuck.still_for(elapsed_s) >= stop.stuck_timeout_s:
-        return "stuck"
     if elapsed_s + TIME_EPS >= stop.max_sim_time_s:
         return "max_sim_time"
     if wall_s >= stop.max_wall_time_s:

@@ -16,9 +16,9 @@ the same module (:mod:`slam_predict.collect.stopping`: :class:`SnapshotMSE`,
   ``max_sample_delay_s`` of ROS time are dropped (and counted);
 * the SLAM map (the latest /map) is snapshotted over the full xmin..xmax extent every
   ``interval`` s (:class:`~slam_predict.collect.stopping.SnapshotMSE`); the run stops on MSE
-  convergence or after ``max_snapshots``, when the robot is stuck (no 0.1 m of ground-truth
-  progress for ``stuck_timeout_s`` while the explorer is still running), at ``max_sim_time_s``
-  or after ``max_wall_time_s`` of wall time;
+  convergence or after ``max_snapshots``, at ``max_sim_time_s`` or after ``max_wall_time_s``
+  of wall time; a robot without 0.1 m of ground-truth progress for ``stuck_timeout_s`` while
+  the explorer is still running is recorded as stuck (run.json ``stuck``), not stopped;
 * stalls are counted as in Stage: a stall starts at a sample where odometry advanced while the
   ground truth did not move at all (the simulator refused the move).
 
@@ -134,8 +134,7 @@ class RunMonitor:
         elapsed = t - self.t0
         if self.rule.due(elapsed) and self.grid is not None:
             self._snapshot(elapsed)
-        reason = stop_reason(self.stop, self.rule, self.stuck, elapsed,
-                             self.wall_clock() - self.wall_start, self.explorer_end is None)
+        reason = stop_reason(self.stop, self.rule, elapsed, self.wall_clock() - self.wall_start)
         if reason:
             self.reason, self.t_stop = reason, t
             LOG.info("run stops at %.1f s: %s", elapsed, reason)
@@ -235,7 +234,7 @@ class RunMonitor:
             if stalled and not self._stalled:
                 self.stalls += 1
             self._stalled = stalled
-        self.stuck.add(float(sample.t) - self.t0, gt[0], gt[1])
+        self.stuck.add(float(sample.t) - self.t0, gt[0], gt[1], self.explorer_end is None)
         self.samples.append(Sample(float(sample.t), gt, np.asarray(sample.slam, float), odom))
 
 

@@ -49,7 +49,8 @@ def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, 
     ros = {**info.ros, "samples": int(len(traj.t)), "samples_dropped": int(monitor.dropped),
            "first_sample_t": float(traj.t[0]) if len(traj.t) else None}
     end = rec.RunEnd(monitor.reason, monitor.explorer_end, monitor.sim_duration_s, wall_time_s,
-                     monitor.stalls, run_coverage(world, monitor.grid, settings, traj))
+                     monitor.stalls, run_coverage(world, monitor.grid, settings, traj),
+                     monitor.stuck.record(monitor.stop))
     sensor = None if world is None else to_dict(resolve_sensor(world, settings.sim))
     record = rec.build_record(dataclasses.replace(info, sensor=sensor), settings, hashes, end,
                               traj, monitor.rule, free_area_m2, timing)
