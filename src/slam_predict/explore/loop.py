@@ -125,6 +125,7 @@ class ClosedLoop:
                                                                np.random.default_rng(slam_ss))
             self.world_T_map = np.array(world.start_pose, dtype=float)
         self.delay = for_backend(compute, self.source, self.map_update_interval)
+        self._map_thread = bool(getattr(self.source, "map_thread", False))
         # odom starts at the start pose: map_T_odom = map_T_world ⊕ world_T_odom
         self.map_T_odom = compose(inverse(self.world_T_map), world.start_pose)
         self.navigator = Navigator(nav)
@@ -187,8 +188,7 @@ class ClosedLoop:
             scan = self.decoder.scan(messages)
         if self.delay is None:
             processed, _ = self._update_slam(scan[2], scan)
-            due = state.t - self._last_map_t >= self.map_update_interval - 1e-9
-            if processed and (self.grid is None or due):
+            if self._map_due(state.t, processed):
                 self._publish_map(state.t)
         elif self.delay.offer(scan[2], scan, self._update_slam):
             self._publish_map(state.t)
@@ -198,8 +198,20 @@ class ClosedLoop:
                                 laser.range_max, state.scan_odom_pose, self.sim.laser_pose,
                                 self.map_T_odom)
 
+    def _map_due(self, t: float, processed: bool) -> bool:
+        """Publish the map now? The first map with the first processed scan; then every
+        ``map_update_interval`` s with a processed scan, or with none when the back-end's node
+        republishes on a timer (``map_thread``: slam_toolbox)."""
+        if self.grid is None:
+            return processed
+        due = t - self._last_map_t >= self.map_update_interval - 1e-9
+        return due and (processed or self._map_thread)
+
     def _publish_map(self, t: float) -> None:
-        self.grid = self.source.map()
+        """Publish the source's map; with a map thread every publication is a new message (a
+        new object even when the map did not change: the explorer's "next map")."""
+        grid = self.source.map()
+        self.grid = dataclasses.replace(grid) if self._map_thread else grid
         self._last_map_t = t
         self.navigator.set_map(self.grid)
 
