@@ -130,6 +130,23 @@ def report(loop, reason, traj, pos, head, counts, responses, cpu_s):
         print(f"  {json.dumps(slim, default=str)}  gt ({gt[0]:.2f}, {gt[1]:.2f})")
 
 
+def end_state(loop) -> None:
+    """What the explorer and the navigator do when the run ends."""
+    ex, nav = loop.explorer, loop.navigator
+    goal = getattr(ex, "goal", None)
+    print(f"end: explorer goal {None if goal is None else np.round(goal.target, 2).tolist()}, "
+          f"frontiers {len(getattr(ex, 'frontiers', []) or [])}, "
+          f"recently visited {len(getattr(ex, 'recent', []))}, "
+          f"blacklist {len(getattr(ex, 'blacklist', []))}; navigator state "
+          f"{getattr(nav, 'state', None)}, goal {getattr(nav.goal, 'target', None)}; "
+          f"last map published at {loop._last_map_t:.1f} s")
+    cmds = np.array(loop.log.commands[-3000:]) if loop.log.commands else np.zeros((0, 3))
+    if len(cmds):
+        moving = np.abs(cmds[:, 1]) + np.abs(cmds[:, 2]) > 1e-6
+        print(f"last {cmds[-1, 0] - cmds[0, 0]:.0f} s of commands: {int(moving.sum())} of "
+              f"{len(cmds)} non-zero, mean |v| {np.mean(np.abs(cmds[:, 1])):.3f} m/s")
+
+
 def save(out: Path, loop, traj, pos, head, counts, responses):
     out.mkdir(parents=True, exist_ok=True)
     np.savez(out / "steps.npz", t=traj.t, gt=traj.ground_truth, slam=traj.slam,
@@ -164,6 +181,7 @@ def main(argv) -> int:
     if ARGS.out:
         save(ARGS.out, loop, traj, pos, head, counts, responses)
     report(loop, reason, traj, pos, head, counts, responses, cpu)
+    end_state(loop)
     return 0
 
 
