@@ -242,3 +242,27 @@ def test_karto_node_publishes_maps_and_map_to_odom():
     sent = transform_from_ros(tf.sent[-1])
     assert (sent.parent, sent.child) == ("map", "odom")
     assert np.allclose(sent.pose, node.slam.map_to_odom(), atol=1e-9)
+
+
+def test_karto_node_republishes_the_map_while_the_robot_stands_still():
+    """slam_toolbox's map thread: a map every map_update_interval s without new scans."""
+    from slam_predict.slam.karto.params import KartoParams
+    params = KartoParams(xmin=-10, ymin=-10, xmax=10, ymax=10, map_update_interval=1.0)
+    fake, tf = FakeRospy(), FakeTf(False)
+    node = SlamNode(SlamChoice("karto", params), SlamNodeParams(), 3, fake, tf, tf)
+    node._pubs = {k: fake.Publisher(k, None) for k in ("map", "map_metadata", "entropy")}
+    base = np.array([-3.0, -2.0, 0.1])
+    for k in range(21):                       # 10 s standing still, a scan every 0.5 s
+        t = 10.0 + 0.5 * k
+        tf.odom[round(t, 6)] = base
+        msg = LaserScan(angle_min=ANGLES[0], angle_max=ANGLES[-1],
+                        angle_increment=ANGLES[1] - ANGLES[0], range_min=0.1, range_max=30.0,
+                        ranges=cast(compose(base, np.array([0.1, 0.0, 0.0])), ANGLES).tolist())
+        msg.header.stamp = time_to_ros(t)
+        msg.header.frame_id = "laser"
+        fake.now = t
+        node.on_scan(msg)
+    assert node.slam.stats()["scans_processed"] == 1
+    stamps = [m.header.stamp for m in fake.pubs["map"].sent]
+    assert len(stamps) == 7                   # at 10 s, then every 1.5 s (> 1 s) up to 19 s
+    assert len(fake.pubs["map_metadata"].sent) == len(stamps)
