@@ -3,7 +3,9 @@
 Each iteration advances the simulator by one ``interval_sim`` with the last command; a scan
 goes to the map source (``perfect`` or a SLAM back-end such as GMapping) and to the local
 costmap; a processed scan refreshes map→odom and, every ``map_update_interval`` (as
-slam_gmapping publishes), the map handed to the global costmap and the explorer; the explorer
+slam_gmapping publishes), the map handed to the global costmap and the explorer (a back-end
+with a ``map_thread``, Karto as slam_toolbox, every interval whether or not a scan was
+processed); the explorer
 checks its goal; the navigator runs when its controller period is due (a controller faster than
 ``interval_sim`` runs once per step). Nothing sleeps; a seed fixes every random draw (one
 SeedSequence spawned into simulator, explorer and SLAM generators).
