@@ -217,16 +217,14 @@ def test_slam_toolbox_executables_refuse_bad_parameters(given, problem):
         read_params(FakeRospy(given), "async_slam_toolbox_node")
 
 
-def test_karto_node_publishes_maps_and_map_to_odom():
-    from slam_predict.slam.karto.params import KartoParams
-    params = KartoParams(xmin=-10, ymin=-10, xmax=10, ymax=10, minimum_travel_distance=0.3,
-                         map_update_interval=1.0, max_laser_range=20.0)
+def run_karto_node(params, poses):
+    """Our node with Karto fed a scan every 0.5 s from 10 s at each base pose of ``poses``;
+    returns the node, the fake rospy and tf."""
     fake, tf = FakeRospy(), FakeTf(False)
     node = SlamNode(SlamChoice("karto", params), SlamNodeParams(), 3, fake, tf, tf)
     node._pubs = {k: fake.Publisher(k, None) for k in ("map", "map_metadata", "entropy")}
-    for k in range(40):
+    for k, base in enumerate(poses):
         t = 10.0 + 0.5 * k
-        base = np.array([-3.0 + 0.1 * k, -2.0 + 0.02 * k, 0.2 * math.sin(0.1 * k)])
         tf.odom[round(t, 6)] = base
         msg = LaserScan(angle_min=ANGLES[0], angle_max=ANGLES[-1],
                         angle_increment=ANGLES[1] - ANGLES[0], range_min=0.1, range_max=30.0,
@@ -235,6 +233,16 @@ def test_karto_node_publishes_maps_and_map_to_odom():
         msg.header.frame_id = "laser"
         fake.now = t
         node.on_scan(msg)
+    return node, fake, tf
+
+
+def test_karto_node_publishes_maps_and_map_to_odom():
+    from slam_predict.slam.karto.params import KartoParams
+    params = KartoParams(xmin=-10, ymin=-10, xmax=10, ymax=10, minimum_travel_distance=0.3,
+                         map_update_interval=1.0, max_laser_range=20.0)
+    poses = [np.array([-3.0 + 0.1 * k, -2.0 + 0.02 * k, 0.2 * math.sin(0.1 * k)])
+             for k in range(40)]
+    node, fake, tf = run_karto_node(params, poses)
     maps = fake.pubs["map"].sent
     assert len(maps) >= 3 and (grid_from_ros(maps[-1]).data == 100).sum() > 50
     assert node.slam.stats()["scans_processed"] > 5
@@ -242,3 +250,14 @@ def test_karto_node_publishes_maps_and_map_to_odom():
     sent = transform_from_ros(tf.sent[-1])
     assert (sent.parent, sent.child) == ("map", "odom")
     assert np.allclose(sent.pose, node.slam.map_to_odom(), atol=1e-9)
+
+
+def test_karto_node_republishes_the_map_while_the_robot_stands_still():
+    """slam_toolbox's map thread: a map every map_update_interval s without new scans."""
+    from slam_predict.slam.karto.params import KartoParams
+    params = KartoParams(xmin=-10, ymin=-10, xmax=10, ymax=10, map_update_interval=1.0)
+    node, fake, _ = run_karto_node(params, [np.array([-3.0, -2.0, 0.1])] * 21)   # 10 s still
+    assert node.slam.stats()["scans_processed"] == 1
+    stamps = [m.header.stamp for m in fake.pubs["map"].sent]
+    assert len(stamps) == 7                   # at 10 s, then every 1.5 s (> 1 s) up to 19 s
+    assert len(fake.pubs["map_metadata"].sent) == len(stamps)

@@ -3,7 +3,9 @@
 Each iteration advances the simulator by one ``interval_sim`` with the last command; a scan
 goes to the map source (``perfect`` or a SLAM back-end such as GMapping) and to the local
 costmap; a processed scan refreshes map→odom and, every ``map_update_interval`` (as
-slam_gmapping publishes), the map handed to the global costmap and the explorer; the explorer
+slam_gmapping publishes), the map handed to the global costmap and the explorer (a back-end
+with a ``map_thread``, Karto as slam_toolbox, every interval whether or not a scan was
+processed); the explorer
 checks its goal; the navigator runs when its controller period is due (a controller faster than
 ``interval_sim`` runs once per step). Nothing sleeps; a seed fixes every random draw (one
 SeedSequence spawned into simulator, explorer and SLAM generators).
@@ -125,6 +127,7 @@ class ClosedLoop:
                                                                np.random.default_rng(slam_ss))
             self.world_T_map = np.array(world.start_pose, dtype=float)
         self.delay = for_backend(compute, self.source, self.map_update_interval)
+        self._map_thread = bool(getattr(self.source, "map_thread", False))
         # odom starts at the start pose: map_T_odom = map_T_world ⊕ world_T_odom
         self.map_T_odom = compose(inverse(self.world_T_map), world.start_pose)
         self.navigator = Navigator(nav)
@@ -187,8 +190,7 @@ class ClosedLoop:
             scan = self.decoder.scan(messages)
         if self.delay is None:
             processed, _ = self._update_slam(scan[2], scan)
-            due = state.t - self._last_map_t >= self.map_update_interval - 1e-9
-            if processed and (self.grid is None or due):
+            if self._map_due(state.t, processed):
                 self._publish_map(state.t)
         elif self.delay.offer(scan[2], scan, self._update_slam):
             self._publish_map(state.t)
@@ -198,8 +200,20 @@ class ClosedLoop:
                                 laser.range_max, state.scan_odom_pose, self.sim.laser_pose,
                                 self.map_T_odom)
 
+    def _map_due(self, t: float, processed: bool) -> bool:
+        """Publish the map now? The first map with the first processed scan; then every
+        ``map_update_interval`` s with a processed scan, or with none when the back-end's node
+        republishes on a timer (``map_thread``: slam_toolbox)."""
+        if self.grid is None:
+            return processed
+        due = t - self._last_map_t >= self.map_update_interval - 1e-9
+        return due and (processed or self._map_thread)
+
     def _publish_map(self, t: float) -> None:
-        self.grid = self.source.map()
+        """Publish the source's map; with a map thread every publication is a new message (a
+        new object even when the map did not change: the explorer's "next map")."""
+        grid = self.source.map()
+        self.grid = dataclasses.replace(grid) if self._map_thread else grid
         self._last_map_t = t
         self.navigator.set_map(self.grid)
 

@@ -10,9 +10,11 @@ the back-end:
   once at the first scan (the laser must be planar, upright or upside down);
 * publishes ``map`` (nav_msgs/OccupancyGrid, latched) and ``map_metadata`` (latched) after the
   first processed scan and then whenever a processed scan is more than the back-end's
-  ``map_update_interval`` s newer than the last map; ``~entropy`` (std_msgs/Float64, latched,
-  only when > 0); ``~sim_ack`` (std_msgs/Time, latched): each scan's stamp once it is handled
-  (0 at start; stage_sim's lockstep, :mod:`slam_predict.ros.lockstep`);
+  ``map_update_interval`` s newer than the last map (a back-end with a ``map_thread``, Karto as
+  slam_toolbox, at any scan that much newer, processed or not); ``~entropy``
+  (std_msgs/Float64, latched, only when > 0); ``~sim_ack`` (std_msgs/Time, latched): each
+  scan's stamp once it is handled (0 at start; stage_sim's lockstep,
+  :mod:`slam_predict.ros.lockstep`);
 * broadcasts tf ``map_frame → odom_frame`` every ``transform_publish_period`` s (0 disables),
   stamped now + ``tf_delay``; it changes only when a scan is processed (a broadcast whose stamp
   would repeat the previous one is skipped: with sim time, slam_gmapping floods tf2 with
@@ -153,11 +155,14 @@ class SlamNode:
                         self.slam.beam_angles.size)
             return
         ranges = prepare_ranges(msg.ranges, msg.range_min, msg.range_max, self.reverse)
+        due = self.map_msg is None or stamp - self.last_map_update > self.slam.map_update_interval
         if self.slam.update(odom[0], ranges, stamp) is None:
+            if due and self.map_msg is not None and self.slam.map_thread:
+                self.update_map(stamp)   # slam_toolbox's map thread: no new scan needed
             return
         with self._lock:
             self.map_to_odom = self.slam.map_to_odom()
-        if self.map_msg is None or stamp - self.last_map_update > self.slam.map_update_interval:
+        if due:
             self.update_map(stamp)
 
     def _init_mapper(self, msg) -> bool:

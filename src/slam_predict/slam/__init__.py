@@ -101,6 +101,9 @@ class SlamBackend:
     name = "abstract"
     label = "abstract"        # human-readable name, e.g. "GMapping"
     params = None             # the parameter object the instance runs with
+    # True: the ROS node republishes the map every map_update_interval s, scans processed or not
+    # (slam_toolbox's map thread); False: only with a processed scan (slam_gmapping)
+    map_thread = False
 
     # --- parameters (class level: callers build them before any instance exists)
     @classmethod

@@ -141,6 +141,7 @@ class Karto(SlamBackend):
 
     name = "karto"
     label = "Karto"
+    map_thread = True    # slam_toolbox's publishVisualizations loop
 
     @classmethod
     def params_from_dict(cls, data, source: str = "<config>") -> KartoParams:
