@@ -20,6 +20,9 @@
 #              campaign whose settings the robots campaign and own-realistic use. Since
 #              2026-12-05 every seed-study building with a plan (44): the buildings of its
 #              parts.yaml, the 17 the compute level was fitted on and the 27 that judge it.
+#   karto_seed_study (2026-12-05): the fidelity campaign's buildings (its parts.yaml) explored by
+#              the same chain with Karto as slam_toolbox's async node in real time
+#              (config/fidelity/seed_study_karto.yaml), 3 runs each, breadth-first.
 #   robots (issue #18): 21 seed-study buildings of <= 2,000 m2, each explored with 4 robot
 #              configurations of config/robot_campaign/design.yaml (28 configurations, a
 #              Latin hypercube over laser range, fov and odometry error), 2 runs each (168 runs),
@@ -42,7 +45,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 NAME="${1:?usage: tools/run_campaign.sh NAME [--jobs K] [--runs N]}"; shift
 JOBS=2; RUNS=5
-case "$NAME" in fidelity_sizes*|fidelity_seed_study) RUNS=3 ;; esac   # issue #16: >= 3 runs per building
+case "$NAME" in fidelity_sizes*|fidelity_seed_study|karto_seed_study) RUNS=3 ;; esac   # issue #16: >= 3 runs per building
 while [ $# -gt 0 ]; do
   case "$1" in
     --jobs) JOBS="$2"; shift 2 ;;
@@ -74,6 +77,7 @@ case "$NAME" in
   fidelity_sizes) SETTINGS="$ROOT/config/fidelity/sizes.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_sizes_r2) SETTINGS="$ROOT/config/fidelity/sizes_rebuild2.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  karto_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   robots) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml") ;;
   robots_rep3|robots_rep4) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
@@ -84,7 +88,7 @@ case "$NAME" in
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design_more.yaml") ;;
   robots_configs2) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design_configs2.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2, robots_rep4)" >&2; exit 2 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, karto_seed_study)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
@@ -96,7 +100,7 @@ WORLDS_DIR="$ROOT/out/thesis_worlds"
 BUILDINGS="$THESIS_BUILDINGS"
 [ "$WITH_LARGE" = 1 ] && BUILDINGS="$THESIS_BUILDINGS $LARGE_BUILDINGS"
 case "$NAME" in
-  fidelity_seed_study)   # every building of its declared parts: fitted-on, then judged
+  fidelity_seed_study|karto_seed_study)   # the fidelity campaign's parts: fitted-on, then judged
     BUILDINGS="$(python -c 'import sys, yaml
 parts = yaml.safe_load(open(sys.argv[1]))["parts"]
 print(" ".join(w for part in parts.values() for w in part))' \
