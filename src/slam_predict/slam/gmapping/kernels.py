@@ -76,22 +76,11 @@ def _best_d2(table, acc, hits, hx, hy, ix, iy, ofx, ofy, ksize):
     best = -1.0
     for xx in range(-ksize, ksize + 1):
         for yy in range(-ksize, ksize + 1):
-            px = ix + xx
-            py = iy + yy
-            pid = patch_id(table, px, py)
+            pid = patch_id(table, ix + xx, iy + yy)
             if pid < 0:
                 continue
-            s = slot(px, py)
-            n = hits[pid, s]
-            if n <= 0:
-                continue
-            if _is_hit(table, hits, px + ofx, py + ofy):
-                continue
-            inv = 1.0 / n
-            mx = hx - inv * np.float64(acc[pid, s, 0])
-            my = hy - inv * np.float64(acc[pid, s, 1])
-            d2 = mx * mx + my * my
-            if best < 0.0 or d2 < best:
+            d2 = _best_d2_in_patch(table, acc, hits, pid, hx, hy, ix + xx, iy + yy, ofx, ofy, 0)
+            if d2 >= 0.0 and (best < 0.0 or d2 < best):
                 best = d2
     return best
 
