@@ -167,6 +167,16 @@ def test_static_translation_table():
     assert scaled.tolist() == [[NO_INFORMATION, 0, 2, 127, 251, LETHAL]]
 
 
+@pytest.mark.parametrize("cfg", [
+    CostmapConfig(track_unknown_space=True), CostmapConfig(track_unknown_space=False),
+    CostmapConfig(trinary_costmap=False), CostmapConfig(lethal_cost_threshold=65),
+    CostmapConfig(unknown_cost_value=50, trinary_costmap=False)])
+def test_static_table_of_an_int8_grid_equals_the_value_by_value_rule(cfg):
+    """The int8 grid goes through a 256-entry table: every value as the int16 path maps it."""
+    data = np.arange(-128, 128, dtype=np.int16).reshape(16, 16)
+    assert np.array_equal(static_costs(data.astype(np.int8), cfg), static_costs(data, cfg))
+
+
 def _grid(data, origin=(0.0, 0.0), res=0.05):
     return SimpleNamespace(data=np.asarray(data, np.int8), origin=origin, resolution=res)
 

@@ -168,3 +168,43 @@ def test_optimize_equals_the_plain_hill_climbing(bug):
         got = kernels.optimize(*geo_args(pmap), *start, ranges, CA, SA, 30.0, 0.05, 1, 0, bug,
                                0.05, 0.05, 5)
         assert got == slow_optimize(geo_args(pmap), start, ranges, bug)
+
+
+def plain_best_d2(pmap, hx, hy, ix, iy, ofx, ofy, k):
+    """The window search cell by cell through ParticleMap.cell, with the kernel's arithmetic."""
+    best = -1.0
+    for xx in range(-k, k + 1):
+        for yy in range(-k, k + 1):
+            n, _, _ = pmap.cell(ix + xx, iy + yy)
+            if n <= 0 or pmap.cell(ix + xx + ofx, iy + yy + ofy)[0] > 0:
+                continue
+            pid = pmap.table[(ix + xx) >> 5, (iy + yy) >> 5]
+            s = kernels.slot(ix + xx, iy + yy)
+            mx = hx - (1.0 / n) * float(pmap.pool.acc[pid, s, 0])
+            my = hy - (1.0 / n) * float(pmap.pool.acc[pid, s, 1])
+            if best < 0.0 or mx * mx + my * my < best:
+                best = mx * mx + my * my
+    return best
+
+
+@pytest.mark.parametrize("k", [0, 1, 2])
+def test_window_search_equals_the_plain_one_inside_and_across_patches(k):
+    """Windows inside one patch take the kernel's one-lookup path; across patch edges the
+    general one: both give exactly the plain cell-by-cell result."""
+    pmap = built_map(survey_poses())
+    rng = np.random.default_rng(5)
+    g = pmap.geometry
+    inside = across = 0
+    for pose in survey_poses(12, seed=1):
+        ranges = cast(pose, ANGLES)
+        for r, a in zip(ranges, ANGLES, strict=True):
+            hx, hy = pose[0] + r * math.cos(pose[2] + a), pose[1] + r * math.sin(pose[2] + a)
+            ix, iy = g.world_to_cell(hx, hy)
+            ofx, ofy = (int(v) for v in rng.integers(-2, 3, size=2))
+            got = kernels._best_d2(pmap.table, pmap.pool.acc, pmap.pool.hits, hx, hy, ix, iy,
+                                   ofx, ofy, k)
+            assert got == plain_best_d2(pmap, hx, hy, ix, iy, ofx, ofy, k)
+            one = (ix - k) >> 5 == (ix + k) >> 5 and (iy - k) >> 5 == (iy + k) >> 5
+            inside += one
+            across += not one
+    assert inside > 100 and (across > 10 or k == 0)   # a 1-cell window never crosses

@@ -162,7 +162,17 @@ def _inside_convex(poly: np.ndarray, px: np.ndarray, py: np.ndarray, margin: flo
 
 # ------------------------------------------------------------------------------ static layer
 def static_costs(data: np.ndarray, cfg: CostmapConfig) -> np.ndarray:
-    """StaticLayer::interpretValue of an int8 occupancy grid (uint8 costs, same shape)."""
+    """StaticLayer::interpretValue of an int8 occupancy grid (uint8 costs, same shape); an
+    int8 grid is mapped through the table of its 256 possible values."""
+    data = np.asarray(data)
+    if data.dtype == np.int8:
+        table = _interpret_values(np.arange(256, dtype=np.uint8).view(np.int8), cfg)
+        return table[data.view(np.uint8)]
+    return _interpret_values(data, cfg)
+
+
+def _interpret_values(data: np.ndarray, cfg: CostmapConfig) -> np.ndarray:
+    """StaticLayer::interpretValue, value by value (uint8 costs, same shape)."""
     values = np.asarray(data).astype(np.int16)
     unknown = values == cfg.unknown_cost_value
     lethal = values >= cfg.lethal_cost_threshold

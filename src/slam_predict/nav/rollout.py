@@ -62,39 +62,38 @@ def _line_cost(costs, x0, y0, x1, y1):
 
 
 @numba.njit(cache=True)
-def footprint_cost(costs, ox, oy, res, x, y, th, footprint):
-    """CostmapModel::footprintCost of the polygon ``footprint`` (k, 2) at pose (x, y, th)."""
-    ny, nx = costs.shape
+def footprint_vertex_cells(ox, oy, res, nx, ny, x, y, th, footprint, cells):
+    """Cells (k, 2) of the polygon's vertices at pose (x, y, th) written into ``cells``;
+    False when a vertex (or the pose) is off the map."""
     if x < ox or y < oy or int((x - ox) / res) >= nx or int((y - oy) / res) >= ny:
-        return -1.0
+        return False
     c = math.cos(th)
     s = math.sin(th)
-    k = footprint.shape[0]
+    for i in range(footprint.shape[0]):
+        px = x + footprint[i, 0] * c - footprint[i, 1] * s
+        py = y + footprint[i, 0] * s + footprint[i, 1] * c
+        if px < ox or py < oy:
+            return False
+        cx = int((px - ox) / res)
+        cy = int((py - oy) / res)
+        if cx >= nx or cy >= ny:
+            return False
+        cells[i, 0] = cx
+        cells[i, 1] = cy
+    return True
+
+
+@numba.njit(cache=True)
+def outline_cost(costs, cells):
+    """Max cost along the closed outline through the vertex cells (k, 2), edge by edge from
+    the last vertex; -1 when it touches LETHAL or NO_INFORMATION."""
+    k = cells.shape[0]
     total = 0.0
-    # cells of the last vertex, then each edge (i-1 -> i) in turn: no allocation
-    px = x + footprint[k - 1, 0] * c - footprint[k - 1, 1] * s
-    py = y + footprint[k - 1, 0] * s + footprint[k - 1, 1] * c
-    if px < ox or py < oy:
-        return -1.0
-    x0 = int((px - ox) / res)
-    y0 = int((py - oy) / res)
-    if x0 >= nx or y0 >= ny:
-        return -1.0
-    first_x = x0
-    first_y = y0
+    x0 = cells[k - 1, 0]
+    y0 = cells[k - 1, 1]
     for i in range(k):
-        if i < k - 1:
-            px = x + footprint[i, 0] * c - footprint[i, 1] * s
-            py = y + footprint[i, 0] * s + footprint[i, 1] * c
-            if px < ox or py < oy:
-                return -1.0
-            x1 = int((px - ox) / res)
-            y1 = int((py - oy) / res)
-            if x1 >= nx or y1 >= ny:
-                return -1.0
-        else:
-            x1 = first_x
-            y1 = first_y
+        x1 = cells[i, 0]
+        y1 = cells[i, 1]
         line = _line_cost(costs, x0, y0, x1, y1)
         if line < 0:
             return -1.0
@@ -103,6 +102,24 @@ def footprint_cost(costs, ox, oy, res, x, y, th, footprint):
         x0 = x1
         y0 = y1
     return total
+
+
+@numba.njit(cache=True)
+def footprint_cost(costs, ox, oy, res, x, y, th, footprint):
+    """CostmapModel::footprintCost of the polygon ``footprint`` (k, 2) at pose (x, y, th)."""
+    ny, nx = costs.shape
+    cells = np.empty((footprint.shape[0], 2), np.int64)
+    if not footprint_vertex_cells(ox, oy, res, nx, ny, x, y, th, footprint, cells):
+        return -1.0
+    return outline_cost(costs, cells)
+
+
+@numba.njit(cache=True, inline="always")
+def _same_cells(a, b):
+    for i in range(a.shape[0]):
+        if a[i, 0] != b[i, 0] or a[i, 1] != b[i, 1]:
+            return False
+    return True
 
 
 @numba.njit(cache=True)
@@ -136,6 +153,11 @@ def rollout(x, y, th, vx, vth, vx_samp, vth_samp, acc_x, acc_th, sim_time, gran,
     ey = y
     eth = th
     record = points.shape[0] >= num_steps
+    # the footprint cost depends only on the vertex cells: a step on the same cells as the
+    # previous step reuses it
+    cells = np.empty((footprint.shape[0], 2), np.int64)
+    last = np.full((footprint.shape[0], 2), -1, np.int64)
+    fc = -1.0
     for i in range(num_steps):
         if xi < ox or yi < oy:
             return -1.0, i, ex, ey, eth
@@ -143,7 +165,11 @@ def rollout(x, y, th, vx, vth, vx_samp, vth_samp, acc_x, acc_th, sim_time, gran,
         cy = int((yi - oy) / res)
         if cx >= nx or cy >= ny:
             return -1.0, i, ex, ey, eth
-        fc = footprint_cost(costs, ox, oy, res, xi, yi, thi, footprint)
+        if not footprint_vertex_cells(ox, oy, res, nx, ny, xi, yi, thi, footprint, cells):
+            return -1.0, i, ex, ey, eth
+        if not _same_cells(cells, last):
+            fc = outline_cost(costs, cells)
+            last[:, :] = cells
         if fc < 0:
             return -1.0, i, ex, ey, eth
         occ = max(occ, fc, float(costs[cy, cx]))
@@ -198,3 +224,4 @@ def warmup() -> None:
                   0.0, 0.1, fp, dist, dist, 400.0, 0.6, 0.8, 0.01)
     rollout(1.0, 1.0, 0.0, 0.0, 0.0, 0.1, 0.0, 1.0, 1.0, 1.0, 0.025, 0.025, costs, 0.0, 0.0,
             0.1, fp, dist, dist, 400.0, 0.6, 0.8, 0.01, np.empty((100, 3)))
+    footprint_cost(costs, 0.0, 0.0, 0.1, 1.0, 1.0, 0.0, fp)

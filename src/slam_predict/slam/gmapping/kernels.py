@@ -62,16 +62,38 @@ def _best_d2(table, acc, hits, hx, hy, ix, iy, ofx, ofy, ksize):
     """Squared distance (m²) from the hit to the nearest matching cell mean, -1 if none matches.
 
     A cell of the (2k+1)² window around (ix, iy) matches when it is occupied and its companion
-    cell, offset by (ofx, ofy) cells, is not.
+    cell, offset by (ofx, ofy) cells, is not. A window inside one patch (most of them) looks
+    its patch up once (:func:`_best_d2_in_patch`, same cells in the same order).
     """
+    x0 = ix - ksize
+    y0 = iy - ksize
+    if (x0 >= 0 and y0 >= 0 and (x0 >> PATCH_BITS) == ((ix + ksize) >> PATCH_BITS)
+            and (y0 >> PATCH_BITS) == ((iy + ksize) >> PATCH_BITS)):
+        pid = patch_id(table, x0, y0)
+        if pid < 0:
+            return -1.0
+        return _best_d2_in_patch(table, acc, hits, pid, hx, hy, x0, y0, ofx, ofy, ksize)
     best = -1.0
     for xx in range(-ksize, ksize + 1):
         for yy in range(-ksize, ksize + 1):
-            px = ix + xx
-            py = iy + yy
-            pid = patch_id(table, px, py)
+            pid = patch_id(table, ix + xx, iy + yy)
             if pid < 0:
                 continue
+            d2 = _best_d2_in_patch(table, acc, hits, pid, hx, hy, ix + xx, iy + yy, ofx, ofy, 0)
+            if d2 >= 0.0 and (best < 0.0 or d2 < best):
+                best = d2
+    return best
+
+
+@nb.njit(cache=True, inline="always")
+def _best_d2_in_patch(table, acc, hits, pid, hx, hy, x0, y0, ofx, ofy, ksize):
+    """:func:`_best_d2` of a window whose cells from (x0, y0) all lie in patch ``pid``."""
+    best = -1.0
+    width = 2 * ksize + 1
+    for xx in range(width):
+        px = x0 + xx
+        for yy in range(width):
+            py = y0 + yy
             s = slot(px, py)
             n = hits[pid, s]
             if n <= 0:
