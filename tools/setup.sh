@@ -89,6 +89,8 @@ source "$WS/devel/setup.bash"
 export PATH="$VENV/bin:\$PATH"
 export VIRTUAL_ENV="$VENV"
 export NUMBA_CACHE_DIR="\${NUMBA_CACHE_DIR:-$ROOT/.numba_cache}"
+# numpy's maths at the AVX2 level on every x86 host (docs/architecture.md "Same seed, same run")
+export NPY_DISABLE_CPU_FEATURES="\${NPY_DISABLE_CPU_FEATURES-X86_V4 AVX512_ICL AVX512_SPR}"
 EOS
   mv "$ROOT/setup.bash.tmp" "$ROOT/setup.bash"
 }
