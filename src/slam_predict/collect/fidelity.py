@@ -184,12 +184,13 @@ def _free_area(records: list[dict]) -> float:
     return float(np.mean(areas)) if areas else float("nan")
 
 
-def acceptance_lines(comparison: Comparison, draws: int = 2000, seed: int = 0) -> list[str]:
-    """One line per acceptance bar: the figure, its 95 % bootstrap interval
+def acceptance_lines(comparison: Comparison, draws: int = 2000, seed: int = 0,
+                     bars: Sequence[Bar] = ACCEPTANCE) -> list[str]:
+    """One line per bar of ``bars``: the figure, its 95 % bootstrap interval
     (:func:`bootstrap_intervals`) and whether the figure holds the bar."""
-    intervals = bootstrap_intervals(comparison, ACCEPTANCE, draws, seed)
+    intervals = bootstrap_intervals(comparison, bars, draws, seed)
     lines = []
-    for bar in ACCEPTANCE:
+    for bar in bars:
         verdict = "pass" if bar.holds(comparison) else "FAIL"
         low, high = intervals[bar.label]
         lines.append(f"- {bar.label}: {bar.value(comparison):.2f} "

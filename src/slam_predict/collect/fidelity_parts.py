@@ -19,7 +19,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from slam_predict.collect.fidelity import Bar, Comparison, bootstrap_intervals
+from slam_predict.collect.fidelity import Bar, Comparison, acceptance_lines
 from slam_predict.collect.store import RunStore
 from slam_predict.config import load_yaml
 from slam_predict.errors import InputError
@@ -98,12 +98,7 @@ def part_lines(comparison: Comparison, parts: Mapping[str, Sequence[str]],
         missing = sorted(set(worlds) - {row["world"] for row in part.rows})
         lines += ["", f"#### Part '{name}': {len(part.rows)} of {len(worlds)} buildings, "
                   f"{part.runs} runs", ""]
-        intervals = bootstrap_intervals(part, CHAIN_BARS, draws)
-        for bar in CHAIN_BARS:
-            low, high = intervals[bar.label]
-            verdict = "pass" if bar.holds(part) else "FAIL"
-            lines.append(f"- {bar.label}: {bar.value(part):.2f} [95 % {low:.2f}, {high:.2f}] "
-                         f"({verdict})")
+        lines += acceptance_lines(part, draws, bars=CHAIN_BARS)
         ends = run_ends(folders, worlds)
         for kind, runs in ends.items():
             lines.append(f"- runs {kind}: {len(runs)}" + (f" ({'; '.join(runs)})" if runs
