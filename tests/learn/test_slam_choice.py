@@ -9,9 +9,9 @@ import pytest
 
 from slam_predict.errors import InputError
 from slam_predict.learn import slam_choice
-from slam_predict.learn.card import PLAN_KIND, ROBOT_KIND
+from slam_predict.learn.card import PLAN_KIND, ROBOT_KIND, card_slam
 from slam_predict.learn.model import resolve_store
-from slam_predict.learn.slam_choice import find_model, search_dirs, trained_for
+from slam_predict.learn.slam_choice import find_model, search_dirs
 
 
 def copy(source, folder, name, **card_changes):
@@ -23,8 +23,8 @@ def copy(source, folder, name, **card_changes):
 
 
 def test_a_card_without_slam_was_trained_for_gmapping():
-    assert trained_for({}) == "gmapping"
-    assert trained_for({"slam": "karto"}) == "karto"
+    assert card_slam({}) == "gmapping"
+    assert card_slam({"slam": "karto"}) == "karto"
 
 
 def test_best_model_per_algorithm(tiny_models, tmp_path):

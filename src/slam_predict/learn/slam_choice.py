@@ -1,12 +1,12 @@
 """Which model folder predicts a SLAM algorithm's error: the card's ``slam`` field.
 
 A model predicts the error of the SLAM algorithm whose runs it was trained on; its card names
-that algorithm (:func:`trained_for`; a card without the field was trained on GMapping runs,
-as every model was before there was another back-end). :func:`find_model` picks the folder
-for an algorithm, a card kind (plan-only or robot-aware) and, for plan-only cards, the seed
-study's robot setting. It searches ``--models-dir`` alone when given, else
-``$SLAM_PREDICT_MODELS`` first and then the package's ``models/`` (:func:`search_dirs`): a user's
-own Karto model beside the shipped GMapping ones.
+that algorithm (:func:`~slam_predict.learn.card.card_slam`; a card without the field was
+trained on GMapping runs, as every model was before there was another back-end).
+:func:`find_model` picks the folder for an algorithm, a card kind (plan-only or robot-aware)
+and, for plan-only cards, the seed study's robot setting. It searches ``--models-dir`` alone
+when given, else ``$SLAM_PREDICT_MODELS`` first and then the package's ``models/``
+(:func:`search_dirs`): a user's own Karto model beside the shipped GMapping ones.
 """
 from __future__ import annotations
 
@@ -35,7 +35,6 @@ TRAIN_HINTS = {
 }
 
 
-trained_for = card_slam   # the SLAM algorithm a card's model was trained for
 
 
 def search_dirs(models_dir: os.PathLike | str | None = None) -> list[Path]:
@@ -89,7 +88,7 @@ def _candidates(folder: Path, kind: str, slam: str, setting: str | None):
         except InputError as exc:
             LOG.warning("skipping %s", exc.one_line())
             continue
-        if kind_of(card) != kind or trained_for(card) != slam:
+        if kind_of(card) != kind or card_slam(card) != slam:
             continue
         if kind == PLAN_KIND and setting is not None and card["setting"] != setting:
             continue
@@ -114,8 +113,8 @@ def check_trained_for(path: Path, slam: str, setting: str | None = None) -> Path
     """``path`` when its card is trained for ``slam`` (and ``setting``, plan-only);
     InputError (one line) otherwise."""
     card = read_card(path)
-    if trained_for(card) != slam:
-        raise InputError(f"model {path.name} was trained on {trained_for(card)} runs, not "
+    if card_slam(card) != slam:
+        raise InputError(f"model {path.name} was trained on {card_slam(card)} runs, not "
                          f"{slam}: name a model trained for {slam}", path / CARD)
     if setting is not None and kind_of(card) == PLAN_KIND and card["setting"] != setting:
         raise InputError(f"model was trained for the {card['setting']} setting, not "
