@@ -22,7 +22,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -155,8 +154,7 @@ def main(argv=None) -> int:
     ap.add_argument("--max-sim-time", type=float, default=14400.0, help="s")
     ap.add_argument("--json", help="write the goal and snapshot records here")
     args = ap.parse_args(argv)
-    with tempfile.TemporaryDirectory():
-        result = run(args.world, args.seed, args.settings, args.max_sim_time)
+    result = run(args.world, args.seed, args.settings, args.max_sim_time)
     print(report(result))
     if args.json:
         Path(args.json).write_text(json.dumps(result, indent=1, default=float))
