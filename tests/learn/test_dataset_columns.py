@@ -217,3 +217,24 @@ def test_predict_slam_picks_a_model_of_that_algorithm(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["model_store"] == "thesis-realistic"
     assert main([*base, "--slam", "karto", "--model", "thesis-realistic"]) == 2
     assert "trained on gmapping runs" in capsys.readouterr().err
+
+
+def test_learn_dataset_slam_keeps_one_algorithm(tmp_path, capsys):
+    """learn dataset --slam NAME writes only that algorithm's rows (an alias names it too) and
+    refuses, writing nothing, an algorithm the table does not hold."""
+    path = _summary(tmp_path / "c", ["w0", "w1", "w2"], ["karto", "gmapping", "karto"])
+    features = tmp_path / "features.csv"
+    features.write_text("world,feature_version,area\nw0,v1,10\nw1,v1,20\nw2,v1,30\n")
+    common = ["learn", "dataset", "--errors", str(path), "--features", str(features),
+              "--thesis-setting", "realistic"]
+    assert main([*common, "--slam", "slam_toolbox", "--out", str(tmp_path / "k.csv")]) == 0
+    karto = ds.read_dataset(tmp_path / "k.csv")
+    assert karto.worlds == ["w0", "w2"] and set(karto.slam) == {"karto"}
+    assert main([*common, "--out", str(tmp_path / "all.csv")]) == 0
+    assert ds.read_dataset(tmp_path / "all.csv").worlds == ["w0", "w1", "w2"]
+    only_karto = _summary(tmp_path / "d", ["w0", "w1", "w2"], ["karto"] * 3)
+    capsys.readouterr()
+    assert main([*common[:3], str(only_karto), *common[4:], "--slam", "gmapping",
+                 "--out", str(tmp_path / "g.csv")]) == 2
+    assert "no rows of SLAM algorithm 'gmapping'" in capsys.readouterr().err
+    assert not (tmp_path / "g.csv").exists()

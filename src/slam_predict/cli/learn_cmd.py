@@ -60,6 +60,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                               help="the seed study's robot setting of the errors (realistic, "
                                    "optimistic...)")
     add_renamed_option(ds, "--setting", setting)
+    ds.add_argument("--slam", metavar="NAME",
+                    help="keep only the rows of this SLAM algorithm (gmapping or karto; a "
+                         "summary.csv's rows take theirs from the run records beside it; "
+                         "default: every row)")
     ds.add_argument("--slam-config-hash", help="SLAM configuration hash (default: the table's)")
     ds.add_argument("--feature-version", help="feature version of a --features table")
     ds.add_argument("--feature-config", metavar="YAML",
@@ -167,6 +171,10 @@ def run_dataset(args: argparse.Namespace) -> int:
             raise InputError("features table has no feature_version column: give "
                              "--feature-version", args.features)
     data = ds.join(errors, features, version)
+    if args.slam:
+        from slam_predict.cli.learn_robots_cmd import slam_option
+
+        data = data.select_slam(slam_option(args))
     meta = {"errors": os.path.abspath(args.errors), "setting": args.setting,
             "features_from": os.path.abspath(args.worlds or args.features),
             "feature_config": feature_config}

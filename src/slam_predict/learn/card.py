@@ -127,14 +127,16 @@ def card_slam(card: Mapping[str, Any]) -> str:
     return str(card.get("slam", DEFAULT_SLAM))
 
 
-def check_slam(slam: str | None, card: Mapping[str, Any] | None = None) -> None:
+def check_slam(slam: str | None, card: Mapping[str, Any] | None = None,
+               card_path: os.PathLike | str | None = None) -> None:
     """InputError unless ``slam`` is None or a SLAM algorithm of :data:`SLAM_ALGORITHMS` and,
-    with a ``card``, the one its models were trained on."""
+    with a ``card`` (read from ``card_path``, named in the message), the one its models were
+    trained on."""
     if slam is None:
         return
     if slam not in SLAM_ALGORITHMS:
         raise InputError(f"unknown SLAM algorithm '{slam}' (the models know "
                          f"{', '.join(SLAM_ALGORITHMS)})" + did_you_mean(slam, SLAM_ALGORITHMS))
     if card is not None and slam != card_slam(card):
-        raise InputError(f"no model of SLAM algorithm '{slam}': model '{card.get('name')}' "
-                         f"was trained on {card_slam(card)} runs")
+        raise InputError(f"model {card.get('name')} was trained on {card_slam(card)} runs, not "
+                         f"{slam}: name a model trained for {slam}", card_path)

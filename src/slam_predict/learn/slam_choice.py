@@ -23,6 +23,7 @@ from slam_predict.learn.card import (  # noqa: F401  (DEFAULT_SLAM re-exported)
     PLAN_KIND,
     ROBOT_KIND,
     card_slam,
+    check_slam,
     kind_of,
     read_card,
 )
@@ -113,9 +114,7 @@ def check_trained_for(path: Path, slam: str, setting: str | None = None) -> Path
     """``path`` when its card is trained for ``slam`` (and ``setting``, plan-only);
     InputError (one line) otherwise."""
     card = read_card(path)
-    if card_slam(card) != slam:
-        raise InputError(f"model {path.name} was trained on {card_slam(card)} runs, not "
-                         f"{slam}: name a model trained for {slam}", path / CARD)
+    check_slam(slam, card, path / CARD)
     if setting is not None and kind_of(card) == PLAN_KIND and card["setting"] != setting:
         raise InputError(f"model was trained for the {card['setting']} setting, not "
                          f"{setting}", path / CARD)
