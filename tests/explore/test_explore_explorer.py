@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from slam_predict.explore.explorer import ExploreConfig, Explorer
-from slam_predict.explore.goals import ABORTED, SUCCEEDED
+from slam_predict.explore.goals import ABORTED, HEADING_UNDEFINED_M, SUCCEEDED, facing
 
 RES = 0.1
 
@@ -212,3 +212,53 @@ def test_blacklist_retry_keeps_points_reached_too_often():
 def test_config_rejects_negative_blacklist_retries():
     with pytest.raises(ValueError):
         ExploreConfig(blacklist_retries=-1)
+
+
+def test_a_frontier_around_the_robot_turns_it_around():
+    """Karto's first map: a free fan around the robot, unknown beyond and in the laser's blind
+    sector behind it, one frontier whose goal point is the robot itself. The in-place goal
+    faces backwards (no direction to the point), so the blind sector gets scanned."""
+    ex, client = explorer(near_frontier_distance=1.0)
+    data = np.full((200, 200), -1, np.int8)
+    y, x = (np.mgrid[0:200, 0:200] + 0.5) * RES
+    bearing = np.arctan2(y - 10.0, x - 10.0)
+    fan = (np.hypot(x - 10.0, y - 10.0) < 2.0) & (np.abs(bearing) < 0.75 * np.pi)
+    data[fan] = 0
+    grid = SimpleNamespace(data=data, resolution=RES, origin=(0.0, 0.0))
+    for yaw in (0.0, 2.0):
+        ex, client = explorer(near_frontier_distance=1.0)
+        robot = np.array([10.0, 10.0, yaw])
+        ex.step(0.0, grid, robot)
+        target = client.sent[0][1]
+        assert target[:2] == pytest.approx((10.0, 10.0))
+        assert np.cos(target[2] - (yaw + np.pi)) == pytest.approx(1.0)
+
+
+def test_facing_points_at_the_point_unless_it_is_at_the_robot():
+    robot = (1.0, 2.0, 0.5)
+    assert facing((1.0, 4.0), robot) == pytest.approx(np.pi / 2)
+    assert facing((1.0 + HEADING_UNDEFINED_M, 2.0), robot) == pytest.approx(0.0)
+    assert facing((1.03, 2.04), robot) == pytest.approx(0.5 - np.pi)
+
+
+def test_an_in_place_goal_move_base_aborts_becomes_a_drive_goal():
+    """The robot cannot turn where it stands (beside a wall): the frontier is not blacklisted,
+    its next goal is its nearest cell at least near_frontier_distance away."""
+    ex, client = explorer(near_frontier_distance=1.0)
+    grid = grid_with_frontiers((5.3, 3.0, 5.6, 7.0))   # a 4 m frontier beside the robot
+    robot = np.array([5.0, 5.0, np.pi])
+    ex.step(0.0, grid, robot)
+    assert client.sent[0][1][:2] == pytest.approx((5.0, 5.0))      # in place
+    client._status = ABORTED
+    ex.step(0.5, grid_with_frontiers((5.3, 3.0, 5.6, 7.0)), robot)
+    assert ex.log.goals[0]["outcome"] == "turn_aborted" and not ex.blacklist
+    ex.step(1.0, grid_with_frontiers((5.3, 3.0, 5.6, 7.0)), robot)   # the next map
+    target = client.sent[1][1]
+    assert np.hypot(target[0] - 5.0, target[1] - 5.0) >= 1.0 and not ex.done
+    near = ex.frontiers[0].cells
+    near = near[np.hypot(*(near - robot[:2]).T) >= 1.0]
+    assert np.hypot(target[0] - 5.0, target[1] - 5.0) == pytest.approx(
+        np.hypot(*(near - robot[:2]).T).min())
+    client._status = ABORTED                           # the drive fails too: blacklisted
+    ex.step(1.5, grid_with_frontiers((5.3, 3.0, 5.6, 7.0)), robot)
+    assert ex.log.goals[1]["outcome"] == "aborted" and ex.blacklist

@@ -18,6 +18,12 @@ Strategies (``strategy``):
 
 A frontier whose goal point is closer than ``near_frontier_distance`` to the robot (typically
 the laser's blind sector behind it) gives an in-place goal: the robot's position, facing it.
+A point within 0.1 m of the robot has no direction (the apex of the blind sector when the map
+around the robot is one frontier, as Karto's first map is): the robot then faces backwards
+(:func:`~slam_predict.explore.goals.facing`), which turns the blind sector into the laser's view.
+An in-place goal that move_base ABORTS (the robot cannot turn where it stands, e.g. beside a wall
+at the start) is not blacklisted: the frontier's next goal drives to its nearest cell at least
+``near_frontier_distance`` away (nearest strategy).
 A frontier reached (or timed out) before and still there — it was in a laser shadow from the
 goal point — is next sent as its own reference cell, never in place (nearest strategy).
 
@@ -56,7 +62,15 @@ import numpy as np
 
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
 from slam_predict.explore.frontiers import ClusterCache, Frontier, clear_goal, find_frontiers
-from slam_predict.explore.goals import ABORTED, PREEMPTED, SUCCEEDED, ExploreLog, Goal, GoalClient
+from slam_predict.explore.goals import (
+    ABORTED,
+    PREEMPTED,
+    SUCCEEDED,
+    ExploreLog,
+    Goal,
+    GoalClient,
+    facing,
+)
 from slam_predict.explore.thesis_config import ThesisExploreConfig
 
 LOG = logging.getLogger(__name__)
@@ -132,6 +146,7 @@ class Explorer:
         self.goal: Goal | None = None
         self.blacklist: list[np.ndarray] = []
         self.forgettable: list[np.ndarray] = []   # blacklisted by ABORTED / no progress
+        self.turn_failed: list[np.ndarray] = []   # in-place goals move_base ABORTED
         self.retries = 0                          # consecutive blacklist retry rounds
         self._retry_map = None                    # waiting for a map newer than this one
         self.attempts: list[tuple[np.ndarray, int]] = []
@@ -197,6 +212,11 @@ class Explorer:
             self._count_attempt(goal.frontier_point)
             self.retries = 0
             return True
+        if status == ABORTED and goal.in_place and self.cfg.strategy == "nearest":
+            # the robot could not turn where it stands: drive to the frontier next time
+            self._end_goal(t, "turn_aborted")
+            self.turn_failed.append(goal.frontier_point)
+            return True
         if status == ABORTED:
             self._end_goal(t, "aborted")
             self._blacklist_failure(goal.frontier_point)
@@ -253,7 +273,7 @@ class Explorer:
             self._end_goal(t, "cancelled")
         x, y = float(robot_pose[0]), float(robot_pose[1])
         nearest = min(self.frontiers, key=lambda f: f.min_distance)
-        target = (x, y, math.atan2(nearest.goal[1] - y, nearest.goal[0] - x))
+        target = (x, y, facing(nearest.goal, robot_pose))
         self.goal = Goal(target, t, np.array([x, y]), 0, 0.0,
                          time_limit=self.cfg.goal_timeout_offset, last_progress=t,
                          look_around=True)
@@ -316,11 +336,22 @@ class Explorer:
             dist = np.array([f.min_distance for f in candidates])
             ties = np.nonzero(dist <= dist.min() + self.cfg.tie_tolerance)[0]
             choice = candidates[int(ties[self.rng.integers(len(ties))])]
-        if self._attempts_at(choice.goal) == 0:
+        if self._near(choice.goal, self.turn_failed):
+            self._send(t, choice, self._drive_point(choice, robot_pose), robot_pose,
+                       in_place=False)
+        elif self._attempts_at(choice.goal) == 0:
             self._send(t, choice, clear_goal(choice, self._grid, self.cfg.goal_clearance),
                        robot_pose)
         else:  # reached before, still there (seen from nowhere it went): drive onto it
             self._send(t, choice, choice.goal, robot_pose, in_place=False)
+
+    def _drive_point(self, frontier: Frontier, robot_pose) -> np.ndarray:
+        """The frontier's cell nearest the robot at least ``near_frontier_distance`` away (its
+        farthest cell when none is)."""
+        dist = np.hypot(*(frontier.cells - np.asarray(robot_pose[:2])).T)
+        if not (far := dist >= self.cfg.near_frontier_distance).any():
+            return frontier.cells[int(np.argmax(dist))]
+        return frontier.cells[np.flatnonzero(far)[int(np.argmin(dist[far]))]]
 
     def _attempts_at(self, point: np.ndarray) -> int:
         """Goals for the frontier at ``point`` reached or timed out so far."""
@@ -353,15 +384,16 @@ class Explorer:
         self._send(t, choice, choice.centroid, robot_pose)
 
     def _send(self, t: float, frontier: Frontier, point, robot_pose, in_place: bool = True) -> None:
-        heading = math.atan2(point[1] - robot_pose[1], point[0] - robot_pose[0])
+        heading = facing(point, robot_pose)
         yaw = heading if self.cfg.goal_yaw == "approach" else 0.0
-        if in_place and math.hypot(point[0] - robot_pose[0], point[1] - robot_pose[1]) < \
-                self.cfg.near_frontier_distance:
-            # a frontier next to the robot (e.g. its blind sector): turn to face it
+        near = math.hypot(point[0] - robot_pose[0], point[1] - robot_pose[1])
+        in_place = in_place and near < self.cfg.near_frontier_distance
+        if in_place:   # a frontier next to the robot (e.g. its blind sector): turn to face it
             point, yaw = robot_pose[:2], heading
         if self.goal is not None:
             self._end_goal(t, "replaced")
         target = (float(point[0]), float(point[1]), float(yaw))
         self.goal = Goal(target, t, np.array(frontier.goal, dtype=float), frontier.size,
-                         frontier.min_distance, last_progress=t)
+                         frontier.min_distance, last_progress=t, in_place=in_place)
         self.client.send_goal(target, t)
+

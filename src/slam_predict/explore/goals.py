@@ -1,14 +1,25 @@
 """The explorer's side of move_base: goal status codes, the goal client it drives, the goal it
-tracks and the log of goal outcomes (shared by every strategy of
+tracks, the heading it faces and the log of goal outcomes (shared by every strategy of
 :mod:`slam_predict.explore.explorer` and :mod:`slam_predict.explore.thesis_strategy`)."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
 
 SUCCEEDED, ABORTED, PREEMPTED = 3, 4, 2  # actionlib_msgs/GoalStatus
+HEADING_UNDEFINED_M = 0.1   # m: a goal point this close to the robot gives no heading
+
+
+def facing(point, robot_pose) -> float:
+    """Heading (rad) from the robot's pose (x, y, yaw) to ``point`` (x, y); backwards (yaw + π)
+    when the point is within :data:`HEADING_UNDEFINED_M` of the robot."""
+    dx, dy = point[0] - robot_pose[0], point[1] - robot_pose[1]
+    if math.hypot(dx, dy) < HEADING_UNDEFINED_M:
+        return math.atan2(math.sin(robot_pose[2] + math.pi), math.cos(robot_pose[2] + math.pi))
+    return math.atan2(dy, dx)
 
 
 class GoalClient(Protocol):
@@ -35,6 +46,7 @@ class Goal:
     time_limit: float | None = None
     last_progress: float = 0.0
     look_around: bool = False
+    in_place: bool = False
 
 
 @dataclass
