@@ -238,12 +238,13 @@ def test_facing_points_at_the_point_unless_it_is_at_the_robot():
     robot = (1.0, 2.0, 0.5)
     assert facing((1.0, 4.0), robot) == pytest.approx(np.pi / 2)
     assert facing((1.0 + HEADING_UNDEFINED_M, 2.0), robot) == pytest.approx(0.0)
-    assert facing((1.03, 2.04), robot) == pytest.approx(0.5 - np.pi)
+    assert facing((1.03, 2.04), robot, at_start=True) == pytest.approx(0.5 - np.pi)
+    assert facing((1.03, 2.04), robot) == pytest.approx(np.arctan2(0.04, 0.03))
 
 
-def test_an_in_place_goal_move_base_aborts_becomes_a_drive_goal():
-    """The robot cannot turn where it stands (beside a wall): the frontier is not blacklisted,
-    its next goal is its nearest cell at least near_frontier_distance away."""
+def test_an_in_place_goal_move_base_aborts_at_the_start_becomes_a_drive_goal():
+    """The robot cannot turn where it stands (beside a wall) at the start: the frontier is not
+    blacklisted, its next goal is its nearest cell at least near_frontier_distance away."""
     ex, client = explorer(near_frontier_distance=1.0)
     grid = grid_with_frontiers((5.3, 3.0, 5.6, 7.0))   # a 4 m frontier beside the robot
     robot = np.array([5.0, 5.0, np.pi])
@@ -262,3 +263,17 @@ def test_an_in_place_goal_move_base_aborts_becomes_a_drive_goal():
     client._status = ABORTED                           # the drive fails too: blacklisted
     ex.step(1.5, grid_with_frontiers((5.3, 3.0, 5.6, 7.0)), robot)
     assert ex.log.goals[1]["outcome"] == "aborted" and ex.blacklist
+
+
+def test_after_the_first_drive_goal_an_aborted_turn_is_blacklisted():
+    """The start-up rules end with the first goal that is not in place."""
+    ex, client = explorer(near_frontier_distance=1.0)
+    ex.step(0.0, grid_with_frontiers((15, 15, 17, 17)), np.array([1.0, 1.0, 0.0]))
+    assert client.sent[0][1][:2] != pytest.approx((1.0, 1.0)) and ex.started   # a drive goal
+    client._status = SUCCEEDED
+    robot = np.array([5.0, 5.0, np.pi])
+    ex.step(0.5, grid_with_frontiers((5.3, 3.0, 5.6, 7.0)), robot)
+    assert client.sent[1][1][:2] == pytest.approx((5.0, 5.0))      # in place
+    client._status = ABORTED
+    ex.step(1.0, grid_with_frontiers((5.3, 3.0, 5.6, 7.0)), robot)
+    assert ex.log.goals[-1]["outcome"] == "aborted" and ex.blacklist and not ex.turn_failed

@@ -18,12 +18,10 @@ Strategies (``strategy``):
 
 A frontier whose goal point is closer than ``near_frontier_distance`` to the robot (typically
 the laser's blind sector behind it) gives an in-place goal: the robot's position, facing it.
-A point within 0.1 m of the robot has no direction (the apex of the blind sector when the map
-around the robot is one frontier, as Karto's first map is): the robot then faces backwards
-(:func:`~slam_predict.explore.goals.facing`), which turns the blind sector into the laser's view.
-An in-place goal that move_base ABORTS (the robot cannot turn where it stands, e.g. beside a wall
-at the start) is not blacklisted: the frontier's next goal drives to its nearest cell at least
-``near_frontier_distance`` away (nearest strategy).
+Start-up (nearest strategy, until the first goal not in place): a point within 0.1 m of the
+robot (Karto's first map: one frontier around it) makes the robot face backwards (its blind
+sector); an in-place goal move_base ABORTS (no room to turn) is not blacklisted, the frontier's
+next goal drives to its nearest cell ≥ ``near_frontier_distance`` away.
 A frontier reached (or timed out) before and still there — it was in a laser shadow from the
 goal point — is next sent as its own reference cell, never in place (nearest strategy).
 
@@ -41,15 +39,14 @@ Extension (``blacklist_retries`` > 0; 0, explore_lite's behaviour, by default): 
 frontier left is blacklisted, before stopping, the explorer sends a "look around" goal (the
 robot's own position, facing the nearest frontier: the way out, often in the laser's blind
 sector, gets scanned into the SLAM map and the next plan starts facing it), waits for the
-first map published after it, forgets the points blacklisted
-because move_base ABORTED (or, explore_lite strategy, for no progress) and chooses again.
+first map published after it, forgets the points blacklisted because move_base ABORTED (or,
+explore_lite strategy, for no progress) and chooses again.
 Points blacklisted for ``max_goal_attempts`` stay. At most ``blacklist_retries`` consecutive
 rounds; a frontier goal that succeeds restarts the count.
 
 Extension (``min_unknown_width`` m > 0; 0, explore_lite's rule, by default): frontiers border
 only unknown space joined to an unknown square that wide, so the unknown slivers GMapping
-leaves inside walls grazed by the beams are no frontiers
-(:mod:`slam_predict.explore.frontiers`).
+leaves inside walls grazed by the beams are no frontiers (:mod:`~.frontiers`).
 """
 from __future__ import annotations
 
@@ -61,7 +58,13 @@ from typing import ClassVar
 import numpy as np
 
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
-from slam_predict.explore.frontiers import ClusterCache, Frontier, clear_goal, find_frontiers
+from slam_predict.explore.frontiers import (
+    ClusterCache,
+    Frontier,
+    clear_goal,
+    find_frontiers,
+    nearest_cell_beyond,
+)
 from slam_predict.explore.goals import (
     ABORTED,
     PREEMPTED,
@@ -146,7 +149,8 @@ class Explorer:
         self.goal: Goal | None = None
         self.blacklist: list[np.ndarray] = []
         self.forgettable: list[np.ndarray] = []   # blacklisted by ABORTED / no progress
-        self.turn_failed: list[np.ndarray] = []   # in-place goals move_base ABORTED
+        self.turn_failed: list[np.ndarray] = []   # in-place start-up goals move_base ABORTED
+        self.started = False                      # a goal that is not in place has been sent
         self.retries = 0                          # consecutive blacklist retry rounds
         self._retry_map = None                    # waiting for a map newer than this one
         self.attempts: list[tuple[np.ndarray, int]] = []
@@ -212,7 +216,7 @@ class Explorer:
             self._count_attempt(goal.frontier_point)
             self.retries = 0
             return True
-        if status == ABORTED and goal.in_place and self.cfg.strategy == "nearest":
+        if status == ABORTED and goal.in_place and self._at_start():
             # the robot could not turn where it stands: drive to the frontier next time
             self._end_goal(t, "turn_aborted")
             self.turn_failed.append(goal.frontier_point)
@@ -273,7 +277,7 @@ class Explorer:
             self._end_goal(t, "cancelled")
         x, y = float(robot_pose[0]), float(robot_pose[1])
         nearest = min(self.frontiers, key=lambda f: f.min_distance)
-        target = (x, y, facing(nearest.goal, robot_pose))
+        target = (x, y, facing(nearest.goal, robot_pose, self._at_start()))
         self.goal = Goal(target, t, np.array([x, y]), 0, 0.0,
                          time_limit=self.cfg.goal_timeout_offset, last_progress=t,
                          look_around=True)
@@ -337,21 +341,16 @@ class Explorer:
             ties = np.nonzero(dist <= dist.min() + self.cfg.tie_tolerance)[0]
             choice = candidates[int(ties[self.rng.integers(len(ties))])]
         if self._near(choice.goal, self.turn_failed):
-            self._send(t, choice, self._drive_point(choice, robot_pose), robot_pose,
-                       in_place=False)
+            point = nearest_cell_beyond(choice, robot_pose, self.cfg.near_frontier_distance)
+            self._send(t, choice, point, robot_pose, in_place=False)
         elif self._attempts_at(choice.goal) == 0:
             self._send(t, choice, clear_goal(choice, self._grid, self.cfg.goal_clearance),
                        robot_pose)
         else:  # reached before, still there (seen from nowhere it went): drive onto it
             self._send(t, choice, choice.goal, robot_pose, in_place=False)
 
-    def _drive_point(self, frontier: Frontier, robot_pose) -> np.ndarray:
-        """The frontier's cell nearest the robot at least ``near_frontier_distance`` away (its
-        farthest cell when none is)."""
-        dist = np.hypot(*(frontier.cells - np.asarray(robot_pose[:2])).T)
-        if not (far := dist >= self.cfg.near_frontier_distance).any():
-            return frontier.cells[int(np.argmax(dist))]
-        return frontier.cells[np.flatnonzero(far)[int(np.argmin(dist[far]))]]
+    def _at_start(self) -> bool:
+        return not self.started and self.cfg.strategy == "nearest"
 
     def _attempts_at(self, point: np.ndarray) -> int:
         """Goals for the frontier at ``point`` reached or timed out so far."""
@@ -384,12 +383,13 @@ class Explorer:
         self._send(t, choice, choice.centroid, robot_pose)
 
     def _send(self, t: float, frontier: Frontier, point, robot_pose, in_place: bool = True) -> None:
-        heading = facing(point, robot_pose)
+        heading = facing(point, robot_pose, self._at_start())
         yaw = heading if self.cfg.goal_yaw == "approach" else 0.0
         near = math.hypot(point[0] - robot_pose[0], point[1] - robot_pose[1])
         in_place = in_place and near < self.cfg.near_frontier_distance
         if in_place:   # a frontier next to the robot (e.g. its blind sector): turn to face it
             point, yaw = robot_pose[:2], heading
+        self.started = self.started or not in_place
         if self.goal is not None:
             self._end_goal(t, "replaced")
         target = (float(point[0]), float(point[1]), float(yaw))

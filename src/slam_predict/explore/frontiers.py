@@ -221,3 +221,13 @@ def _free_within(free: np.ndarray, rows: np.ndarray, cols: np.ndarray, steps: in
             break
         reached = grown
     return reached
+
+
+def nearest_cell_beyond(frontier: Frontier, robot_pose, distance: float) -> np.ndarray:
+    """The frontier's cell nearest the robot (x, y, …) at least ``distance`` m away; its
+    farthest cell when none is."""
+    dist = np.hypot(*(frontier.cells - np.asarray(robot_pose[:2])).T)
+    far = dist >= distance
+    if not far.any():
+        return frontier.cells[int(np.argmax(dist))]
+    return frontier.cells[np.flatnonzero(far)[int(np.argmin(dist[far]))]]

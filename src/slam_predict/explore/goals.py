@@ -13,11 +13,11 @@ SUCCEEDED, ABORTED, PREEMPTED = 3, 4, 2  # actionlib_msgs/GoalStatus
 HEADING_UNDEFINED_M = 0.1   # m: a goal point this close to the robot gives no heading
 
 
-def facing(point, robot_pose) -> float:
-    """Heading (rad) from the robot's pose (x, y, yaw) to ``point`` (x, y); backwards (yaw + π)
-    when the point is within :data:`HEADING_UNDEFINED_M` of the robot."""
+def facing(point, robot_pose, at_start: bool = False) -> float:
+    """Heading (rad) from the robot's pose (x, y, yaw) to ``point`` (x, y); ``at_start``,
+    backwards (yaw + π) when the point is within :data:`HEADING_UNDEFINED_M` of the robot."""
     dx, dy = point[0] - robot_pose[0], point[1] - robot_pose[1]
-    if math.hypot(dx, dy) < HEADING_UNDEFINED_M:
+    if at_start and math.hypot(dx, dy) < HEADING_UNDEFINED_M:
         return math.atan2(math.sin(robot_pose[2] + math.pi), math.cos(robot_pose[2] + math.pi))
     return math.atan2(dy, dx)
 
