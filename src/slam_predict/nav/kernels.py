@@ -132,6 +132,41 @@ def inflate(master, min_i, min_j, max_i, max_j, radius, cost_cache, dist_cache, 
 
 
 # --------------------------------------------------------------------------------------------
+# Changed region of a grid (the static layer's update bounds)
+# --------------------------------------------------------------------------------------------
+@numba.njit(cache=True)
+def diff_box(new, old):
+    """Cells (x0, y0, x1, y1), end-exclusive, bounding where two equal-shape 2-D grids differ;
+    (-1, -1, -1, -1) when they are equal. A row is first tested whole (a branch-free pass);
+    only a row that differs is searched for its first and last differing column."""
+    ny, nx = new.shape
+    y0 = -1
+    y1 = -1
+    x0 = nx
+    x1 = -1
+    for y in range(ny):
+        differs = 0
+        for x in range(nx):
+            differs |= new[y, x] ^ old[y, x]
+        if differs == 0:
+            continue
+        if y0 < 0:
+            y0 = y
+        y1 = y
+        x = 0
+        while x < x0 and new[y, x] == old[y, x]:
+            x += 1
+        x0 = min(x0, x)
+        x = nx - 1
+        while x > x1 and new[y, x] == old[y, x]:
+            x -= 1
+        x1 = max(x1, x)
+    if y0 < 0:
+        return -1, -1, -1, -1
+    return x0, y0, x1 + 1, y1 + 1
+
+
+# --------------------------------------------------------------------------------------------
 # Grid search (navfn / global_planner equivalent): 8-connected A* with a goal window
 # --------------------------------------------------------------------------------------------
 @numba.njit(cache=True, inline="always")
@@ -486,6 +521,8 @@ def warmup() -> None:
     pool = np.empty(200, np.int32)
     inflate(grid, 0, 0, 6, 6, r, costs, dist, bins.reshape(dist.shape).astype(np.int64),
             len(uniq), False, pool, pool.copy(), pool.copy())
+    for dtype in (np.int8, np.uint8):    # the SLAM map and the static layer's costs
+        diff_box(np.zeros((3, 4), dtype), np.ones((3, 4), dtype))
     cost = np.ones((6, 6))
     grid_search(cost, 0, 0, 5, 5, 5, 5, 5, 5, 1.0, np.empty(300), np.empty(300, np.int32),
                 np.empty(36), np.empty(36, np.int32), np.zeros(36, np.int32), 1)
