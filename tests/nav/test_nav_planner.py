@@ -327,6 +327,28 @@ class ReferenceHeap:
         return top[0], top[1]
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_kernel_heap_pops_in_the_reference_heaps_order_ties_included(seed):
+    """The kernel's heap (hole down to a leaf, then the last entry up) pops the same (key,
+    value) sequence as the plain sift-down heap over random pushes and pops with few keys."""
+    from slam_predict.nav.kernels import _heap_pop, _heap_push
+
+    rng = np.random.default_rng(seed)
+    keys, vals, size = np.empty(2000), np.empty(2000, np.int32), 0
+    ref = ReferenceHeap()
+    for step in range(3000):
+        if size and rng.random() < 0.45:
+            key, val, size = _heap_pop(keys, vals, size)
+            assert (key, val) == ref.pop()
+        elif size < 2000:
+            key = float(rng.integers(0, 6))
+            size = _heap_push(keys, vals, size, key, step)
+            ref.push(key, step)
+    while size:
+        key, val, size = _heap_pop(keys, vals, size)
+        assert (key, val) == ref.pop()
+
+
 def reference_window_search(cost, start, goal, tol, weight):
     """grid_search's rules in plain Python with fresh dicts: A* from start, stop when the goal
     is settled or every traversable window cell is; end = nearest settled window cell (ties:

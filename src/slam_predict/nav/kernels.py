@@ -188,8 +188,14 @@ def _heap_push(keys, vals, size, key, val):
 
 @numba.njit(cache=True, inline="always")
 def _heap_pop(keys, vals, size):
-    """Pop the smallest (key, value); returns (key, value, new size). The last entry sinks
-    from the root past every smaller child (the left one on equal keys), as swapping would."""
+    """Pop the smallest (key, value); returns (key, value, new size).
+
+    The hole left at the root moves down to a leaf along the smaller children (the left one on
+    equal keys), then the last entry rises from there past every parent whose key is >= its
+    own. The keys on that path never decrease downwards, so the last entry ends where sinking
+    it from the root (past every child with a smaller key) would put it: the same layout, with
+    one comparison a level instead of two.
+    """
     key = keys[0]
     val = vals[0]
     size -= 1
@@ -198,28 +204,35 @@ def _heap_pop(keys, vals, size):
     i = 0
     while True:
         left = 2 * i + 1
-        if left >= size:
-            break
-        small = left
-        if left + 1 < size and keys[left + 1] < keys[left]:
-            small = left + 1
-        if last_key <= keys[small]:
+        if left + 1 < size:
+            small = left + (keys[left + 1] < keys[left])
+        elif left < size:
+            small = left
+        else:
             break
         keys[i] = keys[small]
         vals[i] = vals[small]
         i = small
+    while i > 0:
+        parent = (i - 1) >> 1
+        if keys[parent] < last_key:
+            break
+        keys[i] = keys[parent]
+        vals[i] = vals[parent]
+        i = parent
     keys[i] = last_key
     vals[i] = last_val
     return key, val, size
 
 
 @numba.njit(cache=True)
-def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuristic_weight,
-                keys, vals, g, parent, mark, stamp):
+def grid_search(codes, table, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1,
+                heuristic_weight, keys, vals, g, parent, mark, stamp):
     """Cheapest 8-connected path from (sx, sy) towards the goal window.
 
-    ``cell_cost`` (float64 [ny, nx]): cost of entering a cell, per cell of travel (a diagonal
-    step costs sqrt(2) x); ``inf`` = blocked. The start cell is always usable (navfn clears the
+    The cost of entering a cell, per cell of travel (a diagonal step costs sqrt(2) x), is
+    ``table[codes[y, x]]`` (``codes`` C-contiguous integer [ny, nx], ``table`` float64);
+    ``inf`` = blocked. The start cell is always usable (navfn clears the
     robot cell). The window [win_x0, win_x1] x [win_y0, win_y1] (inclusive, cells) holds the
     acceptable end cells; the search stops as soon as (gx, gy) is settled, or once every
     traversable window cell is settled, or when the queue is empty. The end cell is the settled
@@ -235,16 +248,16 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
     int64 [n, 2] of (x, y) cells from start to end, its cost, status): status 0 = done (n = 0
     when no window cell is reachable), -1 = the heap storage was too small (retry with more).
     """
-    ny, nx = cell_cost.shape
+    ny, nx = codes.shape
     reached = 2 * stamp
     settled = reached + 1
     to_settle = 0
     for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
         for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
-            if np.isfinite(cell_cost[y, x]) or (x == sx and y == sy):
+            if np.isfinite(table[codes[y, x]]) or (x == sx and y == sy):
                 to_settle += 1
     cap = keys.shape[0]
-    flat = cell_cost.ravel()
+    flat = codes.ravel()
     start = sy * nx + sx
     g[start] = 0.0
     mark[start] = reached
@@ -276,7 +289,7 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
                 if vx < 0 or vx >= nx:
                     continue
                 v = vy * nx + vx
-                c = flat[v]
+                c = table[flat[v]]
                 if not np.isfinite(c):
                     continue
                 m = mark[v]
@@ -523,9 +536,9 @@ def warmup() -> None:
             len(uniq), False, pool, pool.copy(), pool.copy())
     for dtype in (np.int8, np.uint8):    # the SLAM map and the static layer's costs
         diff_box(np.zeros((3, 4), dtype), np.ones((3, 4), dtype))
-    cost = np.ones((6, 6))
-    grid_search(cost, 0, 0, 5, 5, 5, 5, 5, 5, 1.0, np.empty(300), np.empty(300, np.int32),
-                np.empty(36), np.empty(36, np.int32), np.zeros(36, np.int32), 1)
+    grid_search(np.zeros((6, 6), np.uint16), np.ones(258), 0, 0, 5, 5, 5, 5, 5, 5, 1.0,
+                np.empty(300), np.empty(300, np.int32), np.empty(36), np.empty(36, np.int32),
+                np.zeros(36, np.int32), 1)
     target_distance(grid, np.zeros((6, 6), np.bool_), np.array([0]), np.array([0]),
                     np.empty((6, 6)), np.empty((36, 2), np.int32), 0, 0, -1)
     obstacle_update(grid, 0.0, 0.0, 0.1, 0.05, 0.05, np.array([[0.45, 0.35]]), 3.0, 2.5,
