@@ -23,6 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from slam_predict.nav.layered import changed_box
+
 EIGHT = np.ones((3, 3), bool)
 
 
@@ -157,7 +159,7 @@ class ClusterCache:
 
     def __init__(self):
         self._key: tuple | None = None
-        self._data: bytes | None = None
+        self._data = np.empty(0, np.int8)
         self._clusters: list[Cluster] = []
 
     def clusters(self, grid, min_frontier_size: float,
@@ -165,11 +167,18 @@ class ClusterCache:
         data = np.asarray(grid.data)
         key = (float(grid.origin[0]), float(grid.origin[1]), float(grid.resolution),
                float(min_frontier_size), float(min_unknown_width), data.shape, data.dtype.str)
-        cells = data.tobytes()       # one copy and a memcmp: faster than an element compare
-        if key != self._key or cells != self._data:
+        if key != self._key or not _same_cells(data, self._data):
             self._clusters = frontier_clusters(grid, min_frontier_size, min_unknown_width)
-            self._key, self._data = key, cells
+            self._key, self._data = key, data.copy()
         return self._clusters
+
+
+def _same_cells(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether two grids of one shape and dtype hold the same cells (an int8 or uint8 grid is
+    compared in one pass, without a temporary)."""
+    if a.dtype in (np.int8, np.uint8):
+        return changed_box(a, b) is None
+    return bool(np.array_equal(a, b))
 
 
 def clear_goal(frontier: Frontier, grid, clearance: float, search: float = 1.0) -> np.ndarray:
