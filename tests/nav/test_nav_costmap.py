@@ -294,3 +294,18 @@ def test_static_layer_updates_only_what_changed_and_bounds_it_as_before(seed):
         np.testing.assert_array_equal(cm._static, expected)
         assert cm._dirty == changed_box(expected, before)
         data = new
+
+
+@pytest.mark.parametrize("dtype, value", [(np.uint8, 255), (np.int8, -1)])
+@pytest.mark.parametrize("seed", range(5))
+def test_other_box_bounds_every_cell_of_another_value(seed, dtype, value):
+    """kernels.other_box equals the box of np.nonzero(grid != value), (-1,)*4 when none."""
+    from slam_predict.nav.kernels import other_box
+
+    rng = np.random.default_rng(seed)
+    grid = np.full((37, 51), value, dtype)
+    assert other_box(grid, dtype(value)) == (-1, -1, -1, -1)
+    for _ in range(int(rng.integers(1, 6))):
+        grid[rng.integers(37), rng.integers(51)] = rng.integers(0, 100)
+    ys, xs = np.nonzero(grid != value)
+    assert other_box(grid, dtype(value)) == (xs.min(), ys.min(), xs.max() + 1, ys.max() + 1)

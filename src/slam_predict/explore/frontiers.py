@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from slam_predict.nav import kernels
 from slam_predict.nav.layered import changed_box
 
 EIGHT = np.ones((3, 3), bool)
@@ -79,13 +80,20 @@ def roomy_unknown(unknown: np.ndarray, width: int) -> np.ndarray:
 def known_box(data: np.ndarray, grow: int = 1):
     """(r0, r1, c0, c1) of the known cells grown by ``grow`` cells, or None when all is
     unknown."""
-    known = data != -1
-    rows = np.nonzero(known.any(axis=1))[0]
-    if len(rows) == 0:
-        return None
-    cols = np.nonzero(known.any(axis=0))[0]
-    return (max(0, rows[0] - grow), min(data.shape[0], rows[-1] + 1 + grow),
-            max(0, cols[0] - grow), min(data.shape[1], cols[-1] + 1 + grow))
+    if data.dtype == np.int8:     # one pass, no temporary
+        c0, r0, c1, r1 = (int(v) for v in kernels.other_box(np.ascontiguousarray(data),
+                                                             np.int8(-1)))
+        if c0 < 0:
+            return None
+    else:
+        known = data != -1
+        rows = np.nonzero(known.any(axis=1))[0]
+        if len(rows) == 0:
+            return None
+        cols = np.nonzero(known.any(axis=0))[0]
+        r0, r1, c0, c1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+    return (max(0, r0 - grow), min(data.shape[0], r1 + grow),
+            max(0, c0 - grow), min(data.shape[1], c1 + grow))
 
 
 @dataclass(frozen=True)

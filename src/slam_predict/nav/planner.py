@@ -234,14 +234,13 @@ class GlobalPlanner:
 
     def _search_box(self, costmap: Costmap, s, g, tol_cells: int):
         """Cells [x0, x1) x [y0, y1) worth searching: known cells, start, goal window, margin."""
-        known = costmap.costs != NO_INFORMATION
-        rows = np.nonzero(known.any(axis=1))[0]
-        cols = np.nonzero(known.any(axis=0))[0]
+        kx0, ky0, kx1, ky1 = kernels.other_box(np.ascontiguousarray(costmap.costs),
+                                               np.uint8(NO_INFORMATION))
         xs = [s[0], g[0] - tol_cells, g[0] + tol_cells]
         ys = [s[1], g[1] - tol_cells, g[1] + tol_cells]
-        if len(rows):
-            xs += [int(cols[0]), int(cols[-1])]
-            ys += [int(rows[0]), int(rows[-1])]
+        if kx0 >= 0:
+            xs += [int(kx0), int(kx1) - 1]
+            ys += [int(ky0), int(ky1) - 1]
         margin = int(math.ceil(self.search_margin / costmap.resolution)) + 1
         x0 = max(0, min(xs) - margin)
         y0 = max(0, min(ys) - margin)
@@ -280,7 +279,9 @@ class LastPlan:
 
     def matches(self, key, costs: np.ndarray) -> bool:
         """True when ``key`` and ``costs`` equal the last request's."""
-        return key == self.key and np.array_equal(costs, self.costs)
+        if key != self.key or costs.shape != self.costs.shape:
+            return False
+        return kernels.diff_box(np.ascontiguousarray(costs), self.costs)[0] < 0
 
     def remember(self, key, costs: np.ndarray, plan: Plan | None, escaped: int) -> None:
         """Keep a request and its result (the costs are copied)."""
