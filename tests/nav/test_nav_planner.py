@@ -279,7 +279,8 @@ def test_start_escape_does_not_cross_walls_or_long_inscribed_corridors():
 def test_reused_search_work_gives_the_fresh_searches_results(seed):
     """One SearchWork over many searches of several sizes (as a planner keeps it) returns the
     paths and costs of searches each given new, cleared arrays."""
-    from slam_predict.nav.planner import SearchWork, _search
+    from slam_predict.nav.search import SearchWork
+    from slam_predict.nav.search import search_costs as _search
 
     rng = np.random.default_rng(seed)
     kept = SearchWork()
@@ -394,7 +395,8 @@ def reference_window_search(cost, start, goal, tol, weight):
 def test_search_equals_a_plain_python_port_ties_included(seed):
     """Path cells and cost equal the plain-Python port's on random costmaps with few distinct
     costs (many equal keys: the pop order decides among equally cheap paths)."""
-    from slam_predict.nav.planner import SearchWork, _search
+    from slam_predict.nav.search import SearchWork
+    from slam_predict.nav.search import search_costs as _search
 
     rng = np.random.default_rng(100 + seed)
     work = SearchWork()
@@ -439,3 +441,28 @@ def test_a_repeated_request_gets_the_searched_plan_and_a_changed_costmap_a_new_s
         assert np.array_equal(replanned.poses, fresh.poses)
     other_goal = kept.make_plan(changed, start, world(cells[len(cells) // 2]))
     assert kept.work.stamp == stamp + 2 and other_goal is not None
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_a_paused_search_ends_as_the_plain_search(seed):
+    """Searches paused after a few cells and resumed knowing which window cells no path
+    reaches end with the plain-Python port's path and cost, also when walls cut the goal
+    window off (where the port empties its queue)."""
+    from slam_predict.nav.search import SearchWork, search_costs
+
+    rng = np.random.default_rng(300 + seed)
+    work = SearchWork()
+    for _ in range(12):
+        ny, nx = rng.integers(10, 35, size=2)
+        cost = rng.choice([50.0, 100.0, np.inf], size=(ny, nx), p=[0.55, 0.2, 0.25])
+        g = (int(rng.integers(nx)), int(rng.integers(ny)))
+        wall = int(rng.integers(0, nx))
+        cost[:, wall] = np.inf                     # often splits the goal window off
+        s = (int(rng.integers(nx)), int(rng.integers(ny)))
+        tol = int(rng.integers(0, 4))
+        weight = min(float(np.min(cost[np.isfinite(cost)], initial=1.0)), 50.0)
+        ref_path, ref_total = reference_window_search(cost, s, g, tol, weight)
+        for pause in (0, 1, 7, 40, None):
+            path, total = search_costs(cost, s, g, tol, work, pause)
+            assert [tuple(c) for c in path.tolist()] == ref_path
+            assert total == ref_total or (math.isinf(total) and math.isinf(ref_total))

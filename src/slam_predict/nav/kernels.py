@@ -258,7 +258,7 @@ def _heap_pop(keys, vals, size):
 
 @numba.njit(cache=True)
 def grid_search(codes, table, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1,
-                heuristic_weight, keys, vals, g, parent, mark, stamp):
+                heuristic_weight, keys, vals, g, parent, mark, stamp, size, to_settle, budget):
     """Cheapest 8-connected path from (sx, sy) towards the goal window.
 
     The cost of entering a cell, per cell of travel (a diagonal step costs sqrt(2) x), is
@@ -275,32 +275,46 @@ def grid_search(codes, table, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1,
     ``mark`` (int32) are per-cell work arrays of at least ny·nx entries, reused from search to
     search: a cell is reached in this search where ``mark >= 2·stamp`` (then its ``g`` and
     ``parent`` hold) and settled where ``mark == 2·stamp + 1``; ``stamp`` (a search number)
-    must exceed every stamp of earlier searches, so nothing needs clearing. Returns (path as
-    int64 [n, 2] of (x, y) cells from start to end, its cost, status): status 0 = done (n = 0
-    when no window cell is reachable), -1 = the heap storage was too small (retry with more).
+    must exceed every stamp of earlier searches, so nothing needs clearing.
+
+    Pausing: with ``budget`` >= 0 the search pauses before settling more than ``budget``
+    cells; it resumes with the same arrays and stamp, ``size`` = the heap entries it left and
+    ``to_settle`` = the window cells still to settle (the caller may leave out those no path
+    reaches: the search then stops once the others are settled instead of emptying its queue,
+    with the same settled window cells, costs and parents). ``size`` 0 starts a search;
+    ``to_settle`` -1 counts the window's traversable cells (and the start cell when in it).
+
+    Returns (path as int64 [n, 2] of (x, y) cells from start to end, its cost, status, heap
+    entries): status 0 = done (n = 0 when no window cell is reachable), -1 = the heap storage
+    was too small (retry with more), 1 = paused.
     """
     ny, nx = codes.shape
     reached = 2 * stamp
     settled = reached + 1
-    to_settle = 0
-    for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
-        for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
-            if np.isfinite(table[codes[y, x]]) or (x == sx and y == sy):
-                to_settle += 1
+    if to_settle < 0:
+        to_settle = 0
+        for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
+            for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
+                if np.isfinite(table[codes[y, x]]) or (x == sx and y == sy):
+                    to_settle += 1
     cap = keys.shape[0]
     flat = codes.ravel()
     start = sy * nx + sx
-    g[start] = 0.0
-    mark[start] = reached
-    h0 = heuristic_weight * math.hypot(sx - gx, sy - gy)
-    size = _heap_push(keys, vals, 0, h0, start)
+    if size == 0:
+        g[start] = 0.0
+        mark[start] = reached
+        h0 = heuristic_weight * math.hypot(sx - gx, sy - gy)
+        size = _heap_push(keys, vals, 0, h0, start)
     diag = math.sqrt(2.0)
     goal_found = False
     while size > 0 and to_settle > 0:
+        if budget == 0:
+            return np.empty((0, 2), np.int64), np.inf, 1, size
         key, u, size = _heap_pop(keys, vals, size)
         if mark[u] == settled:
             continue
         mark[u] = settled
+        budget -= 1
         ux = u % nx
         uy = u // nx
         if win_x0 <= ux <= win_x1 and win_y0 <= uy <= win_y1:
@@ -334,7 +348,7 @@ def grid_search(codes, table, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1,
                     parent[v] = u
                     h = heuristic_weight * math.hypot(vx - gx, vy - gy)
                     if size >= cap:
-                        return np.empty((0, 2), np.int64), np.inf, -1
+                        return np.empty((0, 2), np.int64), np.inf, -1, size
                     size = _heap_push(keys, vals, size, gv + h, v)
     end = -1
     if goal_found:
@@ -350,7 +364,7 @@ def grid_search(codes, table, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1,
                         best = d
                         end = idx
     if end < 0:
-        return np.empty((0, 2), np.int64), np.inf, 0
+        return np.empty((0, 2), np.int64), np.inf, 0, size
     count = 1
     node = end
     while node != start:
@@ -363,7 +377,7 @@ def grid_search(codes, table, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1,
         path[k, 1] = node // nx
         if k > 0:
             node = parent[node]
-    return path, g[end], 0
+    return path, g[end], 0, size
 
 
 # --------------------------------------------------------------------------------------------
@@ -570,7 +584,7 @@ def warmup() -> None:
         other_box(np.zeros((3, 4), dtype), dtype(1))
     grid_search(np.zeros((6, 6), np.uint16), np.ones(258), 0, 0, 5, 5, 5, 5, 5, 5, 1.0,
                 np.empty(300), np.empty(300, np.int32), np.empty(36), np.empty(36, np.int32),
-                np.zeros(36, np.int32), 1)
+                np.zeros(36, np.int32), 1, 0, -1, -1)
     target_distance(grid, np.zeros((6, 6), np.bool_), np.array([0]), np.array([0]),
                     np.empty((6, 6)), np.empty((36, 2), np.int32), 0, 0, -1)
     obstacle_update(grid, 0.0, 0.0, 0.1, 0.05, 0.05, np.array([[0.45, 0.35]]), 3.0, 2.5,

@@ -43,6 +43,7 @@ from slam_predict.nav.costmap import (
     footprint_radii,
     make_footprint,
 )
+from slam_predict.nav.search import SearchWork, search_codes
 
 
 @dataclass
@@ -203,11 +204,11 @@ class GlobalPlanner:
         codes = self._codes(sub)
         sx, sy = s[0] - x0, s[1] - y0
         gx, gy = g[0] - x0, g[1] - y0
-        path, cost = _search_codes(codes, self.table, (sx, sy), (gx, gy), tol_cells, self.work)
+        path, cost = search_codes(codes, self.table, (sx, sy), (gx, gy), tol_cells, self.work)
         escaped = 0
         if len(path) == 0 and INSCRIBED <= sub[sy, sx] <= LETHAL and self.escape_radius > 0:
             if self._open_escape(sub, codes, sx, sy, costmap.resolution):
-                path, cost = _search_codes(codes, self.table, (sx, sy), (gx, gy), tol_cells,
+                path, cost = search_codes(codes, self.table, (sx, sy), (gx, gy), tol_cells,
                                            self.work)
                 escaped = int(len(path) > 0)
         if len(path) == 0:
@@ -296,73 +297,3 @@ class LastPlan:
         plan = self.plan
         return None if plan is None else Plan(plan.poses.copy(), plan.cost, plan.length,
                                               plan.reaches_goal)
-
-
-class SearchWork:
-    """The per-cell work arrays of :func:`kernels.grid_search`, kept from search to search
-    with a search number, so a plan over millions of cells clears none of them; also the cost
-    codes of the searched box and the heap storage."""
-
-    def __init__(self):
-        self.g = np.empty(0)
-        self.parent = np.empty(0, np.int32)
-        self.mark = np.zeros(0, np.int32)
-        self.stamp = 0
-        self._codes = np.empty(0, np.uint16)
-        self.keys = np.empty(0)
-        self.vals = np.empty(0, np.int32)
-
-    def next_search(self, cells: int) -> int:
-        """The number of the next search over ``cells`` cells (arrays grown to fit)."""
-        if self.g.size < cells:
-            self.g = np.empty(cells)
-            self.parent = np.empty(cells, np.int32)
-            self.mark = np.zeros(cells, np.int32)
-        self.stamp += 1
-        return self.stamp
-
-    def codes(self, shape: tuple[int, int]) -> np.ndarray:
-        """A C-contiguous uint16 array of ``shape`` (contents undefined)."""
-        cells = shape[0] * shape[1]
-        if self._codes.size < cells:
-            self._codes = np.empty(cells, np.uint16)
-        return self._codes[:cells].reshape(shape)
-
-    def heap(self, cap: int) -> tuple[np.ndarray, np.ndarray]:
-        """Heap storage (keys, values) of at least ``cap`` entries (contents undefined)."""
-        if self.keys.size < cap:
-            self.keys = np.empty(cap)
-            self.vals = np.empty(cap, np.int32)
-        return self.keys, self.vals
-
-
-def _search(cell_cost: np.ndarray, start, goal, tol_cells: int,
-            work: SearchWork | None = None):
-    """:func:`kernels.grid_search` over per-cell costs (float [ny, nx], inf = blocked) from
-    ``start`` to the goal window (cells): each distinct cost becomes a code; returns (path
-    cells (n, 2), cost). ``work``: the planner's :class:`SearchWork` (a new one when None)."""
-    table, codes = np.unique(cell_cost, return_inverse=True)
-    if len(table) > np.iinfo(np.uint16).max + 1:
-        raise ValueError("more distinct cell costs than uint16 codes")
-    codes = np.ascontiguousarray(codes.reshape(cell_cost.shape).astype(np.uint16))
-    return _search_codes(codes, table.astype(np.float64), start, goal, tol_cells, work)
-
-
-def _search_codes(codes: np.ndarray, table: np.ndarray, start, goal, tol_cells: int,
-                  work: SearchWork | None = None):
-    """:func:`kernels.grid_search` over cells costing ``table[codes]`` from ``start`` to the
-    goal window, growing the heap storage until it fits; returns (path cells (n, 2), cost).
-    The heuristic weight is the smallest cell cost, at most 1 (inf, blocked, never lowers it)."""
-    work = work or SearchWork()
-    weight = 1.0 if table.min() >= 1.0 else float(np.min(table[codes], initial=1.0))
-    (sx, sy), (gx, gy) = start, goal
-    cap = max(1024, 2 * codes.size)
-    while True:
-        stamp = work.next_search(codes.size)
-        keys, vals = work.heap(cap)
-        path, cost, status = kernels.grid_search(
-            codes, table, sx, sy, gx, gy, gx - tol_cells, gy - tol_cells, gx + tol_cells,
-            gy + tol_cells, min(weight, 50.0), keys, vals, work.g, work.parent, work.mark, stamp)
-        if status == 0:
-            return path, cost
-        cap *= 2
