@@ -153,6 +153,104 @@ def score(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
     return total
 
 
+@nb.njit(cache=True, inline="always")
+def _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means):
+    """The cell means (m) of the matching cells of the window around (ix, iy) (those
+    :func:`_best_d2` measures) into ``means`` (k, 2); returns k."""
+    k = 0
+    x0 = ix - ksize
+    y0 = iy - ksize
+    width = 2 * ksize + 1
+    if (x0 >= 0 and y0 >= 0 and (x0 >> PATCH_BITS) == ((ix + ksize) >> PATCH_BITS)
+            and (y0 >> PATCH_BITS) == ((iy + ksize) >> PATCH_BITS)):
+        pid = patch_id(table, x0, y0)
+        if pid < 0:
+            return 0
+        for xx in range(width):
+            px = x0 + xx
+            for yy in range(width):
+                py = y0 + yy
+                s = slot(px, py)
+                n = hits[pid, s]
+                if n <= 0:
+                    continue
+                if _is_hit(table, hits, px + ofx, py + ofy):
+                    continue
+                inv = 1.0 / n
+                means[k, 0] = inv * np.float64(acc[pid, s, 0])
+                means[k, 1] = inv * np.float64(acc[pid, s, 1])
+                k += 1
+        return k
+    for xx in range(width):
+        px = x0 + xx
+        for yy in range(width):
+            py = y0 + yy
+            pid = patch_id(table, px, py)
+            if pid < 0:
+                continue
+            s = slot(px, py)
+            n = hits[pid, s]
+            if n <= 0:
+                continue
+            if _is_hit(table, hits, px + ofx, py + ofy):
+                continue
+            inv = 1.0 / n
+            means[k, 0] = inv * np.float64(acc[pid, s, 0])
+            means[k, 1] = inv * np.float64(acc[pid, s, 1])
+            k += 1
+    return k
+
+
+@nb.njit(cache=True)
+def score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
+                 usable, sigma, ksize, lskip, bug, keys, means, counts):
+    """:func:`score`, keeping per beam the means of its window's matching cells: a beam
+    whose hit cell and companion offset are those it had at the last call with the same
+    arrays reuses them instead of looking the window up again (the same numbers, so the same
+    score). ``keys`` (B, 4) int64 (hit cell, companion offset; start with a value no cell
+    has), ``means`` (B, (2k+1)², 2) float64 and ``counts`` (B,) int64 are the cache of one
+    map; B = the number of beams."""
+    c = math.cos(th)
+    s = math.sin(th)
+    back = delta * delta * FREE_CELL_RATIO if bug else delta * FREE_CELL_RATIO
+    total = 0.0
+    skip = 0
+    for i in range(ranges.shape[0]):
+        skip += 1
+        if skip > lskip:
+            skip = 0
+        r = ranges[i]
+        if skip != 0 or r > usable or r == 0.0:
+            continue
+        dx = c * ca[i] - s * sa[i]
+        dy = s * ca[i] + c * sa[i]
+        hx = x + r * dx
+        hy = y + r * dy
+        ix = c_round((hx - cx) / delta) + sx2
+        iy = c_round((hy - cy) / delta) + sy2
+        ofx, ofy = _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back,
+                                bug)
+        if not (keys[i, 0] == ix and keys[i, 1] == iy and keys[i, 2] == ofx
+                and keys[i, 3] == ofy):
+            keys[i, 0] = ix
+            keys[i, 1] = iy
+            keys[i, 2] = ofx
+            keys[i, 3] = ofy
+            counts[i] = _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means[i])
+        k = counts[i]
+        if k == 0:
+            continue
+        best = np.inf
+        for j in range(k):
+            mx = hx - means[i, j, 0]
+            my = hy - means[i, j, 1]
+            d2 = mx * mx + my * my
+            if d2 < best:
+                best = d2
+        total += math.exp(-best / sigma)
+    return total
+
+
 @nb.njit(cache=True)
 def likelihood_and_score(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
                          usable, sigma, lsigma, ksize, lskip, bug):
@@ -203,12 +301,17 @@ def optimize(table, sx2, sy2, cx, cy, delta, acc, hits, x0, y0, th0, ranges, ca,
     strictly better one. A round without improvement halves l and a (refinement + 1); the search
     stops after a non-improving round once refinements ≥ iterations. The score of the pose
     left by the last move is remembered: the move straight back, when it lands on exactly that
-    pose, is not scored again (same result, one score fewer).
+    pose, is not scored again (same result, one score fewer). The scores share one cache of
+    window lookups (:func:`score_cached`).
     """
     best_score = -1.0
     px, py, pth = x0, y0, th0
-    current = score(table, sx2, sy2, cx, cy, delta, acc, hits, px, py, pth, ranges, ca, sa,
-                    usable, sigma, ksize, lskip, bug)
+    width = 2 * ksize + 1
+    keys = np.full((ranges.shape[0], 4), -(1 << 62), np.int64)
+    means = np.empty((ranges.shape[0], width * width, 2))
+    counts = np.zeros(ranges.shape[0], np.int64)
+    current = score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, px, py, pth, ranges, ca,
+                           sa, usable, sigma, ksize, lskip, bug, keys, means, counts)
     adelta = astep
     ldelta = lstep
     refinement = 0
@@ -239,8 +342,9 @@ def optimize(table, sx2, sy2, cx, cy, delta, acc, hits, x0, y0, th0, ranges, ca,
             if lx == qx and ly == qy and lth == qth:
                 local = qscore
             else:
-                local = score(table, sx2, sy2, cx, cy, delta, acc, hits, lx, ly, lth, ranges,
-                              ca, sa, usable, sigma, ksize, lskip, bug)
+                local = score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, lx, ly, lth,
+                                     ranges, ca, sa, usable, sigma, ksize, lskip, bug, keys,
+                                     means, counts)
             if local > current:
                 current = local
                 bx, by, bth = lx, ly, lth
