@@ -136,29 +136,32 @@ def inflate(master, min_i, min_j, max_i, max_j, radius, cost_cache, dist_cache, 
 # --------------------------------------------------------------------------------------------
 @numba.njit(cache=True)
 def diff_box(new, old):
-    """Cells (x0, y0, x1, y1), end-exclusive, bounding where two equal-shape 2-D grids differ;
-    (-1, -1, -1, -1) when they are equal. A row is first tested whole (a branch-free pass);
-    only a row that differs is searched for its first and last differing column."""
+    """Cells (x0, y0, x1, y1), end-exclusive, bounding where a 2-D grid differs from ``old``
+    (a grid of its shape, or one row every row is compared with); (-1, -1, -1, -1) when they
+    are equal. A row is first tested whole (a branch-free pass); only a row that differs is
+    searched for its first and last differing column."""
     ny, nx = new.shape
+    row_step = 1 if old.shape[0] > 1 else 0
     y0 = -1
     y1 = -1
     x0 = nx
     x1 = -1
     for y in range(ny):
+        oy = y * row_step
         differs = 0
         for x in range(nx):
-            differs |= new[y, x] ^ old[y, x]
+            differs |= new[y, x] ^ old[oy, x]
         if differs == 0:
             continue
         if y0 < 0:
             y0 = y
         y1 = y
         x = 0
-        while x < x0 and new[y, x] == old[y, x]:
+        while x < x0 and new[y, x] == old[oy, x]:
             x += 1
         x0 = min(x0, x)
         x = nx - 1
-        while x > x1 and new[y, x] == old[y, x]:
+        while x > x1 and new[y, x] == old[oy, x]:
             x -= 1
         x1 = max(x1, x)
     if y0 < 0:
@@ -166,35 +169,11 @@ def diff_box(new, old):
     return x0, y0, x1 + 1, y1 + 1
 
 
-@numba.njit(cache=True)
 def other_box(grid, value):
-    """Cells (x0, y0, x1, y1), end-exclusive, bounding the cells of a 2-D grid that are not
-    ``value``; (-1, -1, -1, -1) when every cell is. Same passes as :func:`diff_box`."""
-    ny, nx = grid.shape
-    y0 = -1
-    y1 = -1
-    x0 = nx
-    x1 = -1
-    for y in range(ny):
-        differs = 0
-        for x in range(nx):
-            differs |= grid[y, x] ^ value
-        if differs == 0:
-            continue
-        if y0 < 0:
-            y0 = y
-        y1 = y
-        x = 0
-        while x < x0 and grid[y, x] == value:
-            x += 1
-        x0 = min(x0, x)
-        x = nx - 1
-        while x > x1 and grid[y, x] == value:
-            x -= 1
-        x1 = max(x1, x)
-    if y0 < 0:
-        return -1, -1, -1, -1
-    return x0, y0, x1 + 1, y1 + 1
+    """Cells (x0, y0, x1, y1), end-exclusive, bounding the cells of a C-contiguous 2-D grid
+    that are not ``value``; (-1, -1, -1, -1) when every cell is (:func:`diff_box` against a
+    row of ``value``)."""
+    return diff_box(grid, np.full((1, grid.shape[1]), value, grid.dtype))
 
 
 # --------------------------------------------------------------------------------------------
@@ -581,7 +560,6 @@ def warmup() -> None:
             len(uniq), False, pool, pool.copy(), pool.copy())
     for dtype in (np.int8, np.uint8):    # the SLAM map and the static layer's costs
         diff_box(np.zeros((3, 4), dtype), np.ones((3, 4), dtype))
-        other_box(np.zeros((3, 4), dtype), dtype(1))
     grid_search(np.zeros((6, 6), np.uint16), np.ones(258), 0, 0, 5, 5, 5, 5, 5, 5, 1.0,
                 np.empty(300), np.empty(300, np.int32), np.empty(36), np.empty(36, np.int32),
                 np.zeros(36, np.int32), 1, 0, -1, -1)

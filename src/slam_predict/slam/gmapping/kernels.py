@@ -57,106 +57,12 @@ def _is_hit(table, hits, ix, iy):
     return pid >= 0 and hits[pid, slot(ix, iy)] > 0
 
 
-@nb.njit(cache=True)
-def _best_d2(table, acc, hits, hx, hy, ix, iy, ofx, ofy, ksize):
-    """Squared distance (m²) from the hit to the nearest matching cell mean, -1 if none matches.
-
-    A cell of the (2k+1)² window around (ix, iy) matches when it is occupied and its companion
-    cell, offset by (ofx, ofy) cells, is not. A window inside one patch (most of them) looks
-    its patch up once (:func:`_best_d2_in_patch`, same cells in the same order).
-    """
-    x0 = ix - ksize
-    y0 = iy - ksize
-    if (x0 >= 0 and y0 >= 0 and (x0 >> PATCH_BITS) == ((ix + ksize) >> PATCH_BITS)
-            and (y0 >> PATCH_BITS) == ((iy + ksize) >> PATCH_BITS)):
-        pid = patch_id(table, x0, y0)
-        if pid < 0:
-            return -1.0
-        return _best_d2_in_patch(table, acc, hits, pid, hx, hy, x0, y0, ofx, ofy, ksize)
-    best = -1.0
-    for xx in range(-ksize, ksize + 1):
-        for yy in range(-ksize, ksize + 1):
-            pid = patch_id(table, ix + xx, iy + yy)
-            if pid < 0:
-                continue
-            d2 = _best_d2_in_patch(table, acc, hits, pid, hx, hy, ix + xx, iy + yy, ofx, ofy, 0)
-            if d2 >= 0.0 and (best < 0.0 or d2 < best):
-                best = d2
-    return best
-
-
-@nb.njit(cache=True, inline="always")
-def _best_d2_in_patch(table, acc, hits, pid, hx, hy, x0, y0, ofx, ofy, ksize):
-    """:func:`_best_d2` of a window whose cells from (x0, y0) all lie in patch ``pid``."""
-    best = -1.0
-    width = 2 * ksize + 1
-    for xx in range(width):
-        px = x0 + xx
-        for yy in range(width):
-            py = y0 + yy
-            s = slot(px, py)
-            n = hits[pid, s]
-            if n <= 0:
-                continue
-            if _is_hit(table, hits, px + ofx, py + ofy):
-                continue
-            inv = 1.0 / n
-            mx = hx - inv * np.float64(acc[pid, s, 0])
-            my = hy - inv * np.float64(acc[pid, s, 1])
-            d2 = mx * mx + my * my
-            if best < 0.0 or d2 < best:
-                best = d2
-    return best
-
-
-@nb.njit(cache=True, inline="always")
-def _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back, bug):
-    """Cell offset of the companion "free" cell of a hit (upstream bug or intended rule)."""
-    if bug:
-        # upstream: world2map of a *relative* vector -> lands about half a map away
-        fx = (x + (r - back) * dx) - hx
-        fy = (y + (r - back) * dy) - hy
-        return c_round((fx - cx) / delta) + sx2, c_round((fy - cy) / delta) + sy2
-    fx = hx - back * dx
-    fy = hy - back * dy
-    return c_round((fx - cx) / delta) + sx2 - ix, c_round((fy - cy) / delta) + sy2 - iy
-
-
-@nb.njit(cache=True)
-def score(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
-          usable, sigma, ksize, lskip, bug):
-    """ScanMatcher::score: Σ exp(−d²/sigma) over used beams with 0 < r ≤ usable."""
-    c = math.cos(th)
-    s = math.sin(th)
-    # upstream's score() steps back r − delta·freeDelta = r − delta²·√2 (bug); intended: δ·√2
-    back = delta * delta * FREE_CELL_RATIO if bug else delta * FREE_CELL_RATIO
-    total = 0.0
-    skip = 0
-    for i in range(ranges.shape[0]):
-        skip += 1
-        if skip > lskip:
-            skip = 0
-        r = ranges[i]
-        if skip != 0 or r > usable or r == 0.0:
-            continue
-        dx = c * ca[i] - s * sa[i]
-        dy = s * ca[i] + c * sa[i]
-        hx = x + r * dx
-        hy = y + r * dy
-        ix = c_round((hx - cx) / delta) + sx2
-        iy = c_round((hy - cy) / delta) + sy2
-        ofx, ofy = _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back,
-                                bug)
-        d2 = _best_d2(table, acc, hits, hx, hy, ix, iy, ofx, ofy, ksize)
-        if d2 >= 0.0:
-            total += math.exp(-d2 / sigma)
-    return total
-
-
 @nb.njit(cache=True, inline="always")
 def _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means):
-    """The cell means (m) of the matching cells of the window around (ix, iy) (those
-    :func:`_best_d2` measures) into ``means`` (k, 2); returns k."""
+    """The means (m) of the matching cells of the (2k+1)² window around (ix, iy) into
+    ``means`` (k, 2), window order; returns k. A cell matches when it is occupied and its
+    companion cell, offset by (ofx, ofy) cells, is not. A window inside one patch (most of
+    them) looks its patch up once."""
     k = 0
     x0 = ix - ksize
     y0 = iy - ksize
@@ -201,6 +107,77 @@ def _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means):
     return k
 
 
+@nb.njit(cache=True, inline="always")
+def _nearest_d2(hx, hy, means, k):
+    """Squared distance (m²) from (hx, hy) to the nearest of the first ``k`` means, -1 if
+    k = 0."""
+    if k == 0:
+        return -1.0
+    best = np.inf
+    for j in range(k):
+        mx = hx - means[j, 0]
+        my = hy - means[j, 1]
+        d2 = mx * mx + my * my
+        if d2 < best:
+            best = d2
+    return best
+
+
+@nb.njit(cache=True)
+def _best_d2(table, acc, hits, hx, hy, ix, iy, ofx, ofy, ksize):
+    """Squared distance (m²) from the hit to the nearest matching cell mean of the window
+    around (ix, iy), -1 if none matches (:func:`_window_means`)."""
+    means = np.empty(((2 * ksize + 1) ** 2, 2))
+    k = _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means)
+    return _nearest_d2(hx, hy, means, k)
+
+
+@nb.njit(cache=True, inline="always")
+def _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back, bug):
+    """Cell offset of the companion "free" cell of a hit (upstream bug or intended rule)."""
+    if bug:
+        # upstream: world2map of a *relative* vector -> lands about half a map away
+        fx = (x + (r - back) * dx) - hx
+        fy = (y + (r - back) * dy) - hy
+        return c_round((fx - cx) / delta) + sx2, c_round((fy - cy) / delta) + sy2
+    fx = hx - back * dx
+    fy = hy - back * dy
+    return c_round((fx - cx) / delta) + sx2 - ix, c_round((fy - cy) / delta) + sy2 - iy
+
+
+@nb.njit(cache=True, inline="always")
+def _beam_hit(x, y, c, s, r, cai, sai, sx2, sy2, cx, cy, delta, back, bug):
+    """A beam of range ``r`` from laser pose (x, y) heading θ (c, s = cos θ, sin θ; cai, sai
+    = cos, sin of the beam angle): hit point (m), its cell and the companion offset."""
+    dx = c * cai - s * sai
+    dy = s * cai + c * sai
+    hx = x + r * dx
+    hy = y + r * dy
+    ix = c_round((hx - cx) / delta) + sx2
+    iy = c_round((hy - cy) / delta) + sy2
+    ofx, ofy = _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back, bug)
+    return hx, hy, ix, iy, ofx, ofy
+
+
+@nb.njit(cache=True)
+def score(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
+          usable, sigma, ksize, lskip, bug):
+    """ScanMatcher::score: Σ exp(−d²/sigma) over used beams with 0 < r ≤ usable (each beam's
+    best squared distance to a matching cell mean of its window, :func:`_best_d2`).
+    :func:`score_cached` with a new cache."""
+    keys, means, counts = new_score_cache(ranges.shape[0], ksize)
+    return score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
+                        usable, sigma, ksize, lskip, bug, keys, means, counts)
+
+
+@nb.njit(cache=True)
+def new_score_cache(beams, ksize):
+    """An empty cache of :func:`score_cached` for ``beams`` beams: (keys, means, counts)."""
+    width = 2 * ksize + 1
+    keys = np.full((beams, 4), -(1 << 62), np.int64)
+    return keys, np.empty((beams, width * width, 2)), np.zeros(beams, np.int64)
+
+
 @nb.njit(cache=True)
 def score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
                  usable, sigma, ksize, lskip, bug, keys, means, counts):
@@ -212,6 +189,7 @@ def score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca
     map; B = the number of beams."""
     c = math.cos(th)
     s = math.sin(th)
+    # upstream's score() steps back r − delta·freeDelta = r − delta²·√2 (bug); intended: δ·√2
     back = delta * delta * FREE_CELL_RATIO if bug else delta * FREE_CELL_RATIO
     total = 0.0
     skip = 0
@@ -222,14 +200,8 @@ def score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca
         r = ranges[i]
         if skip != 0 or r > usable or r == 0.0:
             continue
-        dx = c * ca[i] - s * sa[i]
-        dy = s * ca[i] + c * sa[i]
-        hx = x + r * dx
-        hy = y + r * dy
-        ix = c_round((hx - cx) / delta) + sx2
-        iy = c_round((hy - cy) / delta) + sy2
-        ofx, ofy = _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back,
-                                bug)
+        hx, hy, ix, iy, ofx, ofy = _beam_hit(x, y, c, s, r, ca[i], sa[i], sx2, sy2, cx, cy,
+                                             delta, back, bug)
         if not (keys[i, 0] == ix and keys[i, 1] == iy and keys[i, 2] == ofx
                 and keys[i, 3] == ofy):
             keys[i, 0] = ix
@@ -240,7 +212,7 @@ def score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca
         k = counts[i]
         if k == 0:
             continue
-        best = np.inf
+        best = np.inf      # _nearest_d2 of means[i], without a view a beam
         for j in range(k):
             mx = hx - means[i, j, 0]
             my = hy - means[i, j, 1]
@@ -267,6 +239,7 @@ def likelihood_and_score(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ra
     total_l = 0.0
     matched = 0
     skip = 0
+    means = np.empty(((2 * ksize + 1) ** 2, 2))
     for i in range(ranges.shape[0]):
         skip += 1
         if skip > lskip:
@@ -274,15 +247,10 @@ def likelihood_and_score(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ra
         r = ranges[i]
         if r > usable or skip != 0:
             continue
-        dx = c * ca[i] - s * sa[i]
-        dy = s * ca[i] + c * sa[i]
-        hx = x + r * dx
-        hy = y + r * dy
-        ix = c_round((hx - cx) / delta) + sx2
-        iy = c_round((hy - cy) / delta) + sy2
-        ofx, ofy = _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back,
-                                bug)
-        d2 = _best_d2(table, acc, hits, hx, hy, ix, iy, ofx, ofy, ksize)
+        hx, hy, ix, iy, ofx, ofy = _beam_hit(x, y, c, s, r, ca[i], sa[i], sx2, sy2, cx, cy,
+                                             delta, back, bug)
+        k = _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means)
+        d2 = _nearest_d2(hx, hy, means, k)
         if d2 >= 0.0:
             total_s += math.exp(-d2 / sigma)
             total_l += -d2 / lsigma
@@ -306,10 +274,7 @@ def optimize(table, sx2, sy2, cx, cy, delta, acc, hits, x0, y0, th0, ranges, ca,
     """
     best_score = -1.0
     px, py, pth = x0, y0, th0
-    width = 2 * ksize + 1
-    keys = np.full((ranges.shape[0], 4), -(1 << 62), np.int64)
-    means = np.empty((ranges.shape[0], width * width, 2))
-    counts = np.zeros(ranges.shape[0], np.int64)
+    keys, means, counts = new_score_cache(ranges.shape[0], ksize)
     current = score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, px, py, pth, ranges, ca,
                            sa, usable, sigma, ksize, lskip, bug, keys, means, counts)
     adelta = astep
