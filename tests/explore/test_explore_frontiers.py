@@ -178,3 +178,14 @@ def test_cached_clusters_are_the_ones_searched_afresh(seed, monkeypatch):
     assert len(calls) == 9
     cache.clusters(grid_of(data, resolution=0.05), 0.5, 0.0)   # another minimum size
     assert len(calls) == 10
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_known_box_of_an_int8_map_equals_the_generic_rule(seed):
+    """known_box of an int8 map (one kernel pass) equals that of the same map as int16."""
+    from slam_predict.explore.frontiers import known_box
+
+    rng = np.random.default_rng(seed)
+    data = random_map(rng) if seed else np.full((20, 30), -1, np.int8)
+    for grow in (0, 1, 3):
+        assert known_box(data, grow) == known_box(data.astype(np.int16), grow)

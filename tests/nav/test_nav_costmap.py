@@ -259,14 +259,53 @@ def test_footprint_clearing_disabled_keeps_an_obstacle_under_the_footprint():
     assert c.costs[under[1], under[0]] == LETHAL and c.costs[near[1], near[0]] == LETHAL
 
 
+@pytest.mark.parametrize("dtype", [np.uint8, np.int8])
 @pytest.mark.parametrize("seed", range(5))
-def test_changed_box_bounds_every_changed_cell(seed):
+def test_changed_box_bounds_every_changed_cell(seed, dtype):
     """changed_box equals the box of np.nonzero(new != old), or None when nothing changed."""
     rng = np.random.default_rng(seed)
-    old = rng.integers(0, 3, size=(40, 57)).astype(np.uint8)
+    old = rng.integers(0, 3, size=(40, 57)).astype(dtype)
     new = old.copy()
     assert changed_box(new, old) is None
     for _ in range(int(rng.integers(1, 6))):
         new[rng.integers(40), rng.integers(57)] += 1
     ys, xs = np.nonzero(new != old)
     assert changed_box(new, old) == (xs.min(), ys.min(), xs.max() + 1, ys.max() + 1)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_static_layer_updates_only_what_changed_and_bounds_it_as_before(seed):
+    """A sequence of maps: the static costs equal a fresh interpretation of the latest map,
+    and the dirty box is the box of changed costs (the whole-grid rule)."""
+    rng = np.random.default_rng(seed)
+    cfg = CostmapConfig(static_map=True, track_unknown_space=True, observation_sources="",
+                        trinary_costmap=bool(seed % 2), lethal_cost_threshold=65)
+    data = rng.choice(np.array([-1, 0, 30, 70, 100], np.int8), size=(50, 64))
+    cm = LayeredCostmap(cfg)
+    cm.set_map(_grid(data))
+    for _ in range(6):
+        before = cm._static.copy()
+        cm._dirty = None
+        new = data.copy()
+        y, x = rng.integers(0, 45), rng.integers(0, 60)
+        new[y:y + rng.integers(0, 6), x:x + rng.integers(0, 5)] = rng.choice([-1, 0, 20, 100])
+        cm.set_map(_grid(new))
+        expected = static_costs(new, cfg)
+        np.testing.assert_array_equal(cm._static, expected)
+        assert cm._dirty == changed_box(expected, before)
+        data = new
+
+
+@pytest.mark.parametrize("dtype, value", [(np.uint8, 255), (np.int8, -1)])
+@pytest.mark.parametrize("seed", range(5))
+def test_other_box_bounds_every_cell_of_another_value(seed, dtype, value):
+    """kernels.other_box equals the box of np.nonzero(grid != value), (-1,)*4 when none."""
+    from slam_predict.nav.kernels import other_box
+
+    rng = np.random.default_rng(seed)
+    grid = np.full((37, 51), value, dtype)
+    assert other_box(grid, dtype(value)) == (-1, -1, -1, -1)
+    for _ in range(int(rng.integers(1, 6))):
+        grid[rng.integers(37), rng.integers(51)] = rng.integers(0, 100)
+    ys, xs = np.nonzero(grid != value)
+    assert other_box(grid, dtype(value)) == (xs.min(), ys.min(), xs.max() + 1, ys.max() + 1)

@@ -279,7 +279,8 @@ def test_start_escape_does_not_cross_walls_or_long_inscribed_corridors():
 def test_reused_search_work_gives_the_fresh_searches_results(seed):
     """One SearchWork over many searches of several sizes (as a planner keeps it) returns the
     paths and costs of searches each given new, cleared arrays."""
-    from slam_predict.nav.planner import SearchWork, _search
+    from slam_predict.nav.search import SearchWork
+    from slam_predict.nav.search import search_costs as _search
 
     rng = np.random.default_rng(seed)
     kept = SearchWork()
@@ -327,6 +328,28 @@ class ReferenceHeap:
         return top[0], top[1]
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_kernel_heap_pops_in_the_reference_heaps_order_ties_included(seed):
+    """The kernel's heap (hole down to a leaf, then the last entry up) pops the same (key,
+    value) sequence as the plain sift-down heap over random pushes and pops with few keys."""
+    from slam_predict.nav.kernels import _heap_pop, _heap_push
+
+    rng = np.random.default_rng(seed)
+    keys, vals, size = np.empty(2000), np.empty(2000, np.int32), 0
+    ref = ReferenceHeap()
+    for step in range(3000):
+        if size and rng.random() < 0.45:
+            key, val, size = _heap_pop(keys, vals, size)
+            assert (key, val) == ref.pop()
+        elif size < 2000:
+            key = float(rng.integers(0, 6))
+            size = _heap_push(keys, vals, size, key, step)
+            ref.push(key, step)
+    while size:
+        key, val, size = _heap_pop(keys, vals, size)
+        assert (key, val) == ref.pop()
+
+
 def reference_window_search(cost, start, goal, tol, weight):
     """grid_search's rules in plain Python with fresh dicts: A* from start, stop when the goal
     is settled or every traversable window cell is; end = nearest settled window cell (ties:
@@ -372,7 +395,8 @@ def reference_window_search(cost, start, goal, tol, weight):
 def test_search_equals_a_plain_python_port_ties_included(seed):
     """Path cells and cost equal the plain-Python port's on random costmaps with few distinct
     costs (many equal keys: the pop order decides among equally cheap paths)."""
-    from slam_predict.nav.planner import SearchWork, _search
+    from slam_predict.nav.search import SearchWork
+    from slam_predict.nav.search import search_costs as _search
 
     rng = np.random.default_rng(100 + seed)
     work = SearchWork()
@@ -417,3 +441,28 @@ def test_a_repeated_request_gets_the_searched_plan_and_a_changed_costmap_a_new_s
         assert np.array_equal(replanned.poses, fresh.poses)
     other_goal = kept.make_plan(changed, start, world(cells[len(cells) // 2]))
     assert kept.work.stamp == stamp + 2 and other_goal is not None
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_a_paused_search_ends_as_the_plain_search(seed):
+    """Searches paused after a few cells and resumed knowing which window cells no path
+    reaches end with the plain-Python port's path and cost, also when walls cut the goal
+    window off (where the port empties its queue)."""
+    from slam_predict.nav.search import SearchWork, search_costs
+
+    rng = np.random.default_rng(300 + seed)
+    work = SearchWork()
+    for _ in range(12):
+        ny, nx = rng.integers(10, 35, size=2)
+        cost = rng.choice([50.0, 100.0, np.inf], size=(ny, nx), p=[0.55, 0.2, 0.25])
+        g = (int(rng.integers(nx)), int(rng.integers(ny)))
+        wall = int(rng.integers(0, nx))
+        cost[:, wall] = np.inf                     # often splits the goal window off
+        s = (int(rng.integers(nx)), int(rng.integers(ny)))
+        tol = int(rng.integers(0, 4))
+        weight = min(float(np.min(cost[np.isfinite(cost)], initial=1.0)), 50.0)
+        ref_path, ref_total = reference_window_search(cost, s, g, tol, weight)
+        for pause in (0, 1, 7, 40, None):
+            path, total = search_costs(cost, s, g, tol, work, pause)
+            assert [tuple(c) for c in path.tolist()] == ref_path
+            assert total == ref_total or (math.isinf(total) and math.isinf(ref_total))

@@ -208,3 +208,51 @@ def test_window_search_equals_the_plain_one_inside_and_across_patches(k):
             inside += one
             across += not one
     assert inside > 100 and (across > 10 or k == 0)   # a 1-cell window never crosses
+
+
+@pytest.mark.parametrize("k", [0, 1, 2])
+def test_window_means_give_the_plain_window_search(k):
+    """The cell means the cached score keeps per beam give the plain window search's best
+    squared distance (none kept where it finds no cell)."""
+    pmap = built_map(survey_poses())
+    rng = np.random.default_rng(7)
+    g = pmap.geometry
+    means = np.empty(((2 * k + 1) ** 2, 2))
+    found = 0
+    for pose in survey_poses(8, seed=2):
+        ranges = cast(pose, ANGLES)
+        for r, a in zip(ranges, ANGLES, strict=True):
+            hx, hy = pose[0] + r * math.cos(pose[2] + a), pose[1] + r * math.sin(pose[2] + a)
+            ix, iy = g.world_to_cell(hx + rng.normal(0, 0.05), hy + rng.normal(0, 0.05))
+            ofx, ofy = (int(v) for v in rng.integers(-2, 3, size=2))
+            n = kernels._window_means(pmap.table, pmap.pool.acc, pmap.pool.hits, ix, iy, ofx,
+                                      ofy, k, means)
+            want = plain_best_d2(pmap, hx, hy, ix, iy, ofx, ofy, k)
+            got = min(((hx - mx) * (hx - mx) + (hy - my) * (hy - my) for mx, my in means[:n]),
+                      default=-1.0)
+            assert got == want
+            found += n > 0
+    assert found > 100
+
+
+@pytest.mark.parametrize("bug", [True, False])
+def test_cached_scores_equal_the_plain_scores(bug):
+    """One cache over a run of poses (repeats, sub-cell moves, jumps, turns) gives every
+    pose exactly kernels.score's value."""
+    pmap = built_map(survey_poses())
+    rng = np.random.default_rng(11)
+    nb = len(ANGLES)
+    keys = np.full((nb, 4), -(1 << 62), np.int64)
+    means, counts = np.empty((nb, 9, 2)), np.zeros(nb, np.int64)
+    pose = np.array([-1.0, -1.0, 0.3])
+    ranges = cast(pose, ANGLES)
+    for step in range(60):
+        kind = step % 4
+        if kind == 1:
+            pose = pose + rng.normal(0.0, [0.01, 0.01, 0.003])
+        elif kind == 2:
+            pose = pose + rng.normal(0.0, [0.2, 0.2, 0.1])
+        elif kind == 3 and step % 8 == 3:
+            pose = np.array([rng.uniform(-3, 3), rng.uniform(-2.5, 0.5), rng.uniform(-3, 3)])
+        args = (*geo_args(pmap), *pose, ranges, CA, SA, 30.0, 0.05, 1, 0, bug)
+        assert kernels.score_cached(*args, keys, means, counts) == kernels.score(*args)

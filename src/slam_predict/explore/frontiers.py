@@ -23,6 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from slam_predict.nav import kernels
+from slam_predict.nav.layered import changed_box
+
 EIGHT = np.ones((3, 3), bool)
 
 
@@ -77,13 +80,20 @@ def roomy_unknown(unknown: np.ndarray, width: int) -> np.ndarray:
 def known_box(data: np.ndarray, grow: int = 1):
     """(r0, r1, c0, c1) of the known cells grown by ``grow`` cells, or None when all is
     unknown."""
-    known = data != -1
-    rows = np.nonzero(known.any(axis=1))[0]
-    if len(rows) == 0:
-        return None
-    cols = np.nonzero(known.any(axis=0))[0]
-    return (max(0, rows[0] - grow), min(data.shape[0], rows[-1] + 1 + grow),
-            max(0, cols[0] - grow), min(data.shape[1], cols[-1] + 1 + grow))
+    if data.dtype == np.int8:     # one pass, no temporary
+        c0, r0, c1, r1 = (int(v) for v in kernels.other_box(np.ascontiguousarray(data),
+                                                             np.int8(-1)))
+        if c0 < 0:
+            return None
+    else:
+        known = data != -1
+        rows = np.nonzero(known.any(axis=1))[0]
+        if len(rows) == 0:
+            return None
+        cols = np.nonzero(known.any(axis=0))[0]
+        r0, r1, c0, c1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+    return (max(0, r0 - grow), min(data.shape[0], r1 + grow),
+            max(0, c0 - grow), min(data.shape[1], c1 + grow))
 
 
 @dataclass(frozen=True)
@@ -157,7 +167,7 @@ class ClusterCache:
 
     def __init__(self):
         self._key: tuple | None = None
-        self._data: bytes | None = None
+        self._data = np.empty(0, np.int8)
         self._clusters: list[Cluster] = []
 
     def clusters(self, grid, min_frontier_size: float,
@@ -165,11 +175,18 @@ class ClusterCache:
         data = np.asarray(grid.data)
         key = (float(grid.origin[0]), float(grid.origin[1]), float(grid.resolution),
                float(min_frontier_size), float(min_unknown_width), data.shape, data.dtype.str)
-        cells = data.tobytes()       # one copy and a memcmp: faster than an element compare
-        if key != self._key or cells != self._data:
+        if key != self._key or not _same_cells(data, self._data):
             self._clusters = frontier_clusters(grid, min_frontier_size, min_unknown_width)
-            self._key, self._data = key, cells
+            self._key, self._data = key, data.copy()
         return self._clusters
+
+
+def _same_cells(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether two grids of one shape and dtype hold the same cells (an int8 or uint8 grid is
+    compared in one pass, without a temporary)."""
+    if a.dtype in (np.int8, np.uint8):
+        return changed_box(a, b) is None
+    return bool(np.array_equal(a, b))
 
 
 def clear_goal(frontier: Frontier, grid, clearance: float, search: float = 1.0) -> np.ndarray:

@@ -132,6 +132,51 @@ def inflate(master, min_i, min_j, max_i, max_j, radius, cost_cache, dist_cache, 
 
 
 # --------------------------------------------------------------------------------------------
+# Changed region of a grid (the static layer's update bounds)
+# --------------------------------------------------------------------------------------------
+@numba.njit(cache=True)
+def diff_box(new, old):
+    """Cells (x0, y0, x1, y1), end-exclusive, bounding where a 2-D grid differs from ``old``
+    (a grid of its shape, or one row every row is compared with); (-1, -1, -1, -1) when they
+    are equal. A row is first tested whole (a branch-free pass); only a row that differs is
+    searched for its first and last differing column."""
+    ny, nx = new.shape
+    row_step = 1 if old.shape[0] > 1 else 0
+    y0 = -1
+    y1 = -1
+    x0 = nx
+    x1 = -1
+    for y in range(ny):
+        oy = y * row_step
+        differs = 0
+        for x in range(nx):
+            differs |= new[y, x] ^ old[oy, x]
+        if differs == 0:
+            continue
+        if y0 < 0:
+            y0 = y
+        y1 = y
+        x = 0
+        while x < x0 and new[y, x] == old[oy, x]:
+            x += 1
+        x0 = min(x0, x)
+        x = nx - 1
+        while x > x1 and new[y, x] == old[oy, x]:
+            x -= 1
+        x1 = max(x1, x)
+    if y0 < 0:
+        return -1, -1, -1, -1
+    return x0, y0, x1 + 1, y1 + 1
+
+
+def other_box(grid, value):
+    """Cells (x0, y0, x1, y1), end-exclusive, bounding the cells of a C-contiguous 2-D grid
+    that are not ``value``; (-1, -1, -1, -1) when every cell is (:func:`diff_box` against a
+    row of ``value``)."""
+    return diff_box(grid, np.full((1, grid.shape[1]), value, grid.dtype))
+
+
+# --------------------------------------------------------------------------------------------
 # Grid search (navfn / global_planner equivalent): 8-connected A* with a goal window
 # --------------------------------------------------------------------------------------------
 @numba.njit(cache=True, inline="always")
@@ -153,8 +198,14 @@ def _heap_push(keys, vals, size, key, val):
 
 @numba.njit(cache=True, inline="always")
 def _heap_pop(keys, vals, size):
-    """Pop the smallest (key, value); returns (key, value, new size). The last entry sinks
-    from the root past every smaller child (the left one on equal keys), as swapping would."""
+    """Pop the smallest (key, value); returns (key, value, new size).
+
+    The hole left at the root moves down to a leaf along the smaller children (the left one on
+    equal keys), then the last entry rises from there past every parent whose key is >= its
+    own. The keys on that path never decrease downwards, so the last entry ends where sinking
+    it from the root (past every child with a smaller key) would put it: the same layout, with
+    one comparison a level instead of two.
+    """
     key = keys[0]
     val = vals[0]
     size -= 1
@@ -163,28 +214,35 @@ def _heap_pop(keys, vals, size):
     i = 0
     while True:
         left = 2 * i + 1
-        if left >= size:
-            break
-        small = left
-        if left + 1 < size and keys[left + 1] < keys[left]:
-            small = left + 1
-        if last_key <= keys[small]:
+        if left + 1 < size:
+            small = left + (keys[left + 1] < keys[left])
+        elif left < size:
+            small = left
+        else:
             break
         keys[i] = keys[small]
         vals[i] = vals[small]
         i = small
+    while i > 0:
+        parent = (i - 1) >> 1
+        if keys[parent] < last_key:
+            break
+        keys[i] = keys[parent]
+        vals[i] = vals[parent]
+        i = parent
     keys[i] = last_key
     vals[i] = last_val
     return key, val, size
 
 
 @numba.njit(cache=True)
-def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuristic_weight,
-                keys, vals, g, parent, mark, stamp):
+def grid_search(codes, table, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1,
+                heuristic_weight, keys, vals, g, parent, mark, stamp, size, to_settle, budget):
     """Cheapest 8-connected path from (sx, sy) towards the goal window.
 
-    ``cell_cost`` (float64 [ny, nx]): cost of entering a cell, per cell of travel (a diagonal
-    step costs sqrt(2) x); ``inf`` = blocked. The start cell is always usable (navfn clears the
+    The cost of entering a cell, per cell of travel (a diagonal step costs sqrt(2) x), is
+    ``table[codes[y, x]]`` (``codes`` C-contiguous integer [ny, nx], ``table`` float64);
+    ``inf`` = blocked. The start cell is always usable (navfn clears the
     robot cell). The window [win_x0, win_x1] x [win_y0, win_y1] (inclusive, cells) holds the
     acceptable end cells; the search stops as soon as (gx, gy) is settled, or once every
     traversable window cell is settled, or when the queue is empty. The end cell is the settled
@@ -196,32 +254,46 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
     ``mark`` (int32) are per-cell work arrays of at least ny·nx entries, reused from search to
     search: a cell is reached in this search where ``mark >= 2·stamp`` (then its ``g`` and
     ``parent`` hold) and settled where ``mark == 2·stamp + 1``; ``stamp`` (a search number)
-    must exceed every stamp of earlier searches, so nothing needs clearing. Returns (path as
-    int64 [n, 2] of (x, y) cells from start to end, its cost, status): status 0 = done (n = 0
-    when no window cell is reachable), -1 = the heap storage was too small (retry with more).
+    must exceed every stamp of earlier searches, so nothing needs clearing.
+
+    Pausing: with ``budget`` >= 0 the search pauses before settling more than ``budget``
+    cells; it resumes with the same arrays and stamp, ``size`` = the heap entries it left and
+    ``to_settle`` = the window cells still to settle (the caller may leave out those no path
+    reaches: the search then stops once the others are settled instead of emptying its queue,
+    with the same settled window cells, costs and parents). ``size`` 0 starts a search;
+    ``to_settle`` -1 counts the window's traversable cells (and the start cell when in it).
+
+    Returns (path as int64 [n, 2] of (x, y) cells from start to end, its cost, status, heap
+    entries): status 0 = done (n = 0 when no window cell is reachable), -1 = the heap storage
+    was too small (retry with more), 1 = paused.
     """
-    ny, nx = cell_cost.shape
+    ny, nx = codes.shape
     reached = 2 * stamp
     settled = reached + 1
-    to_settle = 0
-    for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
-        for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
-            if np.isfinite(cell_cost[y, x]) or (x == sx and y == sy):
-                to_settle += 1
+    if to_settle < 0:
+        to_settle = 0
+        for y in range(max(win_y0, 0), min(win_y1, ny - 1) + 1):
+            for x in range(max(win_x0, 0), min(win_x1, nx - 1) + 1):
+                if np.isfinite(table[codes[y, x]]) or (x == sx and y == sy):
+                    to_settle += 1
     cap = keys.shape[0]
-    flat = cell_cost.ravel()
+    flat = codes.ravel()
     start = sy * nx + sx
-    g[start] = 0.0
-    mark[start] = reached
-    h0 = heuristic_weight * math.hypot(sx - gx, sy - gy)
-    size = _heap_push(keys, vals, 0, h0, start)
+    if size == 0:
+        g[start] = 0.0
+        mark[start] = reached
+        h0 = heuristic_weight * math.hypot(sx - gx, sy - gy)
+        size = _heap_push(keys, vals, 0, h0, start)
     diag = math.sqrt(2.0)
     goal_found = False
     while size > 0 and to_settle > 0:
+        if budget == 0:
+            return np.empty((0, 2), np.int64), np.inf, 1, size
         key, u, size = _heap_pop(keys, vals, size)
         if mark[u] == settled:
             continue
         mark[u] = settled
+        budget -= 1
         ux = u % nx
         uy = u // nx
         if win_x0 <= ux <= win_x1 and win_y0 <= uy <= win_y1:
@@ -241,7 +313,7 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
                 if vx < 0 or vx >= nx:
                     continue
                 v = vy * nx + vx
-                c = flat[v]
+                c = table[flat[v]]
                 if not np.isfinite(c):
                     continue
                 m = mark[v]
@@ -255,7 +327,7 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
                     parent[v] = u
                     h = heuristic_weight * math.hypot(vx - gx, vy - gy)
                     if size >= cap:
-                        return np.empty((0, 2), np.int64), np.inf, -1
+                        return np.empty((0, 2), np.int64), np.inf, -1, size
                     size = _heap_push(keys, vals, size, gv + h, v)
     end = -1
     if goal_found:
@@ -271,7 +343,7 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
                         best = d
                         end = idx
     if end < 0:
-        return np.empty((0, 2), np.int64), np.inf, 0
+        return np.empty((0, 2), np.int64), np.inf, 0, size
     count = 1
     node = end
     while node != start:
@@ -284,7 +356,7 @@ def grid_search(cell_cost, sx, sy, gx, gy, win_x0, win_y0, win_x1, win_y1, heuri
         path[k, 1] = node // nx
         if k > 0:
             node = parent[node]
-    return path, g[end], 0
+    return path, g[end], 0, size
 
 
 # --------------------------------------------------------------------------------------------
@@ -486,9 +558,11 @@ def warmup() -> None:
     pool = np.empty(200, np.int32)
     inflate(grid, 0, 0, 6, 6, r, costs, dist, bins.reshape(dist.shape).astype(np.int64),
             len(uniq), False, pool, pool.copy(), pool.copy())
-    cost = np.ones((6, 6))
-    grid_search(cost, 0, 0, 5, 5, 5, 5, 5, 5, 1.0, np.empty(300), np.empty(300, np.int32),
-                np.empty(36), np.empty(36, np.int32), np.zeros(36, np.int32), 1)
+    for dtype in (np.int8, np.uint8):    # the SLAM map and the static layer's costs
+        diff_box(np.zeros((3, 4), dtype), np.ones((3, 4), dtype))
+    grid_search(np.zeros((6, 6), np.uint16), np.ones(258), 0, 0, 5, 5, 5, 5, 5, 5, 1.0,
+                np.empty(300), np.empty(300, np.int32), np.empty(36), np.empty(36, np.int32),
+                np.zeros(36, np.int32), 1, 0, -1, -1)
     target_distance(grid, np.zeros((6, 6), np.bool_), np.array([0]), np.array([0]),
                     np.empty((6, 6)), np.empty((36, 2), np.int32), 0, 0, -1)
     obstacle_update(grid, 0.0, 0.0, 0.1, 0.05, 0.05, np.array([[0.45, 0.35]]), 3.0, 2.5,

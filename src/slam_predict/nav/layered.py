@@ -58,6 +58,7 @@ class LayeredCostmap:
         self.uses_static = bool(cfg.static_map)
         self._map_source = None  # latest grid (for rolling windows with a static layer)
         self._static: np.ndarray | None = None
+        self._raw: np.ndarray | None = None   # the map the static layer was last given
         self._obstacles: np.ndarray | None = None
         self._scan: tuple[np.ndarray, np.ndarray] | None = None
         self._dirty: Bounds | None = None
@@ -80,6 +81,7 @@ class LayeredCostmap:
         if self.has_obstacles:
             self._obstacles = np.full((ny, nx), self.default_value, np.uint8)
         self._static = None
+        self._raw = None
         self._dirty = (0, 0, nx, ny)
 
     def _full(self) -> Bounds:
@@ -102,15 +104,30 @@ class LayeredCostmap:
         if (cm.size_x, cm.size_y) != (nx, ny) or cm.origin != origin or cm.resolution != res:
             LOG.debug("%s: resized to %d x %d cells at %.3f m", self.name, nx, ny, res)
             self._resize(nx, ny, res, origin)
-        new = static_costs(data, self.cfg)
-        if self._static is None:
-            self._static = new
+        if self._static is None or self._raw is None or data.dtype != self._raw.dtype:
+            self._static = static_costs(data, self.cfg)
+            self._raw = data.copy()
             self._dirty = self._full()
             return
-        box = changed_box(new, self._static)
-        self._static = new
+        box = self._update_static(data)
         if box is not None:
             self._dirty = union_bounds(self._dirty, box)
+
+    def _update_static(self, data: np.ndarray) -> Bounds | None:
+        """Re-interpret the cells of the new map ``data`` that differ from the last one (the
+        interpretation is per cell, so the others keep their costs); returns the box of the
+        static costs that changed (None: none did)."""
+        raw_box = changed_box(data, self._raw)
+        if raw_box is None:
+            return None
+        i0, j0, i1, j1 = raw_box
+        self._raw[j0:j1, i0:i1] = data[j0:j1, i0:i1]
+        new = static_costs(data[j0:j1, i0:i1], self.cfg)
+        box = changed_box(new, self._static[j0:j1, i0:i1])
+        self._static[j0:j1, i0:i1] = new
+        if box is None:
+            return None
+        return (box[0] + i0, box[1] + j0, box[2] + i0, box[3] + j0)
 
     def add_scan(self, sensor_pose, points: np.ndarray) -> None:
         """Keep the latest laser observation (sensor pose (x, y, yaw) and valid endpoints (n, 2),
@@ -253,11 +270,7 @@ def _shift(grid: np.ndarray, cell_ox: int, cell_oy: int, fill: int) -> np.ndarra
 
 
 def changed_box(new: np.ndarray, old: np.ndarray) -> Bounds | None:
-    """Cells (x0, y0, x1, y1), end-exclusive, bounding where two equal-shape grids differ;
-    None when they are equal."""
-    differs = new != old
-    rows = np.flatnonzero(differs.any(axis=1))
-    if not rows.size:
-        return None
-    cols = np.flatnonzero(differs[rows[0]:rows[-1] + 1].any(axis=0))
-    return (int(cols[0]), int(rows[0]), int(cols[-1]) + 1, int(rows[-1]) + 1)
+    """Cells (x0, y0, x1, y1), end-exclusive, bounding where two equal-shape grids (int8 or
+    uint8) differ; None when they are equal."""
+    box = kernels.diff_box(np.ascontiguousarray(new), np.ascontiguousarray(old))
+    return None if box[0] < 0 else tuple(int(v) for v in box)

@@ -43,6 +43,7 @@ from slam_predict.nav.costmap import (
     footprint_radii,
     make_footprint,
 )
+from slam_predict.nav.search import SearchWork, search_codes
 
 
 @dataclass
@@ -100,6 +101,21 @@ def global_planner_cell_costs(costs: np.ndarray, allow_unknown: bool, lethal_cos
     return out
 
 
+def global_planner_cost_table(allow_unknown: bool, lethal_cost: int, neutral_cost: int,
+                              cost_factor: float) -> np.ndarray:
+    """Travel cost (float, inf = blocked) per costmap value 0–255 of global_planner's
+    Expander::getCost (:func:`global_planner_cell_costs` of each value)."""
+    values = np.arange(256, dtype=np.uint8).reshape(1, -1)
+    return global_planner_cell_costs(values, allow_unknown, lethal_cost, neutral_cost,
+                                     cost_factor, outline_map=False)[0]
+
+
+# The search reads a cell's cost as table[code]: codes 0–255 are costmap values, BLOCKED marks
+# the outer ring of the searched box, ESCAPE the INSCRIBED cells the start escape opens.
+BLOCKED = 256
+ESCAPE = 257
+
+
 class GlobalPlanner:
     """make_plan over a global costmap with the parameters of ``cfg.base_global_planner``."""
 
@@ -115,11 +131,26 @@ class GlobalPlanner:
         self.escapes = 0  # plans found only thanks to the start escape
         self.work = SearchWork()
         self.last = LastPlan()
+        self.table = np.full(ESCAPE + 1, np.inf)   # cost per code (ESCAPE's set when used)
+        self.table[:256] = self.cost_table()
 
     @property
     def default_tolerance(self) -> float:
         """The planner's ``default_tolerance`` (m)."""
         return (self.navfn if self.kind == "navfn/NavfnROS" else self.gp).default_tolerance
+
+    def cost_table(self) -> np.ndarray:
+        """Travel cost per costmap value 0–255 of the configured planner (inf = blocked)."""
+        if self.kind == "navfn/NavfnROS":
+            return NAVFN_COST_TABLES[bool(self.navfn.allow_unknown)].copy()
+        gp = self.gp
+        return global_planner_cost_table(gp.allow_unknown, gp.lethal_cost, gp.neutral_cost,
+                                         gp.cost_factor)
+
+    @property
+    def outline(self) -> bool:
+        """Whether the outer ring of the searched box is blocked (navfn always)."""
+        return self.kind == "navfn/NavfnROS" or bool(self.gp.outline_map)
 
     def cell_costs(self, costs: np.ndarray) -> np.ndarray:
         """Travel cost per cell of the configured planner (inf = blocked)."""
@@ -128,6 +159,18 @@ class GlobalPlanner:
         gp = self.gp
         return global_planner_cell_costs(costs, gp.allow_unknown, gp.lethal_cost, gp.neutral_cost,
                                          gp.cost_factor, gp.outline_map)
+
+    def _codes(self, sub: np.ndarray) -> np.ndarray:
+        """The search's cost codes of a box of costmap values (outer ring BLOCKED when the
+        planner outlines the map)."""
+        codes = self.work.codes(sub.shape)
+        codes[...] = sub
+        if self.outline:
+            codes[0, :] = BLOCKED
+            codes[-1, :] = BLOCKED
+            codes[:, 0] = BLOCKED
+            codes[:, -1] = BLOCKED
+        return codes
 
     def make_plan(self, costmap: Costmap, start: Sequence[float], goal: Sequence[float],
                   tolerance: float | None = None) -> Plan | None:
@@ -158,47 +201,47 @@ class GlobalPlanner:
         box = self._search_box(costmap, s, g, tol_cells)
         x0, y0, x1, y1 = box
         sub = costmap.costs[y0:y1, x0:x1]
-        cell_cost = self.cell_costs(sub)
+        codes = self._codes(sub)
         sx, sy = s[0] - x0, s[1] - y0
         gx, gy = g[0] - x0, g[1] - y0
-        path, cost = _search(cell_cost, (sx, sy), (gx, gy), tol_cells, self.work)
+        path, cost = search_codes(codes, self.table, (sx, sy), (gx, gy), tol_cells, self.work)
         escaped = 0
         if len(path) == 0 and INSCRIBED <= sub[sy, sx] <= LETHAL and self.escape_radius > 0:
-            escape = self._escape_costs(sub, cell_cost, sx, sy, costmap.resolution)
-            if escape is not None:
-                path, cost = _search(escape, (sx, sy), (gx, gy), tol_cells, self.work)
+            if self._open_escape(sub, codes, sx, sy, costmap.resolution):
+                path, cost = search_codes(codes, self.table, (sx, sy), (gx, gy), tol_cells,
+                                           self.work)
                 escaped = int(len(path) > 0)
         if len(path) == 0:
             return None, 0
         path = path + np.array([x0, y0])
         return self._to_plan(costmap, path, float(cost), goal, g), escaped
 
-    def _escape_costs(self, sub: np.ndarray, cell_cost: np.ndarray, sx: int, sy: int,
-                      resolution: float) -> np.ndarray | None:
-        """``cell_cost`` with the INSCRIBED cells within ``escape_radius`` m of the start cell
-        (outer ring excluded) usable at the highest traversable cost; None if none is."""
+    def _open_escape(self, sub: np.ndarray, codes: np.ndarray, sx: int, sy: int,
+                     resolution: float) -> bool:
+        """Mark ESCAPE (usable at the highest traversable cost) in ``codes`` the INSCRIBED
+        cells within ``escape_radius`` m of the start cell (outer ring excluded); False if
+        there is none."""
         r = int(math.ceil(self.escape_radius / resolution - 1e-9))
         ny, nx = sub.shape
         ys, xs = np.mgrid[max(1, sy - r):min(ny - 1, sy + r + 1),
                           max(1, sx - r):min(nx - 1, sx + r + 1)]
         near = ((xs - sx) ** 2 + (ys - sy) ** 2 <= r * r) & (sub[ys, xs] == INSCRIBED)
         if not near.any():
-            return None
-        top = 253.0 if self.kind == "navfn/NavfnROS" else float(self.gp.lethal_cost - 1)
-        out = cell_cost.copy()
-        out[ys[near], xs[near]] = top
-        return out
+            return False
+        self.table[ESCAPE] = 253.0 if self.kind == "navfn/NavfnROS" else float(
+            self.gp.lethal_cost - 1)
+        codes[ys[near], xs[near]] = ESCAPE
+        return True
 
     def _search_box(self, costmap: Costmap, s, g, tol_cells: int):
         """Cells [x0, x1) x [y0, y1) worth searching: known cells, start, goal window, margin."""
-        known = costmap.costs != NO_INFORMATION
-        rows = np.nonzero(known.any(axis=1))[0]
-        cols = np.nonzero(known.any(axis=0))[0]
+        kx0, ky0, kx1, ky1 = kernels.other_box(np.ascontiguousarray(costmap.costs),
+                                               np.uint8(NO_INFORMATION))
         xs = [s[0], g[0] - tol_cells, g[0] + tol_cells]
         ys = [s[1], g[1] - tol_cells, g[1] + tol_cells]
-        if len(rows):
-            xs += [int(cols[0]), int(cols[-1])]
-            ys += [int(rows[0]), int(rows[-1])]
+        if kx0 >= 0:
+            xs += [int(kx0), int(kx1) - 1]
+            ys += [int(ky0), int(ky1) - 1]
         margin = int(math.ceil(self.search_margin / costmap.resolution)) + 1
         x0 = max(0, min(xs) - margin)
         y0 = max(0, min(ys) - margin)
@@ -237,7 +280,9 @@ class LastPlan:
 
     def matches(self, key, costs: np.ndarray) -> bool:
         """True when ``key`` and ``costs`` equal the last request's."""
-        return key == self.key and np.array_equal(costs, self.costs)
+        if key != self.key or costs.shape != self.costs.shape:
+            return False
+        return kernels.diff_box(np.ascontiguousarray(costs), self.costs)[0] < 0
 
     def remember(self, key, costs: np.ndarray, plan: Plan | None, escaped: int) -> None:
         """Keep a request and its result (the costs are copied)."""
@@ -252,44 +297,3 @@ class LastPlan:
         plan = self.plan
         return None if plan is None else Plan(plan.poses.copy(), plan.cost, plan.length,
                                               plan.reaches_goal)
-
-
-class SearchWork:
-    """The per-cell work arrays of :func:`kernels.grid_search`, kept from search to search
-    with a search number, so a plan over millions of cells clears none of them."""
-
-    def __init__(self):
-        self.g = np.empty(0)
-        self.parent = np.empty(0, np.int32)
-        self.mark = np.zeros(0, np.int32)
-        self.stamp = 0
-
-    def next_search(self, cells: int) -> int:
-        """The number of the next search over ``cells`` cells (arrays grown to fit)."""
-        if self.g.size < cells:
-            self.g = np.empty(cells)
-            self.parent = np.empty(cells, np.int32)
-            self.mark = np.zeros(cells, np.int32)
-        self.stamp += 1
-        return self.stamp
-
-
-def _search(cell_cost: np.ndarray, start, goal, tol_cells: int,
-            work: SearchWork | None = None):
-    """:func:`kernels.grid_search` from ``start`` to the goal window (cells), growing the heap
-    storage until it fits; returns (path cells (n, 2), cost). ``work``: the planner's
-    :class:`SearchWork` (a new one when None)."""
-    work = work or SearchWork()
-    weight = float(np.min(cell_cost, initial=1.0))    # inf (blocked) never lowers it
-    cell_cost = np.ascontiguousarray(cell_cost)
-    (sx, sy), (gx, gy) = start, goal
-    cap = max(1024, 2 * cell_cost.size)
-    while True:
-        stamp = work.next_search(cell_cost.size)
-        path, cost, status = kernels.grid_search(
-            cell_cost, sx, sy, gx, gy, gx - tol_cells, gy - tol_cells, gx + tol_cells,
-            gy + tol_cells, min(weight, 50.0), np.empty(cap), np.empty(cap, np.int32),
-            work.g, work.parent, work.mark, stamp)
-        if status == 0:
-            return path, cost
-        cap *= 2

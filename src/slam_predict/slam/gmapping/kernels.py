@@ -57,43 +57,43 @@ def _is_hit(table, hits, ix, iy):
     return pid >= 0 and hits[pid, slot(ix, iy)] > 0
 
 
-@nb.njit(cache=True)
-def _best_d2(table, acc, hits, hx, hy, ix, iy, ofx, ofy, ksize):
-    """Squared distance (m²) from the hit to the nearest matching cell mean, -1 if none matches.
-
-    A cell of the (2k+1)² window around (ix, iy) matches when it is occupied and its companion
-    cell, offset by (ofx, ofy) cells, is not. A window inside one patch (most of them) looks
-    its patch up once (:func:`_best_d2_in_patch`, same cells in the same order).
-    """
+@nb.njit(cache=True, inline="always")
+def _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means):
+    """The means (m) of the matching cells of the (2k+1)² window around (ix, iy) into
+    ``means`` (k, 2), window order; returns k. A cell matches when it is occupied and its
+    companion cell, offset by (ofx, ofy) cells, is not. A window inside one patch (most of
+    them) looks its patch up once."""
+    k = 0
     x0 = ix - ksize
     y0 = iy - ksize
+    width = 2 * ksize + 1
     if (x0 >= 0 and y0 >= 0 and (x0 >> PATCH_BITS) == ((ix + ksize) >> PATCH_BITS)
             and (y0 >> PATCH_BITS) == ((iy + ksize) >> PATCH_BITS)):
         pid = patch_id(table, x0, y0)
         if pid < 0:
-            return -1.0
-        return _best_d2_in_patch(table, acc, hits, pid, hx, hy, x0, y0, ofx, ofy, ksize)
-    best = -1.0
-    for xx in range(-ksize, ksize + 1):
-        for yy in range(-ksize, ksize + 1):
-            pid = patch_id(table, ix + xx, iy + yy)
-            if pid < 0:
-                continue
-            d2 = _best_d2_in_patch(table, acc, hits, pid, hx, hy, ix + xx, iy + yy, ofx, ofy, 0)
-            if d2 >= 0.0 and (best < 0.0 or d2 < best):
-                best = d2
-    return best
-
-
-@nb.njit(cache=True, inline="always")
-def _best_d2_in_patch(table, acc, hits, pid, hx, hy, x0, y0, ofx, ofy, ksize):
-    """:func:`_best_d2` of a window whose cells from (x0, y0) all lie in patch ``pid``."""
-    best = -1.0
-    width = 2 * ksize + 1
+            return 0
+        for xx in range(width):
+            px = x0 + xx
+            for yy in range(width):
+                py = y0 + yy
+                s = slot(px, py)
+                n = hits[pid, s]
+                if n <= 0:
+                    continue
+                if _is_hit(table, hits, px + ofx, py + ofy):
+                    continue
+                inv = 1.0 / n
+                means[k, 0] = inv * np.float64(acc[pid, s, 0])
+                means[k, 1] = inv * np.float64(acc[pid, s, 1])
+                k += 1
+        return k
     for xx in range(width):
         px = x0 + xx
         for yy in range(width):
             py = y0 + yy
+            pid = patch_id(table, px, py)
+            if pid < 0:
+                continue
             s = slot(px, py)
             n = hits[pid, s]
             if n <= 0:
@@ -101,12 +101,35 @@ def _best_d2_in_patch(table, acc, hits, pid, hx, hy, x0, y0, ofx, ofy, ksize):
             if _is_hit(table, hits, px + ofx, py + ofy):
                 continue
             inv = 1.0 / n
-            mx = hx - inv * np.float64(acc[pid, s, 0])
-            my = hy - inv * np.float64(acc[pid, s, 1])
-            d2 = mx * mx + my * my
-            if best < 0.0 or d2 < best:
-                best = d2
+            means[k, 0] = inv * np.float64(acc[pid, s, 0])
+            means[k, 1] = inv * np.float64(acc[pid, s, 1])
+            k += 1
+    return k
+
+
+@nb.njit(cache=True, inline="always")
+def _nearest_d2(hx, hy, means, k):
+    """Squared distance (m²) from (hx, hy) to the nearest of the first ``k`` means, -1 if
+    k = 0."""
+    if k == 0:
+        return -1.0
+    best = np.inf
+    for j in range(k):
+        mx = hx - means[j, 0]
+        my = hy - means[j, 1]
+        d2 = mx * mx + my * my
+        if d2 < best:
+            best = d2
     return best
+
+
+@nb.njit(cache=True)
+def _best_d2(table, acc, hits, hx, hy, ix, iy, ofx, ofy, ksize):
+    """Squared distance (m²) from the hit to the nearest matching cell mean of the window
+    around (ix, iy), -1 if none matches (:func:`_window_means`)."""
+    means = np.empty(((2 * ksize + 1) ** 2, 2))
+    k = _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means)
+    return _nearest_d2(hx, hy, means, k)
 
 
 @nb.njit(cache=True, inline="always")
@@ -122,10 +145,48 @@ def _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back,
     return c_round((fx - cx) / delta) + sx2 - ix, c_round((fy - cy) / delta) + sy2 - iy
 
 
+@nb.njit(cache=True, inline="always")
+def _beam_hit(x, y, c, s, r, cai, sai, sx2, sy2, cx, cy, delta, back, bug):
+    """A beam of range ``r`` from laser pose (x, y) heading θ (c, s = cos θ, sin θ; cai, sai
+    = cos, sin of the beam angle): hit point (m), its cell and the companion offset."""
+    dx = c * cai - s * sai
+    dy = s * cai + c * sai
+    hx = x + r * dx
+    hy = y + r * dy
+    ix = c_round((hx - cx) / delta) + sx2
+    iy = c_round((hy - cy) / delta) + sy2
+    ofx, ofy = _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back, bug)
+    return hx, hy, ix, iy, ofx, ofy
+
+
 @nb.njit(cache=True)
 def score(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
           usable, sigma, ksize, lskip, bug):
-    """ScanMatcher::score: Σ exp(−d²/sigma) over used beams with 0 < r ≤ usable."""
+    """ScanMatcher::score: Σ exp(−d²/sigma) over used beams with 0 < r ≤ usable (each beam's
+    best squared distance to a matching cell mean of its window, :func:`_best_d2`).
+    :func:`score_cached` with a new cache."""
+    keys, means, counts = new_score_cache(ranges.shape[0], ksize)
+    return score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
+                        usable, sigma, ksize, lskip, bug, keys, means, counts)
+
+
+@nb.njit(cache=True)
+def new_score_cache(beams, ksize):
+    """An empty cache of :func:`score_cached` for ``beams`` beams: (keys, means, counts)."""
+    width = 2 * ksize + 1
+    keys = np.full((beams, 4), -(1 << 62), np.int64)
+    return keys, np.empty((beams, width * width, 2)), np.zeros(beams, np.int64)
+
+
+@nb.njit(cache=True)
+def score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
+                 usable, sigma, ksize, lskip, bug, keys, means, counts):
+    """:func:`score`, keeping per beam the means of its window's matching cells: a beam
+    whose hit cell and companion offset are those it had at the last call with the same
+    arrays reuses them instead of looking the window up again (the same numbers, so the same
+    score). ``keys`` (B, 4) int64 (hit cell, companion offset; start with a value no cell
+    has), ``means`` (B, (2k+1)², 2) float64 and ``counts`` (B,) int64 are the cache of one
+    map; B = the number of beams."""
     c = math.cos(th)
     s = math.sin(th)
     # upstream's score() steps back r − delta·freeDelta = r − delta²·√2 (bug); intended: δ·√2
@@ -139,17 +200,26 @@ def score(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ranges, ca, sa,
         r = ranges[i]
         if skip != 0 or r > usable or r == 0.0:
             continue
-        dx = c * ca[i] - s * sa[i]
-        dy = s * ca[i] + c * sa[i]
-        hx = x + r * dx
-        hy = y + r * dy
-        ix = c_round((hx - cx) / delta) + sx2
-        iy = c_round((hy - cy) / delta) + sy2
-        ofx, ofy = _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back,
-                                bug)
-        d2 = _best_d2(table, acc, hits, hx, hy, ix, iy, ofx, ofy, ksize)
-        if d2 >= 0.0:
-            total += math.exp(-d2 / sigma)
+        hx, hy, ix, iy, ofx, ofy = _beam_hit(x, y, c, s, r, ca[i], sa[i], sx2, sy2, cx, cy,
+                                             delta, back, bug)
+        if not (keys[i, 0] == ix and keys[i, 1] == iy and keys[i, 2] == ofx
+                and keys[i, 3] == ofy):
+            keys[i, 0] = ix
+            keys[i, 1] = iy
+            keys[i, 2] = ofx
+            keys[i, 3] = ofy
+            counts[i] = _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means[i])
+        k = counts[i]
+        if k == 0:
+            continue
+        best = np.inf      # _nearest_d2 of means[i], without a view a beam
+        for j in range(k):
+            mx = hx - means[i, j, 0]
+            my = hy - means[i, j, 1]
+            d2 = mx * mx + my * my
+            if d2 < best:
+                best = d2
+        total += math.exp(-best / sigma)
     return total
 
 
@@ -169,6 +239,7 @@ def likelihood_and_score(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ra
     total_l = 0.0
     matched = 0
     skip = 0
+    means = np.empty(((2 * ksize + 1) ** 2, 2))
     for i in range(ranges.shape[0]):
         skip += 1
         if skip > lskip:
@@ -176,15 +247,10 @@ def likelihood_and_score(table, sx2, sy2, cx, cy, delta, acc, hits, x, y, th, ra
         r = ranges[i]
         if r > usable or skip != 0:
             continue
-        dx = c * ca[i] - s * sa[i]
-        dy = s * ca[i] + c * sa[i]
-        hx = x + r * dx
-        hy = y + r * dy
-        ix = c_round((hx - cx) / delta) + sx2
-        iy = c_round((hy - cy) / delta) + sy2
-        ofx, ofy = _free_offset(x, y, r, dx, dy, hx, hy, ix, iy, sx2, sy2, cx, cy, delta, back,
-                                bug)
-        d2 = _best_d2(table, acc, hits, hx, hy, ix, iy, ofx, ofy, ksize)
+        hx, hy, ix, iy, ofx, ofy = _beam_hit(x, y, c, s, r, ca[i], sa[i], sx2, sy2, cx, cy,
+                                             delta, back, bug)
+        k = _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means)
+        d2 = _nearest_d2(hx, hy, means, k)
         if d2 >= 0.0:
             total_s += math.exp(-d2 / sigma)
             total_l += -d2 / lsigma
@@ -203,12 +269,14 @@ def optimize(table, sx2, sy2, cx, cy, delta, acc, hits, x0, y0, th0, ranges, ca,
     strictly better one. A round without improvement halves l and a (refinement + 1); the search
     stops after a non-improving round once refinements ≥ iterations. The score of the pose
     left by the last move is remembered: the move straight back, when it lands on exactly that
-    pose, is not scored again (same result, one score fewer).
+    pose, is not scored again (same result, one score fewer). The scores share one cache of
+    window lookups (:func:`score_cached`).
     """
     best_score = -1.0
     px, py, pth = x0, y0, th0
-    current = score(table, sx2, sy2, cx, cy, delta, acc, hits, px, py, pth, ranges, ca, sa,
-                    usable, sigma, ksize, lskip, bug)
+    keys, means, counts = new_score_cache(ranges.shape[0], ksize)
+    current = score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, px, py, pth, ranges, ca,
+                           sa, usable, sigma, ksize, lskip, bug, keys, means, counts)
     adelta = astep
     ldelta = lstep
     refinement = 0
@@ -239,8 +307,9 @@ def optimize(table, sx2, sy2, cx, cy, delta, acc, hits, x0, y0, th0, ranges, ca,
             if lx == qx and ly == qy and lth == qth:
                 local = qscore
             else:
-                local = score(table, sx2, sy2, cx, cy, delta, acc, hits, lx, ly, lth, ranges,
-                              ca, sa, usable, sigma, ksize, lskip, bug)
+                local = score_cached(table, sx2, sy2, cx, cy, delta, acc, hits, lx, ly, lth,
+                                     ranges, ca, sa, usable, sigma, ksize, lskip, bug, keys,
+                                     means, counts)
             if local > current:
                 current = local
                 bx, by, bth = lx, ly, lth
