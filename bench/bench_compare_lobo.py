@@ -35,10 +35,11 @@ from slam_predict.learn.evaluate import (  # noqa: E402
 )
 
 
-def chosen_model(data, config: LearningConfig) -> str:
-    """The ε_t model ``learn train`` would choose on ``data``."""
+def chosen_model(data, config: LearningConfig) -> str | None:
+    """The ε_t model ``learn train`` would choose on ``data`` (None: no model's mean test R²
+    is above 0, so ``learn train`` would ship none)."""
     summary = summarize(evaluate_splits(data, config, components=[DECIDING_COMPONENT]))
-    return best_models(summary)[DECIDING_COMPONENT]
+    return best_models(summary).get(DECIDING_COMPONENT)
 
 
 def lobo(data, config: LearningConfig, model_id: str) -> dict[str, dict]:
@@ -66,11 +67,15 @@ def main(argv=None) -> int:
     for name, data in sets.items():
         data = data.subset([data.worlds.index(w) for w in common])
         model_id = chosen_model(data, config)
+        if model_id is None:
+            print(f"{name}: {len(common)} buildings, no ε_t model beats the training mean "
+                  f"(mean test R² ≤ 0 for every model): no call can be made")
+            return 1
         rows[name] = lobo(data, config, model_id)
         pct = [r["pct_error"] for r in rows[name].values()]
         cov = np.mean([r["covered"] for r in rows[name].values()])
         print(f"{name}: {len(common)} buildings, model {model_id}, leave-one-out ε_t median "
-              f"error {np.nanmedian(pct):.1f} %, 90 % interval coverage {cov:.0%}")
+              f"error {np.nanmedian(pct):.0%}, 90 % interval coverage {cov:.0%}")
     counted = right = 0
     print("| building | ε_t GMapping measured / predicted | ε_t Karto measured / predicted | "
           "call (P) | measured better | counted |")
