@@ -391,6 +391,24 @@ def reference_window_search(cost, start, goal, tol, weight):
     return path[::-1], g[end]
 
 
+def random_costs(rng, size_range, shares) -> np.ndarray:
+    """A random navfn cost grid (50, 100 or lethal ∞ with these shares), sides in size_range."""
+    ny, nx = rng.integers(*size_range, size=2)
+    return rng.choice([50.0, 100.0, np.inf], size=(ny, nx), p=shares)
+
+
+def reference_weight(cost: np.ndarray) -> float:
+    """The planner's heuristic weight on ``cost`` (capped at 1 as nav/planner.py takes it)."""
+    return min(float(np.min(cost[np.isfinite(cost)], initial=1.0)), 50.0)
+
+
+def assert_same_search(found, expected) -> None:
+    """Same path cells and the same total cost (both infinite counts as the same)."""
+    (path, total), (ref_path, ref_total) = found, expected
+    assert [tuple(c) for c in path.tolist()] == ref_path
+    assert total == ref_total or (math.isinf(total) and math.isinf(ref_total))
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_search_equals_a_plain_python_port_ties_included(seed):
     """Path cells and cost equal the plain-Python port's on random costmaps with few distinct
@@ -401,16 +419,13 @@ def test_search_equals_a_plain_python_port_ties_included(seed):
     rng = np.random.default_rng(100 + seed)
     work = SearchWork()
     for _ in range(15):
-        ny, nx = rng.integers(6, 30, size=2)
-        cost = rng.choice([50.0, 100.0, np.inf], size=(ny, nx), p=[0.6, 0.2, 0.2])
+        cost = random_costs(rng, (6, 30), [0.6, 0.2, 0.2])
+        ny, nx = cost.shape
         s = (int(rng.integers(nx)), int(rng.integers(ny)))
         g = (int(rng.integers(nx)), int(rng.integers(ny)))
         tol = int(rng.integers(0, 3))
-        path, total = _search(cost, s, g, tol, work)
-        weight = min(float(np.min(cost[np.isfinite(cost)], initial=1.0)), 50.0)
-        ref_path, ref_total = reference_window_search(cost, s, g, tol, weight)
-        assert [tuple(c) for c in path.tolist()] == ref_path
-        assert total == ref_total or (math.isinf(total) and math.isinf(ref_total))
+        expected = reference_window_search(cost, s, g, tol, reference_weight(cost))
+        assert_same_search(_search(cost, s, g, tol, work), expected)
 
 
 def test_a_repeated_request_gets_the_searched_plan_and_a_changed_costmap_a_new_search():
@@ -453,16 +468,13 @@ def test_a_paused_search_ends_as_the_plain_search(seed):
     rng = np.random.default_rng(300 + seed)
     work = SearchWork()
     for _ in range(12):
-        ny, nx = rng.integers(10, 35, size=2)
-        cost = rng.choice([50.0, 100.0, np.inf], size=(ny, nx), p=[0.55, 0.2, 0.25])
+        cost = random_costs(rng, (10, 35), [0.55, 0.2, 0.25])
+        ny, nx = cost.shape
         g = (int(rng.integers(nx)), int(rng.integers(ny)))
         wall = int(rng.integers(0, nx))
         cost[:, wall] = np.inf                     # often splits the goal window off
         s = (int(rng.integers(nx)), int(rng.integers(ny)))
         tol = int(rng.integers(0, 4))
-        weight = min(float(np.min(cost[np.isfinite(cost)], initial=1.0)), 50.0)
-        ref_path, ref_total = reference_window_search(cost, s, g, tol, weight)
+        expected = reference_window_search(cost, s, g, tol, reference_weight(cost))
         for pause in (0, 1, 7, 40, None):
-            path, total = search_costs(cost, s, g, tol, work, pause)
-            assert [tuple(c) for c in path.tolist()] == ref_path
-            assert total == ref_total or (math.isinf(total) and math.isinf(ref_total))
+            assert_same_search(search_costs(cost, s, g, tol, work, pause), expected)
