@@ -396,4 +396,3 @@ class Explorer:
         self.goal = Goal(target, t, np.array(frontier.goal, dtype=float), frontier.size,
                          frontier.min_distance, last_progress=t, in_place=in_place)
         self.client.send_goal(target, t)
-
