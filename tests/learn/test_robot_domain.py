@@ -133,3 +133,25 @@ def test_several_design_files_pool_their_configurations(designed, tmp_path):
     b.write_text(yaml.safe_dump(wider))
     with pytest.raises(InputError, match="bounds, base robot or resolution differ"):
         design_ranges([a, b], 30.0, data.configs)
+
+
+def test_karto_runs_get_the_max_laser_range_of_their_settings_file():
+    """A Karto run's range cap is its settings' max_laser_range (slam_toolbox: 20 m), checked
+    against the run's recorded Karto config hash."""
+    from slam_predict.collect.settings import load_settings
+    from slam_predict.config import config_hash
+
+    settings_file = "config/fidelity/seed_study_karto.yaml"
+    params = load_settings(syn.ROOT / settings_file).slam.params
+    record = syn.record("w00", 0, 1, {"range_max": 80.0, "fov": 270.0, "xy": 0.01,
+                                      "yaw": syn.YAW}, (0.1, 0.01), None)
+    record.update(settings_file=settings_file,
+                  slam={"type": "karto", "params_hash": config_hash(params)},
+                  config_hashes={"karto": config_hash(params), "sim": "s1"})
+    assert MaxUrangeSource().of_record(record, "run.json") == params.max_laser_range == 20.0
+    record["config_hashes"]["karto"] = "000000000000"
+    with pytest.raises(InputError, match="Karto config .* the run recorded 000000000000"):
+        MaxUrangeSource().of_record(record, "run.json")
+    record["slam"]["type"] = record["config_hashes"]["cartographer"] = "cartographer"
+    with pytest.raises(InputError, match="learn GMapping and Karto runs"):
+        MaxUrangeSource().of_record(record, "run.json")

@@ -3,6 +3,7 @@ partial-dependence plots; a plan-only folder beside it is shown exactly as befor
 from __future__ import annotations
 
 import base64
+import html
 import json
 import shutil
 
@@ -61,8 +62,8 @@ def test_card_tables_of_the_robot_aware_model(pages, parse, models):
     table = page.table(["component", "unit", "model", "protocol"])
     assert {r[2] for r in table["rows"]} == {"elasticnet", "gradient_boosting"}
     assert len(table["rows"]) == 8            # 4 components × 2 kinds, no evaluation stored
-    text = pages[0]
-    assert "GMapping maxUrange" in text and "30 m (range input = min(laser range" in text
+    text = html.unescape(pages[0])
+    assert "30 m (range input = min(laser range, GMapping's maxUrange))" in text
     assert card["max_urange_m"] == 30.0
 
 

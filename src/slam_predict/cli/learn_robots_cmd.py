@@ -210,6 +210,7 @@ def _failures(outcomes: dict | None) -> list[str]:
 
 
 def _header(data, tables, config, plan: list[str], outcomes: dict | None = None) -> list[str]:
+    from slam_predict.learn.card import range_cap_name
     from slam_predict.words import plural
 
     skipped = ", ".join(f"{n} {reason}" for reason, n in sorted(data.skipped.items()))
@@ -217,7 +218,7 @@ def _header(data, tables, config, plan: list[str], outcomes: dict | None = None)
             f"- points: {len(data.groups)} ({plural(len(data.worlds), 'building')} × "
             f"{plural(len(data.configs), 'configuration')} present)",
             f"- plan features ({data.feature_version}): {', '.join(plan)}; robot inputs: "
-            "laser_range_max_m (capped at GMapping's maxUrange "
+            f"laser_range_max_m (capped at {range_cap_name(data.slam)} "
             + (f"{data.max_urange_m:g} m" if data.max_urange_m is not None else "(unset)")
             + "), laser_fov_deg, odom_xy_error, odom_yaw_error"
             + ("; plan × robot: laser_blind_fraction (sight lines without a wall within the "

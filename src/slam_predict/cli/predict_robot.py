@@ -22,7 +22,7 @@ from typing import Any
 
 from slam_predict.errors import InputError
 from slam_predict.learn.card import DEFAULT_ROBOT_MODEL as DEFAULT_MODEL
-from slam_predict.learn.card import ROBOT_KIND
+from slam_predict.learn.card import ROBOT_KIND, range_cap_name
 from slam_predict.learn.card import ROBOT_TRAIN_HINT as TRAIN_HINT
 from slam_predict.learn.slam_choice import DEFAULT_SLAM
 
@@ -84,7 +84,8 @@ def _entry(raw: dict[str, Any]) -> dict[str, Any]:
 
 def robot_summary(robot, robot_path: str, model, inputs: dict[str, float]) -> dict[str, Any]:
     """The ``robot`` entry of the result: file, name, the model's inputs, the laser's own
-    range (m), GMapping's maxUrange (m) and the laser's angular resolution (deg)."""
+    range (m), the SLAM algorithm's range cap (m: GMapping's maxUrange, Karto's max_laser_range)
+    and the laser's angular resolution (deg)."""
     from slam_predict.learn.robot.inputs import angular_resolution_deg, sensor_dict
 
     return {"file": robot_path, "name": robot.name, "inputs": inputs,
@@ -131,14 +132,15 @@ def predict(world, model, robot, robot_path: str, component: str = "all",
 
 
 def robot_text(result: dict[str, Any]) -> str:
-    """What the robot-aware model took: "laser range 30 m used (laser 80 m, GMapping
+    """What the robot-aware model took: "laser range 30 m used (laser 80 m, GMapping's
     maxUrange 30 m), fov 270°, odometry 0.01 m/m and 0.0349 rad/rad"."""
     robot = result["robot"]
     inputs = robot["inputs"]
     cap = robot["max_urange_m"]
     used = inputs["laser_range_max_m"]
-    laser = (f"laser range {used:g} m used (laser {robot['laser_range_max_m']:g} m, GMapping "
-             f"maxUrange {cap:g} m)" if cap is not None and not math.isclose(
+    cap_name = range_cap_name(result.get("slam", DEFAULT_SLAM))
+    laser = (f"laser range {used:g} m used (laser {robot['laser_range_max_m']:g} m, "
+             f"{cap_name} {cap:g} m)" if cap is not None and not math.isclose(
                  used, robot["laser_range_max_m"]) else f"laser range {used:g} m")
     blind = robot.get("derived", {}).get("laser_blind_fraction")
     return (f"{laser}, fov {inputs['laser_fov_deg']:g}°, odometry {inputs['odom_xy_error']:.4g}"

@@ -121,6 +121,14 @@ SLAM_ALGORITHMS = ("gmapping", "karto")   # the SLAM algorithms a dataset row or
 DEFAULT_SLAM = "gmapping"   # the algorithm of a row or card that names none
 
 
+RANGE_CAP_NAMES = {"gmapping": "GMapping's maxUrange", "karto": "Karto's max_laser_range"}
+
+
+def range_cap_name(slam: str) -> str:
+    """What caps the laser range the SLAM algorithm uses (card field ``max_urange_m``)."""
+    return RANGE_CAP_NAMES.get(slam, f"{slam}'s range cap")
+
+
 def card_slam(card: Mapping[str, Any]) -> str:
     """The SLAM algorithm whose runs the card's models were trained on (:data:`DEFAULT_SLAM`
     when it names none)."""

@@ -1,7 +1,7 @@
 """The report's section for a robot-aware model folder (card ``kind: robots``, issue #18).
 
 Instead of the plan-only card's table and predictions: what the models were trained on (plan
-features, the robot inputs with their units and training ranges, GMapping's maxUrange, the
+features, the robot inputs with their units and training ranges, the SLAM range cap, the
 design), the evaluation figures of every model under every protocol, and partial-dependence
 plots — per component, the model's prediction averaged over the training points (buildings ×
 configurations) as one robot input sweeps its range
@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from slam_predict.learn.card import PROTOCOLS
+from slam_predict.learn.card import PROTOCOLS, card_slam, range_cap_name
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.robot.inputs import ROBOT_INPUTS, ROBOT_UNITS
 from slam_predict.report import html as H
@@ -38,10 +38,11 @@ def overview(card: dict[str, Any]) -> str:
     """Key facts of a robot-aware card and its inputs' ranges."""
     design = card.get("design") or {}
     cap = card.get("max_urange_m")
+    cap_name = range_cap_name(card_slam(card))
     pairs = [("description", card.get("description", "") or H.MISSING),
              ("kind", "robot-aware: plan features + the robot as inputs"),
              ("feature version", card.get("feature_version", H.MISSING)),
-             ("GMapping maxUrange", f"{cap:g} m (range input = min(laser range, maxUrange))"
+             (cap_name, f"{cap:g} m (range input = min(laser range, {cap_name}))"
               if cap is not None else "unset (range input = laser range)"),
              ("training", f"{len(card.get('training_buildings', []))} buildings, "
                           f"{len(design.get('configs', {}))} robot configurations, "

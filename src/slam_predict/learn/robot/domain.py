@@ -1,4 +1,4 @@
-"""What the robot inputs span: GMapping's usable laser range and the design's box (issue #18).
+"""What the robot inputs span: the SLAM back-end's usable laser range and the design's box.
 
 **maxUrange.** GMapping never uses a beam beyond ``maxUrange`` (config/gmapping.yaml: 30 m;
 the seed study's robot has an 80 m laser): every reading is cropped there before it is matched
@@ -14,6 +14,12 @@ did (or not capped, for a run collected without a robot file), must hash to the 
 ``max_urange_m``). run.json records the parameters' hash only (``slam.params_hash``), not the
 parameters. Every run must give the same value; the card records it as ``max_urange_m`` and
 prediction applies it to the user's robot.
+
+**Karto.** slam_toolbox's Karto uses no reading beyond ``max_laser_range`` (config/karto.yaml:
+20 m) and the collection does not change it per robot (the range finder caps itself at the
+laser's range_max), so for a Karto run the cap is the settings file's ``max_laser_range``; its
+Karto parameters must hash to the run's ``config_hashes.karto``. The card's field keeps its
+name, ``max_urange_m``: the range cap of the back-end the model was trained for.
 
 **Design box.** With the campaign's design file(s) (``learn robots --design``), the robot inputs'
 training ranges are the design's bounds (range 3.5–30 m, fov 180–360°, odometry 0–2 × the base
@@ -34,7 +40,8 @@ from slam_predict.errors import InputError
 from slam_predict.learn.robot.inputs import ROBOT_INPUTS, inputs_from_robot
 
 LOG = logging.getLogger(__name__)
-HINT = "set robot_learning.max_urange_m to the maxUrange (m) the runs were collected with"
+HINT = ("set robot_learning.max_urange_m to the range cap (m: GMapping's maxUrange, Karto's "
+        "max_laser_range) the runs were collected with")
 
 
 def settings_cap(params) -> float | None:
@@ -78,22 +85,25 @@ class MaxUrangeSource:
             return float(self.override)
         slam = record.get("slam") if isinstance(record.get("slam"), Mapping) else {}
         backend = slam.get("type", "gmapping")
-        if backend != "gmapping":
+        if backend not in ("gmapping", "karto"):
             raise InputError(f"run of SLAM back-end '{backend}': the robot-aware models learn "
-                             "GMapping runs", path)
+                             "GMapping and Karto runs", path)
         hashes = record.get("config_hashes")
-        recorded = (hashes.get("gmapping") if isinstance(hashes, Mapping) else None) \
+        recorded = (hashes.get(backend) if isinstance(hashes, Mapping) else None) \
             or slam.get("params_hash")
         settings_file = record.get("settings_file")
         if not isinstance(settings_file, str) or not settings_file or not recorded:
-            raise InputError("run record names no settings_file or GMapping config hash: "
-                             f"cannot tell GMapping's maxUrange; {HINT}", path)
-        params = self.params(settings_file, path)
+            raise InputError(f"run record names no settings_file or {backend} config hash: "
+                             f"cannot tell the SLAM back-end's range cap; {HINT}", path)
+        params = self.params(settings_file, path, backend)
+        if backend == "karto":
+            _check_karto_hash(params, str(recorded), settings_file, path)
+            return float(params.max_laser_range)
         self._check_hash(params, _laser_range(record, path), str(recorded), settings_file, path)
         return settings_cap(params)
 
-    def params(self, settings_file: str, path):
-        """The GMapping parameters of a settings file (loaded once)."""
+    def params(self, settings_file: str, path, backend: str = "gmapping"):
+        """The SLAM parameters (of back-end ``backend``) of a settings file (loaded once)."""
         if settings_file not in self._params:
             from slam_predict.collect.settings import load_settings
 
@@ -107,11 +117,10 @@ class MaxUrangeSource:
             except InputError as exc:
                 raise InputError(f"settings file {settings_file} of the run: {exc.one_line()}",
                                  path) from None
-            if settings.slam.type != "gmapping":
+            if settings.slam.type != backend:
                 raise InputError(f"settings file {settings_file} runs SLAM back-end "
-                                 f"'{settings.slam.type}', not GMapping", path)
-            LOG.info("GMapping maxUrange of %s: %s", settings_file,
-                     settings_cap(settings.slam.params))
+                                 f"'{settings.slam.type}', the run {backend}", path)
+            LOG.info("%s parameters of %s loaded", backend, settings_file)
             self._params[settings_file] = settings.slam.params
         return self._params[settings_file]
 
@@ -128,6 +137,16 @@ class MaxUrangeSource:
                              f"{config_hash(gmapping_caps(params, range_max))} for the run's "
                              f"{range_max:g} m laser, the run recorded {recorded} (has the file "
                              f"changed since?); {HINT}", path)
+
+
+def _check_karto_hash(params, recorded: str, settings_file: str, path) -> None:
+    """InputError unless the settings' Karto parameters hash to the run's recorded one."""
+    from slam_predict.config import config_hash
+
+    if config_hash(params) != recorded:
+        raise InputError(f"settings file {settings_file} gives Karto config "
+                         f"{config_hash(params)}, the run recorded {recorded} (has the file "
+                         f"changed since?); {HINT}", path)
 
 
 def common_max_urange(values: Mapping[str, float | None]) -> float | None:
