@@ -68,8 +68,13 @@ def main(argv=None) -> int:
     parser.add_argument("--jump", type=float, default=0.3, help="jump threshold per 0.1 s, m")
     parser.add_argument("--csv", type=Path, help="also write the rows here")
     args = parser.parse_args(argv)
-    rows = [run_row(run.parent, args.jump)
-            for run in sorted(args.campaign.glob("*/run_*/run.json"))]
+    runs = [record.parent for record in sorted(args.campaign.glob("*/run_*/run.json"))]
+    kept = [run for run in runs if (run / "slam.tum").is_file()
+            and (run / "ground_truth.tum").is_file()]
+    if len(kept) < len(runs):
+        print(f"{len(runs) - len(kept)} of {len(runs)} runs have no trajectories here "
+              "(only run.json is committed): skipped")
+    rows = [run_row(run, args.jump) for run in kept]
     for r in rows:
         jump = (f"first raising jump at {r['first_raising_jump_s']:.1f} s: "
                 f"{r['jump_from_m']:.2f} → {r['jump_to_m']:.2f} m"
