@@ -52,3 +52,19 @@ def test_build_record_of_a_run_without_snapshots():
                               None, {})
     assert record["snapshots"] == [] and record["stop_reason"] == "max_sim_time"
     assert "stuck" not in record                          # not watched: no entry
+
+
+def test_a_run_whose_robot_never_moved_has_no_metric():
+    """One distinct ground-truth pose (the pauses removed): no relation can be sampled, so the
+    record holds ``metric: null`` and says why, instead of failing the run."""
+    t = 0.1 * np.arange(1, 101)
+    still = np.zeros((100, 3))
+    traj = rec.Trajectories(t, still, still + 0.01, still.copy())
+    end = rec.RunEnd("map_converged", None, 10.0, 1.0, 0, 0.001)
+    record = rec.build_record(rec.RunInfo("still"), load_settings(), {}, end, traj,
+                              SnapshotMSE(StopConfig(), 60.0), 50.0, {})
+    assert record["metric"] is None and record["metric_note"] == rec.NO_METRIC_NOTE
+    assert record["coverage"] == 0.001 and record["distance_m"] == 0.0
+    moved = rec.build_record(rec.RunInfo("square"), load_settings(), {}, end, square_run(),
+                             SnapshotMSE(StopConfig(), 60.0), 50.0, {})
+    assert rec.with_metric([record, moved, {"metric": None}]) == [moved]

@@ -92,3 +92,14 @@ def test_committed_campaign_gives_the_committed_summary(tmp_path):
     rows = sources.read_error_table(REALISTIC / "summary.csv")
     assert [r.world for r in rows] == [row["world"] for row in committed]
     assert all(r.robot == "" for r in rows)
+
+
+def test_runs_without_a_metric_are_left_out_of_the_summary(tmp_path):
+    """A run whose robot never moved (``metric: null``) adds no error and counts no run; a world
+    with only such runs gets no row."""
+    still = {**_record("a", 2, 0.0), "metric": None, "metric_note": "never moved"}
+    only_still = {**_record("b", 0, 0.0), "metric": None, "metric_note": "never moved"}
+    _write(tmp_path, [_record("a", 0, 0.1), _record("a", 1, 0.3), still, only_still])
+    rows = _rows(write_summary(tmp_path))
+    assert [(row["world"], row["runs"]) for row in rows] == [("a", "2")]
+    assert float(rows[0]["trans_mean"]) == pytest.approx(0.2)

@@ -96,6 +96,7 @@ def simulate(args: argparse.Namespace, world, runs, current) -> dict:
     """Run (or resume) the simulations; returns the measured part of the result."""
     from slam_predict.collect.batch import Batch, BatchConfig
     from slam_predict.collect.campaign import open_campaign
+    from slam_predict.collect.record import NO_METRIC_NOTE, with_metric
     from slam_predict.collect.simulate import cap_note, measured, write_plan_world
     from slam_predict.collect.summary import write_summary
 
@@ -115,11 +116,15 @@ def simulate(args: argparse.Namespace, world, runs, current) -> dict:
     used = [(index, record) for index, record in done if index < target]
     indices, records = [i for i, _ in used], [r for _, r in used]
     notes = [f"run failed: {failure}" for failure in batch.failures]
-    if runs == "auto" and records:
-        note = cap_note(records, args.max_runs)
+    metric_records = with_metric(records)
+    if len(metric_records) < len(records):
+        notes.append(f"{len(records) - len(metric_records)} of {len(records)} runs measured "
+                     f"no error: {NO_METRIC_NOTE}")
+    if runs == "auto" and metric_records:
+        note = cap_note(metric_records, args.max_runs)
         notes += [note] if note else []
     return {"runs": len(records), "runs_new": new, "run_indices": indices,
-            "measured": measured(records) if records else None, "notes": notes,
+            "measured": measured(metric_records) if metric_records else None, "notes": notes,
             "failed": bool(batch.failures), "stopped_by": batch.stopped_by, "records": records}
 
 

@@ -282,7 +282,9 @@ class Batch:
 
 def _thesis_runs_needed(records: list[dict], done: int) -> int:
     """Total runs the world needs by the thesis' rule (:func:`metric.sampling.run_count`)."""
+    from slam_predict.collect.record import with_metric
     from slam_predict.metric.sampling import run_count
 
+    records = with_metric(records)
     return run_count([r["metric"]["trans_mean"] for r in records],
                      [r["metric"]["rot_mean"] for r in records]).runs_required

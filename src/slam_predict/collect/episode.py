@@ -179,8 +179,9 @@ def run_episode(spec, settings: CollectSettings | None = None,
             record["timing"].update(sensor_logs=sensors.wall_s, sensor_logs_cpu=sensors.cpu_s)
         record.update(extra or {})
         rec.write_run_json(folder, record)
-    LOG.info("%s run %d: %s after %.0f s sim (%.0f s wall), trans %.3f m", spec.world,
-             spec.index, reason, loop.t, wall, record["metric"]["trans_mean"])
+    metric = record["metric"]
+    LOG.info("%s run %d: %s after %.0f s sim (%.0f s wall), %s", spec.world, spec.index, reason,
+             loop.t, wall, f"trans {metric['trans_mean']:.3f} m" if metric else "no metric")
     return record
 
 

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from slam_predict.collect.record import with_metric
 from slam_predict.collect.store import RunStore
 from slam_predict.errors import InputError
 from slam_predict.metric.runs import MIN_COVERAGE, sample_std
@@ -150,7 +151,7 @@ def compare_campaign(folder: Path, thesis: dict[str, dict[str, float]],
     for world in store.worlds():
         if world not in thesis:
             continue
-        records = [r for r in store.records(world)
+        records = [r for r in with_metric(store.records(world))
                    if float(r.get("coverage", 1.0)) >= min_coverage]
         if len(records) < min_runs or not records:
             continue

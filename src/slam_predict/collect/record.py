@@ -16,6 +16,7 @@ from __future__ import annotations
 import functools
 import json
 import subprocess
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -93,11 +94,24 @@ def code_version() -> str:
     return f"{__version__}+{sha}" if sha else __version__
 
 
-def measure(traj: Trajectories, settings, seed: int) -> dict:
-    """The run's Kümmerle statistics on the pause-free trajectories (thesis sampling)."""
+NO_METRIC_NOTE = ("one distinct ground-truth pose: the robot never moved, so there is no "
+                  "relation to measure")
+
+
+def with_metric(records: Sequence[dict]) -> list[dict]:
+    """The run records that carry an error measurement (``metric`` is null in the record of a
+    run whose robot never moved, :func:`measure`)."""
+    return [r for r in records if isinstance(r.get("metric"), dict)]
+
+
+def measure(traj: Trajectories, settings, seed: int) -> dict | None:
+    """The run's Kümmerle statistics on the pause-free trajectories (thesis sampling); None
+    when they hold fewer than two poses (the robot never moved: :data:`NO_METRIC_NOTE`)."""
     from slam_predict.metric.kummerle import evaluate_sampled
 
     _, slam, gt = traj.adjusted()
+    if len(gt) < 2:
+        return None
     m = settings.metric
     result = evaluate_sampled(slam, gt, np.random.default_rng([seed, 1]), pilot=m.pilot,
                               margin_trans=m.margin_trans, margin_rot=m.margin_rot,
@@ -119,6 +133,7 @@ def build_record(info: RunInfo, settings, hashes: dict[str, str], end: RunEnd,
         compute_stats: the compute delay's counters (scans dropped, rebuilds, busy time) when
             it was on; recorded with its settings as ``slam_compute``.
     """
+    metric = measure(traj, settings, info.seed)
     return {
         "world": info.world, "world_file": portable_path(info.world_file),
         "run_index": info.run_index, "seed": info.seed, "code_version": code_version(),
@@ -135,7 +150,8 @@ def build_record(info: RunInfo, settings, hashes: dict[str, str], end: RunEnd,
         **({"stuck": end.stuck} if end.stuck is not None else {}),
         "snapshots": [{"t": t, "mse": m}
                       for t, m in zip(rule.times, [None] + rule.mses, strict=False)],
-        "metric": measure(traj, settings, info.seed),
+        "metric": metric,
+        **({"metric_note": NO_METRIC_NOTE} if metric is None else {}),
         "timing": {k: float(v) for k, v in timing.items()},
         **({"slam_compute": {**to_dict(settings.compute), **compute_stats}}
            if compute_stats is not None else {}),

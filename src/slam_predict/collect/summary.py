@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from slam_predict.atomic import write_text
-from slam_predict.collect.record import ranger_model_of
+from slam_predict.collect.record import ranger_model_of, with_metric
 from slam_predict.collect.store import RunStore
 from slam_predict.metric.runs import BUILDING_STD_DDOF
 from slam_predict.sensor import sensor_hash
@@ -82,7 +82,7 @@ def write_summary(data_dir: Path) -> Path:
     writer = csv.DictWriter(buffer, fieldnames=COLUMNS, lineterminator="\n")
     writer.writeheader()
     for world in store.worlds():
-        for robot, records in by_robot(store.records(world)).items():
+        for robot, records in by_robot(with_metric(store.records(world))).items():
             row = building_row(world, records, robot)
             writer.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v)
                              for k, v in row.items()})

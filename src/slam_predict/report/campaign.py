@@ -142,7 +142,10 @@ def read_world(folder: Path) -> WorldRuns:
     usable = []
     for run in world.runs:
         lacking = missing_fields(run.record)
-        if lacking:
+        if run.record.get("metric") is None and run.record.get("metric_note"):
+            world.notes.append(f"{run.run_id}: no error measured ({run.record['metric_note']}); "
+                               "left out of the summary")
+        elif lacking:
             world.notes.append(f"{run.run_id}: run.json lacks {', '.join(lacking)}; left out of "
                                "the summary")
         else:

@@ -30,6 +30,7 @@ def agreement_rows(model, robot: Mapping[str, float], campaign: os.PathLike | st
     (m, rad). ``unseen`` leaves out the buildings the model was trained on. ``features_of``
     (plan → its features) defaults to :func:`slam_predict.features.plan.plan_features` with the
     model's feature and sight-line configurations."""
+    from slam_predict.collect.record import with_metric
     from slam_predict.collect.store import RunStore
     from slam_predict.features.plan import plan_features
 
@@ -41,7 +42,8 @@ def agreement_rows(model, robot: Mapping[str, float], campaign: os.PathLike | st
     store = RunStore(Path(campaign))
     rows = []
     for world in store.worlds():
-        records = [r for r in store.records(world) if float(r["coverage"]) >= min_coverage]
+        records = [r for r in with_metric(store.records(world))
+                   if float(r["coverage"]) >= min_coverage]
         if not records or (unseen and world in trained):
             continue
         plan = plan_of(world)
