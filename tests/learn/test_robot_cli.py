@@ -3,6 +3,7 @@ bad-input rows (exit 2, one line, nothing written)."""
 from __future__ import annotations
 
 import json
+import shutil
 
 import pytest
 
@@ -222,3 +223,20 @@ def test_shipped_configuration_is_the_documented_defaults(root):
 
     assert load_robot_learning_config(root / "config" / "robot_learning.yaml") == \
         RobotLearningConfig()
+
+
+def test_the_failure_model_sees_a_building_whose_runs_all_failed(inputs, tmp_path):
+    """A building without one usable run (every run below min_coverage) is not learnt from by
+    the error models, but its runs are failures the failure model must count."""
+    folder, records = inputs
+    data = tmp_path / "data"
+    shutil.copytree(folder / "data", data)
+    failing = records[0]["world"]
+    for path in data.glob(f"{failing}/run_*/run.json"):
+        path.write_text(json.dumps(dict(json.loads(path.read_text()), coverage=0.2)))
+    assert main(["learn", "train", "--runs", str(data), "--features",
+                 str(folder / "features.csv"), "--config", str(folder / "fast.yaml"),
+                 "--name", "m", "--models-dir", str(tmp_path / "models")]) == 0
+    card = json.loads((tmp_path / "models" / "m" / "card.json").read_text())
+    assert failing not in card["training_buildings"] and len(card["training_buildings"]) == 7
+    assert (card["failure"]["runs"], card["failure"]["failed"]) == (64, 8)

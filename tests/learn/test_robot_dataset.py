@@ -172,8 +172,9 @@ def test_runs_of_another_slam_algorithm_are_left_out_and_counted(tmp_path):
     assert skipped == {"SLAM karto": 1} and len(runs) == len(everything) - 1
     assert {r.slam for r in runs} == {"gmapping"}
     assert records[1]["path"] not in {r.source for r in runs}
-    # the karto run alone: the robot-aware models' range cap is GMapping's (learn/robot/domain)
-    with pytest.raises(InputError, match="SLAM back-end 'karto'") as err:
+    # the karto run alone: its range cap comes from its settings file's Karto parameters, and
+    # this one names a GMapping settings file (learn/robot/domain)
+    with pytest.raises(InputError, match="runs SLAM back-end 'gmapping', the run karto") as err:
         read_runs([tmp_path], slam="karto")
     assert records[1]["path"] in err.value.one_line()
     with pytest.raises(InputError, match="unknown SLAM algorithm 'cartographer'"):

@@ -289,7 +289,7 @@ def _designs(paths: list[str] | None):
 def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.robot.evaluate import best_models, evaluate, summarize
     from slam_predict.learn.robot.outcomes import exploration_outcomes
-    from slam_predict.learn.robot.records import read_runs
+    from slam_predict.learn.robot.records import read_runs, record_worlds
     from slam_predict.learn.robot.rundata import build_run_data, plan_features
     from slam_predict.paths import portable_path
 
@@ -303,9 +303,10 @@ def run(args: argparse.Namespace) -> int:
     feature_config = _feature_config(args.feature_config)
     slam = slam_option(args)
     runs, skipped = read_runs(args.data, config.min_coverage, config.max_urange_m, slam)
+    # every building with a run, also those whose runs all failed: the failure model needs them
     features, version, full_config = plan_features(
-        sorted({r.world for r in runs}), args.features, args.worlds, feature_config,
-        args.feature_version, args.jobs)
+        sorted({r.world for r in runs} | record_worlds(args.data, slam)), args.features,
+        args.worlds, feature_config, args.feature_version, args.jobs)
     data = build_run_data(runs, skipped, features, version)
     outcomes = exploration_outcomes(args.data, config.min_coverage, slam)
     bounds = None
@@ -323,7 +324,7 @@ def run(args: argparse.Namespace) -> int:
     best = best_models(summary, config)
     if target is not None:
         best = _train(args, target, data, config, summary, best, full_config, bounds,
-                      outcomes)
+                      outcomes, features)
     if args.out:
         write_evaluation(args.out, data, tables, config, rows, summary, best,
                          {"feature_config": full_config,
@@ -365,8 +366,9 @@ def evaluation_of_card(path: str, config, data_dirs: list[str]) -> list[dict]:
 
 
 def _train(args, target: Path, data, config, summary, best, full_config, bounds,
-           outcomes) -> dict[str, str]:
-    """Write the model folder; the best kinds it ships (monotone ones only)."""
+           outcomes, features) -> dict[str, str]:
+    """Write the model folder; the best kinds it ships (monotone ones only). ``features``: the
+    plan features of every building with a run (the failure model's inputs)."""
     from slam_predict.learn.card import read_card
     from slam_predict.learn.provenance import campaign_sources
     from slam_predict.learn.robot.failure import outcome_runs
@@ -381,7 +383,8 @@ def _train(args, target: Path, data, config, summary, best, full_config, bounds,
                       {"name": args.name, "description": args.description,
                        "feature_config": full_config, "sources": sources,
                        "design_bounds": bounds, "exploration": outcomes,
-                       "outcome_runs": outcome_runs(args.data, data.max_urange_m, data.slam)},
+                       "outcome_runs": outcome_runs(args.data, data.max_urange_m, data.slam),
+                       "outcome_features": features},
                       args.jobs)
     card = read_card(target)
     return {c: e["best"] for c, e in card["components"].items()}

@@ -93,7 +93,8 @@ class MaxUrangeSource:
             or slam.get("params_hash")
         settings_file = record.get("settings_file")
         if not isinstance(settings_file, str) or not settings_file or not recorded:
-            raise InputError(f"run record names no settings_file or {backend} config hash: "
+            name = {"gmapping": "GMapping", "karto": "Karto"}[backend]
+            raise InputError(f"run record names no settings_file or {name} config hash: "
                              f"cannot tell the SLAM back-end's range cap; {HINT}", path)
         params = self.params(settings_file, path, backend)
         if backend == "karto":

@@ -129,6 +129,12 @@ def slam_records(folders: Sequence[os.PathLike | str], slam: str = DEFAULT_SLAM,
         yield path, record
 
 
+def record_worlds(folders: Sequence[os.PathLike | str], slam: str = DEFAULT_SLAM) -> set[str]:
+    """The buildings of every run record of SLAM algorithm ``slam`` in the campaign folders
+    (usable or not)."""
+    return {str(record["world"]) for _, record in slam_records(folders, slam)}
+
+
 def _finite(value: Any) -> float | None:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         return None

@@ -16,6 +16,7 @@ protocol, the best model per component, the library versions and the SHA-256 of 
 """
 from __future__ import annotations
 
+import dataclasses
 import datetime
 import json
 import logging
@@ -270,7 +271,11 @@ def train_robot_store(data: RunData, config: RobotLearningConfig,
     card["monotone_check"] = MONOTONE_CHECK_TEXT
     extra = {}
     if meta.get("outcome_runs"):
-        failure, card["failure"] = failure_model(data, tables, config, meta["outcome_runs"])
+        every = meta.get("outcome_features")
+        outcome_data = data if every is None else dataclasses.replace(
+            data, features={w: dict(f) for w, f in every.items()})
+        failure, card["failure"] = failure_model(outcome_data, tables, config,
+                                                 meta["outcome_runs"])
         extra[FAILURE_FILE] = json.dumps(failure.to_form()) + "\n"
     plan = [n for n in tables.names if n not in ROBOT_INPUTS]
     return save_robot_store(out, card, fitted, to_csv_text(data.point_dataset(plan)),
