@@ -24,7 +24,7 @@
 #              the same chain with Karto as slam_toolbox's async node in real time
 #              (config/fidelity/seed_study_karto.yaml), 3 runs each, breadth-first.
 #   robots (issue #18): 21 seed-study buildings of <= 2,000 m2, each explored with 4 robot
-#              configurations of config/robot_campaign/design.yaml (28 configurations, a
+#              configurations of data/campaigns/robots/design.yaml (28 configurations, a
 #              Latin hypercube over laser range, fov and odometry error), 2 runs each (168 runs),
 #              settings config/robot_campaign/settings.yaml.
 #   robots_rep3 (issue #18): a third replicate of every robots design point (the design's first
@@ -33,10 +33,10 @@
 #   robots_rep4 (issue #18, 2026-12-05): a fourth replicate, as robots_rep3 with --seed 4: less
 #              run-to-run noise in every point's measured mean (pooled like robots_rep3).
 #   robots_more (issue #18, 2026-12-04): the same 28 configurations on 4 more seed-study
-#              buildings of 2,083-2,208 m2 (config/robot_campaign/design_more.yaml), 4 points x
+#              buildings of 2,083-2,208 m2 (data/campaigns/robots/design_more.yaml), 4 points x
 #              2 runs each, breadth-first: every building's first replicate before any second.
 #   robots_configs2 (issue #18, 2026-12-04): 14 more configurations (c28-c41,
-#              config/robot_campaign/design_configs2.yaml) on robots' 21 buildings, 2 points x
+#              data/campaigns/robots/design_configs2.yaml) on robots' 21 buildings, 2 points x
 #              2 runs per building (84 runs), breadth-first; pooled with robots and robots_rep3
 #              it gives the configuration-held-out protocol 42 configurations instead of 28.
 # Records go to data/campaigns/NAME/ (run.json and summary.csv are committed, the rest is not);
@@ -79,15 +79,15 @@ case "$NAME" in
   fidelity_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   karto_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   robots) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
-          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml") ;;
+          DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design.yaml") ;;
   robots_rep3|robots_rep4) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           # replicate k: the design's first 4 runs per building under --seed k
-          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design.yaml" --runs 4
+          DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design.yaml" --runs 4
                        --seed "${NAME#robots_rep}") ;;
   robots_more) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
-          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design_more.yaml") ;;
+          DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_more.yaml") ;;
   robots_configs2) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
-          DESIGN_ARGS=(--design "$ROOT/config/robot_campaign/design_configs2.yaml") ;;
+          DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_configs2.yaml") ;;
   *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, karto_seed_study)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"

@@ -145,8 +145,8 @@ def test_the_extension_design_reuses_the_campaign_configurations(root):
     buildings: same robots, bounds and base, so the two campaigns pool as one design."""
     from slam_predict.collect.robot_design import load_design
 
-    main = load_design(root / "config" / "robot_campaign" / "design.yaml")
-    more = load_design(root / "config" / "robot_campaign" / "design_more.yaml")
+    main = load_design(root / "data" / "campaigns" / "robots" / "design.yaml")
+    more = load_design(root / "data" / "campaigns" / "robots" / "design_more.yaml")
     assert more.configs == main.configs and more.bounds == main.bounds
     assert more.base == main.base and more.resolution_deg == main.resolution_deg
     assert not set(more.worlds) & set(main.worlds) and len(more.worlds) == 4
@@ -159,8 +159,8 @@ def test_the_configurations_design_adds_new_robots_to_the_same_buildings(root):
     21 buildings, each configuration on 3 of them, so that the campaigns pool."""
     from slam_predict.collect.robot_design import load_design
 
-    main = load_design(root / "config" / "robot_campaign" / "design.yaml")
-    extra = load_design(root / "config" / "robot_campaign" / "design_configs2.yaml")
+    main = load_design(root / "data" / "campaigns" / "robots" / "design.yaml")
+    extra = load_design(root / "data" / "campaigns" / "robots" / "design_configs2.yaml")
     assert not set(extra.configs) & set(main.configs) and len(extra.configs) == 14
     assert extra.bounds == main.bounds and extra.base == main.base
     assert extra.resolution_deg == main.resolution_deg

@@ -49,7 +49,7 @@ def _add_learning_options(group) -> None:
     """The options every spelling of robot-aware learning reads besides the sources."""
     group.add_argument("--feature-version", help="feature version of a --features table")
     group.add_argument("--design", metavar="YAML", nargs="+",
-                       help="the campaigns' design file(s) (e.g. config/robot_campaign/"
+                       help="the campaigns' design file(s) (e.g. data/campaigns/robots/"
                             "design.yaml): the card's robot input ranges become their bounds")
     group.add_argument("--feature-config", metavar="YAML",
                        help="with --worlds: feature configuration (section 'features')")

@@ -43,7 +43,7 @@ PROTOCOLS = ("buildings", "configs", "both")   # robot-aware evaluation: what is
 POINTS_FILE = "training_points.csv"   # a robot-aware folder's training POINT rows
 DEFAULT_ROBOT_MODEL = "own-robots"
 ROBOT_TRAIN_HINT = ("train one with 'slam-predict learn robots DATA_DIR... --features CSV "
-                    "--design config/robot_campaign/design.yaml --name own-robots' "
+                    "--design data/campaigns/robots/design.yaml --name own-robots' "
                     "(docs/learning.md)")
 
 
