@@ -5,7 +5,7 @@
 #
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
 #       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | robots | robots_rep3 |
-#       robots_more | robots_configs2 | robots_rep4
+#       robots_more | robots_configs2 | robots_rep4 | karto_seed_study | karto_robots
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
@@ -23,6 +23,11 @@
 #   karto_seed_study (2026-12-05): the fidelity campaign's buildings (its parts.yaml) explored by
 #              the same chain with Karto as slam_toolbox's async node in real time
 #              (config/fidelity/seed_study_karto.yaml), 3 runs each, breadth-first.
+#   karto_robots (2026-12-06): Karto's robot-aware campaign, a declared subset of the robots
+#              design that spans it: the design's first 4 runs per building (replicate 1 of each
+#              of the building's 4 points: all 28 configurations, 84 runs) on robots' 21
+#              buildings, with the Karto fidelity chain (config/fidelity/seed_study_karto.yaml);
+#              the design replaces the laser and odometry run by run, as for robots.
 #   robots (issue #18): 21 seed-study buildings of <= 2,000 m2, each explored with 4 robot
 #              configurations of data/campaigns/robots/design.yaml (28 configurations, a
 #              Latin hypercube over laser range, fov and odometry error), 2 runs each (168 runs),
@@ -78,6 +83,8 @@ case "$NAME" in
   fidelity_sizes_r2) SETTINGS="$ROOT/config/fidelity/sizes_rebuild2.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   karto_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  karto_robots) SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"; WITH_SHIPPED=0
+          DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design.yaml" --runs 4) ;;
   robots) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design.yaml") ;;
   robots_rep3|robots_rep4) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
@@ -88,7 +95,7 @@ case "$NAME" in
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_more.yaml") ;;
   robots_configs2) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_configs2.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, karto_seed_study)" >&2; exit 2 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, karto_seed_study, karto_robots)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
@@ -106,7 +113,7 @@ parts = yaml.safe_load(open(sys.argv[1]))["parts"]
 print(" ".join(w for part in parts.values() for w in part))' \
       "$ROOT/data/campaigns/fidelity_seed_study/parts.yaml")" ;;
   robots_more) BUILDINGS="$MORE_ROBOT_BUILDINGS" ;;
-  robots*) BUILDINGS="$ROBOT_BUILDINGS" ;;
+  robots*|karto_robots) BUILDINGS="$ROBOT_BUILDINGS" ;;
 esac
 # shellcheck disable=SC2086
 slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$WORLDS_DIR" \
