@@ -60,6 +60,20 @@ def test_one_class_gives_a_constant_model():
     assert np.allclose(model.probability(X), 1e-3)
 
 
+def test_an_input_constant_up_to_rounding_does_not_decide_the_probability():
+    """One robot in every run: its fov (270° from 4.712389 rad) differs between runs by
+    rounding only; a robot at 270.0° exactly must get the same probability as the runs."""
+    rng = np.random.default_rng(3)
+    area = rng.uniform(200, 2000, 80)
+    fov = np.full(80, 270.0000011238746) + rng.choice([0.0, 5.7e-14], 80)
+    failed = (rng.uniform(size=80) < 0.4).astype(int)
+    model = fl.fit_failure(np.column_stack([area, fov]), failed, ["area", "fov"], [0])
+    assert model.scale[1] == 1.0
+    trained = model.probability(np.column_stack([area, fov]))
+    exact = model.probability(np.column_stack([area, np.full(80, 270.0)]))
+    assert np.allclose(trained, exact, atol=1e-6) and 0.2 < exact.mean() < 0.6
+
+
 def test_brier_and_reliability_by_hand():
     p = np.array([0.0, 0.04, 0.3, 0.5, 0.9, 1.0])
     y = np.array([0, 0, 1, 0, 1, 1])

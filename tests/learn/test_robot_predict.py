@@ -134,6 +134,10 @@ def test_domain_warnings(trained):
                in line for line in lines)
     assert len(lines) == 3
     assert all("--simulate 3" in line for line in lines)     # each says what to do
+    # a bound met up to a unit conversion's rounding (270° from 4.712389 rad) is inside
+    high = model.card["input_ranges"]["laser_fov_deg"][1]
+    assert model.domain_warnings(PLAN, dict(ROBOT, laser_fov_deg=high * (1 + 4e-9))) == []
+    assert model.domain_warnings(PLAN, dict(ROBOT, laser_fov_deg=high * 1.001)) != []
     # design configurations on the diagonal of (xy, yaw): the opposite corner lies far away
     model.card["design"]["configs"] = {f"c{i}": {"odom_xy_error": 0.004 * i,
                                                  "odom_yaw_error": 0.014 * i} for i in range(6)}

@@ -28,6 +28,7 @@ FAILURE_COVERAGE = 0.9   # a run that maps less of the free area than this faile
 FILE = "failure.json"
 DEFAULT_C = 1.0          # inverse L2 penalty of the logistic regression (standardised inputs)
 BIN_EDGES = (0.0, 0.05, 0.1, 0.2, 0.4, 0.6, 1.0)   # reliability table bins of predicted p
+CONSTANT_SPREAD = 1e-9   # an input whose std is below this × max(1, |mean|) is constant
 
 
 @dataclass
@@ -122,7 +123,8 @@ def fit_failure(X: np.ndarray, failed: np.ndarray, names: Sequence[str],
     Z = np.array(X, dtype=float)
     Z[:, cols] = np.log(np.maximum(Z[:, cols], 1e-6))
     mean, scale = Z.mean(axis=0), Z.std(axis=0)
-    scale = np.where(scale > 0, scale, 1.0)
+    # a constant input (one robot's fov in every run) has a spread of rounding noise only
+    scale = np.where(scale > CONSTANT_SPREAD * np.maximum(1.0, np.abs(mean)), scale, 1.0)
     if len(np.unique(failed)) < 2:
         rate = float(np.clip(np.mean(failed), 1e-3, 1 - 1e-3))
         return FailureModel(list(names), cols, mean, scale, np.zeros(len(names)),

@@ -42,6 +42,8 @@ from slam_predict.learn.robot.plain import (
 )
 from slam_predict.learn.store import ModelStore
 
+RANGE_SLACK = 1e-6   # relative: an input this close to a training bound is inside it
+
 
 class RobotModel:
     """A loaded robot-aware model folder (see the module doc); use :meth:`load`."""
@@ -272,7 +274,8 @@ class RobotModel:
         units = {**ROBOT_UNITS, **DERIVED_UNITS}
         for name, value in zip(self.names, x, strict=True):
             low, high = self.card["input_ranges"][name]
-            if not low <= value <= high:
+            slack = RANGE_SLACK * max(1.0, abs(low), abs(high))   # unit conversions' rounding
+            if not low - slack <= value <= high + slack:
                 unit = f" {units[name]}" if name in units else ""
                 out.append(f"{name} = {value:.4g}{unit} is outside the training range "
                            f"[{low:.4g}, {high:.4g}]{unit}: the prediction extrapolates; "
