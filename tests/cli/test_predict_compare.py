@@ -257,3 +257,17 @@ def test_simulate_takes_the_algorithms_settings():
     args = options(None)
     check_options(args)
     assert args.settings is None     # collect's default, config/collect.yaml
+
+
+def test_robot_aware_compare_names_each_algorithms_range_cap(robot_models_dir, tmp_path, call):
+    """With an 80 m laser each algorithm uses its own range cap, and the robot line says so."""
+    folder = tmp_path / "models"
+    shutil.copytree(robot_models_dir / "own-robots", folder / "own-robots")
+    copy_as(robot_models_dir / "own-robots", folder / "karto-robots", "karto")
+    code, out, err = call(SMALL, "--compare", "gmapping", "karto", "--robot",
+                          "config/robots/seed_realistic.yaml", "--models-dir", str(folder))
+    assert code == 0, err
+    line = next(x for x in out.splitlines() if x.startswith("robot seed_realistic"))
+    assert "robot inputs: GMapping: laser range 30 m used (laser 80 m, GMapping's maxUrange " \
+           "30 m)" in line
+    assert "; Karto: laser range 30 m used (laser 80 m, Karto's max_laser_range 30 m)" in line

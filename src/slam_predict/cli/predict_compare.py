@@ -142,8 +142,11 @@ def text_form(world: str, plan: dict, results: dict[str, dict], decision: dict,
         from slam_predict.cli.predict_robot import robot_text
 
         robot = robot_aware[0]["robot"]
-        lines.append(f"robot {robot['name']} ({robot['file']}); robot inputs: "
-                     f"{robot_text(robot_aware[0])}")
+        texts = {s: robot_text({**r, "slam": s}) for s, r in results.items()
+                 if r.get("model_takes_robot")}
+        inputs = (next(iter(texts.values())) if len(set(texts.values())) == 1 else
+                  "; ".join(f"{slam_label(s)}: {text}" for s, text in texts.items()))
+        lines.append(f"robot {robot['name']} ({robot['file']}); robot inputs: {inputs}")
     lines += table(results, components)
     lines += decision_text(decision, results)
     lines += [f"warning: {s}: {w}" for s, r in results.items() for w in r["warnings"]]
