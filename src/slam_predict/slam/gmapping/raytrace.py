@@ -120,6 +120,19 @@ def _beam_cells(x, y, th, r, ca, sa, usable, sx2, sy2, cx, cy, delta):
     return ax, ay, bx, by, d < usable
 
 
+@nb.njit(cache=True, inline="always")
+def _scan_beam(poses, readings, k, i, ca, sa, max_range, usable, sx2, sy2, cx, cy, delta):
+    """Beam i of scan k: (used, laser cell x, y, end cell x, y, hit) as :func:`_beam_cells`
+    gives it; ``used`` False (and the rest 0) for a beam GMapping skips (r = 0 or
+    r > maxRange)."""
+    r = readings[k, i]
+    if r > max_range or r == 0.0:
+        return False, 0, 0, 0, 0, False
+    ax, ay, bx, by, hit = _beam_cells(poses[k, 0], poses[k, 1], poses[k, 2], r, ca[i], sa[i],
+                                      usable, sx2, sy2, cx, cy, delta)
+    return True, ax, ay, bx, by, hit
+
+
 @nb.njit(cache=True)
 def touched_cells(poses, readings, ca, sa, max_range, usable, sx2, sy2, cx, cy, delta):
     """(ixmin, iymin, ixmax, iymax): cell bounds of every laser and end cell of the scans."""
@@ -127,11 +140,10 @@ def touched_cells(poses, readings, ca, sa, max_range, usable, sx2, sy2, cx, cy, 
     hi_x = hi_y = -(1 << 40)
     for k in range(poses.shape[0]):
         for i in range(readings.shape[1]):
-            r = readings[k, i]
-            if r > max_range or r == 0.0:
+            used, ax, ay, bx, by, _ = _scan_beam(poses, readings, k, i, ca, sa, max_range,
+                                                 usable, sx2, sy2, cx, cy, delta)
+            if not used:
                 continue
-            ax, ay, bx, by, _ = _beam_cells(poses[k, 0], poses[k, 1], poses[k, 2], r, ca[i],
-                                            sa[i], usable, sx2, sy2, cx, cy, delta)
             lo_x = min(lo_x, ax, bx)
             lo_y = min(lo_y, ay, by)
             hi_x = max(hi_x, ax, bx)
@@ -157,12 +169,10 @@ def add_scans(hits, visits, poses, readings, ca, sa, max_range, usable, sx2, sy2
     cell (0, 0) is map cell (x0, y0)."""
     for k in range(poses.shape[0]):
         for i in range(readings.shape[1]):
-            r = readings[k, i]
-            if r > max_range or r == 0.0:
-                continue
-            ax, ay, bx, by, hit = _beam_cells(poses[k, 0], poses[k, 1], poses[k, 2], r, ca[i],
-                                              sa[i], usable, sx2, sy2, cx, cy, delta)
-            _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit, sign)
+            used, ax, ay, bx, by, hit = _scan_beam(poses, readings, k, i, ca, sa, max_range,
+                                                   usable, sx2, sy2, cx, cy, delta)
+            if used:
+                _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit, sign)
 
 
 @nb.njit(cache=True)
