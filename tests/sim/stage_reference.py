@@ -47,6 +47,14 @@ def sgn(v) -> int:
     return -1 if v < 0 else 1
 
 
+def line_step(globx, globy, cx, cy, exy, sx, sy, bx, by):
+    """One step of Stage's Bresenham walk (map_poly and Raytrace): the global pixel, the cell
+    in its region and the error term after it."""
+    if exy < 0:
+        return globx + sx, globy, cx + sx, cy, exy + by
+    return globx, globy + sy, cx, cy + sy, exy - bx
+
+
 def cut_rects(dark: list[list[bool]]) -> list[tuple[int, int, int, int]]:
     """Stage's rotrects_from_image on rows of booleans (row 0 on top, True = dark)."""
     img = [list(row) for row in dark]
@@ -150,14 +158,8 @@ class Grid:
                 while 0 <= cx < REGIONWIDTH and 0 <= cy < REGIONWIDTH and n > 0:
                     reg["cells"].setdefault((cx, cy), []).append(model)
                     reg["count"] += 1
-                    if exy < 0:
-                        globx += sx
-                        exy += by
-                        cx += sx
-                    else:
-                        globy += sy
-                        exy -= bx
-                        cy += sy
+                    globx, globy, cx, cy, exy = line_step(globx, globy, cx, cy, exy, sx, sy,
+                                                          bx, by)
                     n -= 1
 
     def raytrace(self, ox, oy, a, rng, ppm, ignore=("robot",)):
@@ -191,14 +193,8 @@ class Grid:
                         if ax > ay:
                             return abs((globx - startx) / cosa) / ppm
                         return abs((globy - starty) / sina) / ppm
-                    if exy < 0:
-                        globx += sx
-                        exy += by
-                        cx += sx
-                    else:
-                        globy += sy
-                        exy -= bx
-                        cy += sy
+                    globx, globy, cx, cy, exy = line_step(globx, globy, cx, cy, exy, sx, sy,
+                                                          bx, by)
                     n -= 1
                 continue
             if calculate:
