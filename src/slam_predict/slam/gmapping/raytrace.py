@@ -36,22 +36,20 @@ def _line_start(x0, y0, x1, y1):
 
 
 @nb.njit(cache=True, inline="always")
+def _major_step(major, minor, d, minor_step, d_major, d_minor):
+    """One Bresenham step in (major, minor) axis coordinates → (major, minor, d)."""
+    if d < 0:
+        return major + 1, minor, d + 2 * d_minor
+    return major + 1, minor + minor_step, d + 2 * (d_minor - d_major)
+
+
+@nb.njit(cache=True, inline="always")
 def _line_step(x, y, d, minor_step, dx, dy, steep):
     """One Bresenham step along the major axis → (x, y, d)."""
-    if not steep:
-        x += 1
-        if d < 0:
-            d += 2 * dy
-        else:
-            y += minor_step
-            d += 2 * (dy - dx)
+    if steep:
+        y, x, d = _major_step(y, x, d, minor_step, dy, dx)
     else:
-        y += 1
-        if d < 0:
-            d += 2 * dx
-        else:
-            x += minor_step
-            d += 2 * (dx - dy)
+        x, y, d = _major_step(x, y, d, minor_step, dx, dy)
     return x, y, d
 
 
