@@ -287,8 +287,8 @@ def test_reused_search_work_gives_the_fresh_searches_results(seed):
     for _ in range(12):
         ny, nx = rng.integers(8, 40, size=2)
         cost = rng.choice([50.0, 80.0, 130.0, np.inf], size=(ny, nx), p=[0.5, 0.2, 0.1, 0.2])
-        s = (int(rng.integers(nx)), int(rng.integers(ny)))
-        g = (int(rng.integers(nx)), int(rng.integers(ny)))
+        s = random_cell(rng, cost)
+        g = random_cell(rng, cost)
         tol = int(rng.integers(0, 3))
         ours = _search(cost, s, g, tol, kept)
         fresh = _search(cost, s, g, tol, SearchWork())
@@ -397,6 +397,12 @@ def random_costs(rng, size_range, shares) -> np.ndarray:
     return rng.choice([50.0, 100.0, np.inf], size=(ny, nx), p=shares)
 
 
+def random_cell(rng, cost: np.ndarray) -> tuple[int, int]:
+    """A random cell (x, y) of ``cost``, x drawn first."""
+    ny, nx = cost.shape
+    return int(rng.integers(nx)), int(rng.integers(ny))
+
+
 def reference_weight(cost: np.ndarray) -> float:
     """The planner's heuristic weight on ``cost`` (capped at 1 as nav/planner.py takes it)."""
     return min(float(np.min(cost[np.isfinite(cost)], initial=1.0)), 50.0)
@@ -420,9 +426,8 @@ def test_search_equals_a_plain_python_port_ties_included(seed):
     work = SearchWork()
     for _ in range(15):
         cost = random_costs(rng, (6, 30), [0.6, 0.2, 0.2])
-        ny, nx = cost.shape
-        s = (int(rng.integers(nx)), int(rng.integers(ny)))
-        g = (int(rng.integers(nx)), int(rng.integers(ny)))
+        s = random_cell(rng, cost)
+        g = random_cell(rng, cost)
         tol = int(rng.integers(0, 3))
         expected = reference_window_search(cost, s, g, tol, reference_weight(cost))
         assert_same_search(_search(cost, s, g, tol, work), expected)
@@ -470,10 +475,10 @@ def test_a_paused_search_ends_as_the_plain_search(seed):
     for _ in range(12):
         cost = random_costs(rng, (10, 35), [0.55, 0.2, 0.25])
         ny, nx = cost.shape
-        g = (int(rng.integers(nx)), int(rng.integers(ny)))
+        g = random_cell(rng, cost)
         wall = int(rng.integers(0, nx))
         cost[:, wall] = np.inf                     # often splits the goal window off
-        s = (int(rng.integers(nx)), int(rng.integers(ny)))
+        s = random_cell(rng, cost)
         tol = int(rng.integers(0, 4))
         expected = reference_window_search(cost, s, g, tol, reference_weight(cost))
         for pause in (0, 1, 7, 40, None):

@@ -1,12 +1,12 @@
 """Round trips of poses, twists, odometry, transforms and clock through ROS messages."""
 from __future__ import annotations
 
-import io
-
 import numpy as np
 import pytest
 
 pytest.importorskip("nav_msgs.msg", reason="ROS 1 python messages not installed")
+
+from ros_wire import wire  # noqa: E402
 
 from slam_predict.geometry import wrap_angle  # noqa: E402
 from slam_predict.ros.conversions.geometry import (  # noqa: E402
@@ -26,14 +26,6 @@ from slam_predict.ros.conversions.geometry import (  # noqa: E402
 
 RNG = np.random.default_rng(1)
 POSES = np.column_stack([RNG.uniform(-50, 50, (40, 2)), RNG.uniform(-np.pi, np.pi, 40)])
-
-
-def wire(msg):
-    buffer = io.BytesIO()
-    msg.serialize(buffer)
-    out = type(msg)()
-    out.deserialize(buffer.getvalue())
-    return out
 
 
 def assert_pose_close(a, b, atol=1e-12):

@@ -1,7 +1,6 @@
 """Round trips of laser scans through sensor_msgs/LaserScan (object and wire format)."""
 from __future__ import annotations
 
-import io
 import math
 
 import numpy as np
@@ -9,19 +8,11 @@ import pytest
 
 pytest.importorskip("sensor_msgs.msg", reason="ROS 1 python messages not installed")
 
+from ros_wire import wire  # noqa: E402
 from sensor_msgs.msg import LaserScan  # noqa: E402
 
 from slam_predict.ros.conversions.sensor import ScanData, scan_data, scan_from_ros, scan_to_ros  # noqa: E402
 from slam_predict.world.model import LaserSpec  # noqa: E402
-
-
-def wire(msg):
-    """Serialise and deserialise a message (float32 fields lose precision here)."""
-    buffer = io.BytesIO()
-    msg.serialize(buffer)
-    out = type(msg)()
-    out.deserialize(buffer.getvalue())
-    return out
 
 
 def stage_scan(stamp=12.3) -> ScanData:

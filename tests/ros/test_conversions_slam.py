@@ -1,8 +1,6 @@
 """SLAM grids ↔ nav_msgs/OccupancyGrid: byte-exact round trips through the wire format."""
 from __future__ import annotations
 
-import io
-
 import numpy as np
 import pytest
 
@@ -10,6 +8,7 @@ pytest.importorskip("nav_msgs.msg", reason="ROS message packages (nav_msgs) not 
 
 from nav_msgs.msg import OccupancyGrid as RosGrid  # noqa: E402
 from nav_msgs.srv import GetMapResponse  # noqa: E402
+from ros_wire import wire  # noqa: E402
 
 from slam_predict.ros.conversions.slam import (  # noqa: E402
     get_map_response,
@@ -24,14 +23,6 @@ def sample_grid(seed=0):
     rng = np.random.default_rng(seed)
     data = rng.choice(np.array([-1, 0, 100], dtype=np.int8), size=(37, 53))
     return OccupancyGrid(data, 0.05, (-12.5, 3.25))
-
-
-def wire(msg, cls):
-    buffer = io.BytesIO()
-    msg.serialize(buffer)
-    out = cls()
-    out.deserialize(buffer.getvalue())
-    return out
 
 
 @pytest.mark.parametrize("seed", range(3))

@@ -135,14 +135,21 @@ def test_lockstep_waits_for_cmd_vel_or_timeout():
                 node.on_cmd_vel(twist(0.2, 0.0))
             time.sleep(0.001)
 
-    thread = threading.Thread(target=controller)
+    assert run_beside(node, controller, stop, 20) < 4.0  # never waited for the 5 s timeout
+    assert node.sim.velocity[0] == pytest.approx(0.2)
+
+
+def run_beside(node, other_nodes, stop, steps):
+    """Run ``steps`` simulator steps while ``other_nodes`` (a loop until ``stop`` is set) plays
+    the other nodes in a thread; returns the wall seconds the steps took."""
+    thread = threading.Thread(target=other_nodes)
     thread.start()
     start = time.monotonic()
-    node.run(max_steps=20)
+    node.run(max_steps=steps)
+    elapsed = time.monotonic() - start
     stop.set()
     thread.join()
-    assert time.monotonic() - start < 4.0  # never waited for the 5 s timeout
-    assert node.sim.velocity[0] == pytest.approx(0.2)
+    return elapsed
 
 
 class FakeScanPublisher(FakePublisher):
@@ -186,13 +193,7 @@ def test_lockstep_acks_wait_for_every_node_before_each_step():
                 node.on_ack(ack(next_tick - 1e-3), "/nav/sim_ack")
             time.sleep(0.0005)
 
-    thread = threading.Thread(target=nodes)
-    thread.start()
-    start = time.monotonic()
-    node.run(max_steps=30)
-    stop.set()
-    thread.join()
-    assert time.monotonic() - start < 4.0       # never hit the 5 s timeout
+    assert run_beside(node, nodes, stop, 30) < 4.0  # never hit the 5 s timeout
     assert node.sim.t == pytest.approx(3.0)
     assert not node._late
     assert len(ahead) >= 40 and max(ahead) < 1e-9   # it waited for every scan and tick

@@ -47,6 +47,22 @@ def sgn(v) -> int:
     return -1 if v < 0 else 1
 
 
+def line_step(globx, globy, cx, cy, exy, sx, sy, bx, by):
+    """One step of Stage's Bresenham walk (map_poly and Raytrace): the global pixel, the cell
+    in its region and the error term after it."""
+    if exy < 0:
+        return globx + sx, globy, cx + sx, cy, exy + by
+    return globx, globy + sy, cx, cy + sy, exy - bx
+
+
+def region_jump(cross, jump, jumpdist, n, dist, other_dist):
+    """Raytrace's jump to the next region boundary crossing on one axis: (global x, y, pixels
+    left, that axis' next crossing, distances to the next crossings on this and the other
+    axis)."""
+    return (cross[0], cross[1], to_int32(n - dist), (cross[0] + jump[0], cross[1] + jump[1]),
+            jumpdist, other_dist - dist)
+
+
 def cut_rects(dark: list[list[bool]]) -> list[tuple[int, int, int, int]]:
     """Stage's rotrects_from_image on rows of booleans (row 0 on top, True = dark)."""
     img = [list(row) for row in dark]
@@ -150,14 +166,8 @@ class Grid:
                 while 0 <= cx < REGIONWIDTH and 0 <= cy < REGIONWIDTH and n > 0:
                     reg["cells"].setdefault((cx, cy), []).append(model)
                     reg["count"] += 1
-                    if exy < 0:
-                        globx += sx
-                        exy += by
-                        cx += sx
-                    else:
-                        globy += sy
-                        exy -= bx
-                        cy += sy
+                    globx, globy, cx, cy, exy = line_step(globx, globy, cx, cy, exy, sx, sy,
+                                                          bx, by)
                     n -= 1
 
     def raytrace(self, ox, oy, a, rng, ppm, ignore=("robot",)):
@@ -191,14 +201,8 @@ class Grid:
                         if ax > ay:
                             return abs((globx - startx) / cosa) / ppm
                         return abs((globy - starty) / sina) / ppm
-                    if exy < 0:
-                        globx += sx
-                        exy += by
-                        cx += sx
-                    else:
-                        globy += sy
-                        exy -= bx
-                        cy += sy
+                    globx, globy, cx, cy, exy = line_step(globx, globy, cx, cy, exy, sx, sy,
+                                                          bx, by)
                     n -= 1
                 continue
             if calculate:
@@ -219,19 +223,11 @@ class Grid:
                 dist_x = abs(xdx) + abs(xdy)
                 dist_y = abs(ydx) + abs(ydy)
             if dist_x < dist_y:
-                globx, globy = xcrossx, xcrossy
-                n = to_int32(n - dist_x)
-                xcrossx += xjumpx
-                xcrossy += xjumpy
-                dist_y -= dist_x
-                dist_x = xjumpdist
+                globx, globy, n, (xcrossx, xcrossy), dist_x, dist_y = region_jump(
+                    (xcrossx, xcrossy), (xjumpx, xjumpy), xjumpdist, n, dist_x, dist_y)
             else:
-                globx, globy = ycrossx, ycrossy
-                n = to_int32(n - dist_y)
-                ycrossx += yjumpx
-                ycrossy += yjumpy
-                dist_x -= dist_y
-                dist_y = yjumpdist
+                globx, globy, n, (ycrossx, ycrossy), dist_y, dist_x = region_jump(
+                    (ycrossx, ycrossy), (yjumpx, yjumpy), yjumpdist, n, dist_y, dist_x)
         return rng
 
 

@@ -74,22 +74,24 @@ def test_rect_cutter_leaves_bottom_row_without_height():
     assert k.cut_rects(dark).tolist() == [[1, 0, 1, 4], [1, 0, 1, 0]]
 
 
-@pytest.mark.parametrize("seed", range(12))
-def test_grid_cells_match_reference(seed):
-    rng = np.random.default_rng(100 + seed)
+def random_grid(seed: int):
+    """(rng, a random world, a Stage resolution m, its StageGrid), drawn from ``seed``."""
+    rng = np.random.default_rng(seed)
     world = random_world(rng)
     res = float(rng.choice([0.025, 0.02, 0.05]))
-    grid = stage_ranger.StageGrid(world, res)
+    return rng, world, res, stage_ranger.StageGrid(world, res)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_grid_cells_match_reference(seed):
+    _, world, res, grid = random_grid(100 + seed)
     ref_grid, _ = reference_grid(world, res)
     assert occupied_cells(grid) == reference_cells(ref_grid)
 
 
 @pytest.mark.parametrize("seed", range(30))
 def test_ranges_match_reference_exactly(seed):
-    rng = np.random.default_rng(200 + seed)
-    world = random_world(rng)
-    res = float(rng.choice([0.025, 0.02, 0.05]))
-    grid = stage_ranger.StageGrid(world, res)
+    rng, world, res, grid = random_grid(200 + seed)
     xmin, ymin, xmax, ymax = world.extent
     for _ in range(3):
         x, y = rng.uniform(xmin - 0.3, xmax + 0.3), rng.uniform(ymin - 0.3, ymax + 0.3)

@@ -19,7 +19,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from slam_predict.collect.fidelity import Bar, Comparison, acceptance_lines
+from slam_predict.collect.fidelity import NO_SIZE_TREND, Bar, Comparison, acceptance_lines
 from slam_predict.collect.store import RunStore
 from slam_predict.config import load_yaml
 from slam_predict.errors import InputError
@@ -32,7 +32,7 @@ CHAIN_BARS = (
     Bar("ε_t Spearman ≥ 0.9", "spearman:trans_mean", 0.9, 1.0),
     Bar("ε_r median ratio in [0.8, 1.25]", "ratio:rot_mean", 0.8, 1.25),
     Bar("path length median ratio in [0.85, 1.15]", "ratio:path_length_mean", 0.85, 1.15),
-    Bar("no size trend: Spearman(ε_t ratio, free area) in [-0.3, 0.3]", "size_trend", -0.3, 0.3),
+    NO_SIZE_TREND,
     Bar("widest building ε_t ratio in [0.6, 1.6]", "extreme:trans_mean", 0.6, 1.6),
     Bar("widest building path ratio in [0.6, 1.6]", "extreme:path_length_mean", 0.6, 1.6),
 )

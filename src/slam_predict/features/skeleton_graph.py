@@ -19,6 +19,7 @@ from scipy import sparse
 from scipy.sparse import csgraph
 
 from slam_predict.features import graph_kernels
+from slam_predict.features.polyline import douglas_peucker
 
 SQRT2 = math.sqrt(2.0)
 # 8-neighbour offsets looking "forward" (each undirected pair once).
@@ -131,7 +132,7 @@ def simplify_chains(rc: np.ndarray, edges: np.ndarray, weights: np.ndarray,
             walked_steps.update(zip(chain[:-1], chain[1:], strict=False))
             walked_steps.update(zip(chain[1:], chain[:-1], strict=False))
             walked_nodes.update(chain)
-            kept = _douglas_peucker(rc[chain].astype(float), tolerance_px)
+            kept = douglas_peucker(rc[chain].astype(float), tolerance_px)
             length = np.concatenate([[0.0], np.cumsum(steps)])
             for i, j in zip(kept[:-1], kept[1:], strict=False):
                 a, b = chain[i], chain[j]
@@ -158,27 +159,3 @@ def _walk(adjacency, degree, start: int, first: int):
         chain.append(cur)
         steps.append(adjacency[prev][cur])
     return chain, steps
-
-
-def _douglas_peucker(points: np.ndarray, tolerance: float) -> list[int]:
-    """Indices of the points Douglas–Peucker keeps (first and last always)."""
-    keep = {0, len(points) - 1}
-    stack = [(0, len(points) - 1)]
-    while stack:
-        lo, hi = stack.pop()
-        if hi - lo < 2:
-            continue
-        a, b = points[lo], points[hi]
-        seg = points[lo + 1:hi]
-        ab = b - a
-        norm = math.hypot(ab[0], ab[1])
-        if norm == 0.0:
-            dist = np.hypot(seg[:, 0] - a[0], seg[:, 1] - a[1])
-        else:
-            dist = np.abs(ab[0] * (seg[:, 1] - a[1]) - ab[1] * (seg[:, 0] - a[0])) / norm
-        worst = int(np.argmax(dist))
-        if dist[worst] > tolerance:
-            mid = lo + 1 + worst
-            keep.add(mid)
-            stack += [(lo, mid), (mid, hi)]
-    return sorted(keep)

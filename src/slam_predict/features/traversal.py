@@ -39,6 +39,7 @@ import numpy as np
 
 from slam_predict.config import NON_NEGATIVE, POSITIVE, Range
 from slam_predict.features import kernels
+from slam_predict.features.polyline import douglas_peucker
 from slam_predict.features.voronoi import VoronoiGraph
 from slam_predict.sensor import DEFAULT_FOV, FULL_TURN, LaserConfig
 
@@ -177,28 +178,7 @@ def simplify_polyline(points: np.ndarray, tolerance: float) -> np.ndarray:
     n = len(points)
     if n < 3 or tolerance <= 0:
         return points
-    keep = np.zeros(n, bool)
-    keep[0] = keep[-1] = True
-    stack = [(0, n - 1)]
-    while stack:
-        lo, hi = stack.pop()
-        if hi - lo < 2:
-            continue
-        seg = points[lo + 1:hi]
-        a, b = points[lo], points[hi]
-        ab = b - a
-        length = math.hypot(ab[0], ab[1])
-        if length == 0.0:
-            dist = np.hypot(seg[:, 0] - a[0], seg[:, 1] - a[1])
-        else:
-            dist = np.abs(ab[0] * (seg[:, 1] - a[1]) - ab[1] * (seg[:, 0] - a[0])) / length
-        worst = int(np.argmax(dist))
-        if dist[worst] > tolerance:
-            mid = lo + 1 + worst
-            keep[mid] = True
-            stack.append((lo, mid))
-            stack.append((mid, hi))
-    return points[keep]
+    return points[douglas_peucker(points, tolerance)]
 
 
 def polyline_turning(points: np.ndarray) -> float:

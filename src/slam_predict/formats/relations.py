@@ -16,6 +16,7 @@ import numpy as np
 
 from slam_predict.atomic import write_text
 from slam_predict.errors import InputError, require_file
+from slam_predict.formats.text_rows import parse_number_row
 
 log = logging.getLogger(__name__)
 
@@ -60,17 +61,7 @@ def read_relations(path: os.PathLike | str) -> Relations:
 
 
 def _parse(text: str, path: str, number: int) -> list:
-    tokens = text.split()
-    if len(tokens) != 8:
-        raise InputError(f"expected 8 values 't1 t2 x y z roll pitch yaw', got {len(tokens)}",
-                         path, number)
-    try:
-        values = [float(v) for v in tokens]
-    except ValueError as exc:
-        raise InputError("non-numeric value in relation", path, number) from exc
-    if not np.all(np.isfinite(values)):
-        raise InputError("non-finite value in relation", path, number)
-    return values
+    return parse_number_row(text.split(), "t1 t2 x y z roll pitch yaw", "relation", path, number)
 
 
 def write_relations(path: os.PathLike | str, relations: Relations,

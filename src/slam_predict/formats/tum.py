@@ -18,6 +18,7 @@ import numpy as np
 
 from slam_predict.atomic import write_text
 from slam_predict.errors import InputError, require_file
+from slam_predict.formats.text_rows import parse_number_row
 from slam_predict.geometry import quaternion_to_yaw, wrap_angle, yaw_to_quaternion
 
 log = logging.getLogger(__name__)
@@ -102,14 +103,5 @@ def _careful_load(path: str) -> np.ndarray:
 
 
 def _parse_row(text: str, path: str, number: int) -> list:
-    tokens = text.replace(",", " ").split()
-    if len(tokens) != 8:
-        raise InputError(f"expected 8 values 'timestamp x y z qx qy qz qw', got {len(tokens)}",
-                         path, number)
-    try:
-        values = [float(v) for v in tokens]
-    except ValueError as exc:
-        raise InputError("non-numeric value in TUM line", path, number) from exc
-    if not np.all(np.isfinite(values)):
-        raise InputError("non-finite value in TUM line", path, number)
-    return values
+    return parse_number_row(text.replace(",", " ").split(), "timestamp x y z qx qy qz qw",
+                            "TUM line", path, number)

@@ -183,15 +183,11 @@ def main(argv=None) -> int:
     from move_base_msgs.msg import MoveBaseAction
     from nav_msgs.srv import GetPlan
 
-    from slam_predict.errors import InputError
     from slam_predict.ros.conversions.nav import plan_from_ros, pose_stamped_to_ros
+    from slam_predict.ros.node_start import start_node
 
-    rospy.init_node("explore", argv=argv)
-    logging.basicConfig(level=logging.INFO, format="[explore] %(levelname)s %(message)s")
-    try:
-        cfg = read_config(rospy)
-    except InputError as exc:
-        rospy.logfatal(f"explore: {exc.one_line()}")
+    cfg = start_node(rospy, "explore", "explore", read_config, argv)
+    if cfg is None:
         return 2
     seed = int(rospy.get_param("~seed", 0))
     tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))

@@ -340,14 +340,10 @@ def main(argv=None) -> int:
     import rospy
     import tf2_ros
 
-    from slam_predict.errors import InputError
+    from slam_predict.ros.node_start import start_node
 
-    rospy.init_node("move_base", argv=argv)
-    logging.basicConfig(level=logging.INFO, format="[move_base] %(levelname)s %(message)s")
-    try:
-        cfg = read_config(rospy)
-    except InputError as exc:
-        rospy.logfatal(f"move_base: {exc.one_line()}")
+    cfg = start_node(rospy, "move_base", "move_base", read_config, argv)
+    if cfg is None:
         return 2
     tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
     tf2_ros.TransformListener(tf_buffer)

@@ -282,16 +282,14 @@ def main(argv=None, executable: str = "slam_gmapping") -> int:
     import rospy
     import tf2_ros
 
-    from slam_predict.errors import InputError
+    from slam_predict.ros.node_start import start_node
 
     default_name = "slam_toolbox" if executable in TOOLBOX_NODES else executable
-    rospy.init_node(default_name, argv=argv)
-    logging.basicConfig(level=logging.INFO, format=f"[{executable}] %(levelname)s %(message)s")
-    try:
-        choice, node_params, seed = read_params(rospy, executable)
-    except InputError as exc:
-        rospy.logfatal(f"{executable}: {exc.one_line()}")
+    params = start_node(rospy, default_name, executable,
+                        lambda module: read_params(module, executable), argv)
+    if params is None:
         return 2
+    choice, node_params, seed = params
     if seed is None:
         seed = int(np.random.SeedSequence().entropy % (2 ** 31))
     gate = getattr(choice.params, "scan_gate", None)

@@ -37,6 +37,7 @@ class OdometryModel:
     """Base class: identity (the ``none`` model)."""
 
     name = "none"
+    _bias: tuple[float, ...] = (0.0, 0.0, 0.0)
 
     def perturb(self, delta: Delta, rng: np.random.Generator) -> Delta:
         """The odometry displacement for the executed body-frame ``delta`` of one step."""
@@ -45,7 +46,7 @@ class OdometryModel:
     @property
     def bias(self) -> tuple[float, float, float]:
         """Constant proportional errors (e_x, e_y, e_θ) in use this run (zeros if none)."""
-        return (0.0, 0.0, 0.0)
+        return self._bias  # type: ignore[return-value]
 
     def metadata(self) -> dict[str, Any]:
         """A JSON-ready description of the model and the errors in use."""
@@ -60,10 +61,6 @@ class UniformPerRun(OdometryModel):
     def __init__(self, bound: Sequence[float], rng: np.random.Generator):
         self.bound = tuple(float(b) for b in bound)
         self._bias = tuple(float(v) for v in rng.uniform(-1.0, 1.0, 3) * np.asarray(self.bound))
-
-    @property
-    def bias(self) -> tuple[float, float, float]:
-        return self._bias  # type: ignore[return-value]
 
     def perturb(self, delta: Delta, rng: np.random.Generator) -> Delta:
         dx, dy, dth = delta
@@ -81,10 +78,6 @@ class FixedBias(OdometryModel):
 
     def __init__(self, bias: Sequence[float]):
         self._bias = tuple(float(b) for b in bias)
-
-    @property
-    def bias(self) -> tuple[float, float, float]:
-        return self._bias  # type: ignore[return-value]
 
     def perturb(self, delta: Delta, rng: np.random.Generator) -> Delta:
         dx, dy, dth = delta

@@ -67,6 +67,20 @@ def cached_jump_table(occ: np.ndarray) -> np.ndarray:
     return jump
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _axis_walk(direction, position, cell, t0):
+    """Cell walk along one axis from ``position`` (cells, inside ``cell``) at ray parameter t0:
+    the cell step (−1, 0, 1), the ray length per cell and the ray parameter at the next cell
+    boundary (inf for both when the ray is parallel to that boundary)."""
+    if direction > 0.0:
+        delta = 1.0 / direction
+        return 1, delta, t0 + (cell + 1.0 - position) * delta
+    if direction < 0.0:
+        delta = -1.0 / direction
+        return -1, delta, t0 + (position - cell) * delta
+    return 0, math.inf, math.inf
+
+
 @numba.njit(cache=True, nogil=True)
 def _ray_cells(occ, jump, gx, gy, dgx, dgy, t_max):
     """Distance in cells along unit direction (dgx, dgy) from (gx, gy) to the first occupied
@@ -76,7 +90,6 @@ def _ray_cells(occ, jump, gx, gy, dgx, dgy, t_max):
     far along the ray (no occupied cell can lie within it) and restarts from the landing point.
     """
     rows, cols = occ.shape
-    inf = math.inf
     t0 = 0.0
     while True:
         px = gx + t0 * dgx
@@ -85,30 +98,8 @@ def _ray_cells(occ, jump, gx, gy, dgx, dgy, t_max):
         row = int(math.floor(py))
         if row < 0 or row >= rows or col < 0 or col >= cols or occ[row, col]:
             return t0
-        if dgx > 0.0:
-            step_c = 1
-            delta_c = 1.0 / dgx
-            next_c = t0 + (col + 1.0 - px) * delta_c
-        elif dgx < 0.0:
-            step_c = -1
-            delta_c = -1.0 / dgx
-            next_c = t0 + (px - col) * delta_c
-        else:
-            step_c = 0
-            delta_c = inf
-            next_c = inf
-        if dgy > 0.0:
-            step_r = 1
-            delta_r = 1.0 / dgy
-            next_r = t0 + (row + 1.0 - py) * delta_r
-        elif dgy < 0.0:
-            step_r = -1
-            delta_r = -1.0 / dgy
-            next_r = t0 + (py - row) * delta_r
-        else:
-            step_r = 0
-            delta_r = inf
-            next_r = inf
+        step_c, delta_c, next_c = _axis_walk(dgx, px, col, t0)
+        step_r, delta_r, next_r = _axis_walk(dgy, py, row, t0)
         t = t0
         leap = jump[row, col]
         while leap < _MIN_LEAP:

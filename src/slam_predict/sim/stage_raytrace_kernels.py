@@ -142,6 +142,15 @@ def _blocked(occ, x0, y0, ix, iy):
     return 0 <= r < occ.shape[0] and 0 <= c < occ.shape[1] and occ[r, c]
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _region_jump(crossx, crossy, jumpx, jumpy, jumpdist, n, dist, other_dist):
+    """Raytrace's leap over an empty region to its next boundary crossing on one axis (the
+    nearer one): returns the new global position (px), the pixels left, that axis' next
+    crossing and the distances (this axis, the other) to the next crossings."""
+    return crossx, crossy, int(n - dist), crossx + jumpx, crossy + jumpy, jumpdist, \
+        other_dist - dist
+
+
 @numba.njit(cache=True, nogil=True)
 def stage_ray(occ, regions, x0, y0, ppm, ox, oy, a, range_max):
     """Range (m, float64) of one Stage ray from world (ox, oy) m at heading ``a`` rad.
@@ -221,21 +230,11 @@ def stage_ray(occ, regions, x0, y0, ppm, ox, oy, a, range_max):
             dist_x = abs(xdx) + abs(xdy)
             dist_y = abs(ydx) + abs(ydy)
         if dist_x < dist_y:
-            globx = xcrossx
-            globy = xcrossy
-            n = int(n - dist_x)
-            xcrossx += xjumpx
-            xcrossy += xjumpy
-            dist_y -= dist_x
-            dist_x = xjumpdist
+            globx, globy, n, xcrossx, xcrossy, dist_x, dist_y = _region_jump(
+                xcrossx, xcrossy, xjumpx, xjumpy, xjumpdist, n, dist_x, dist_y)
         else:
-            globx = ycrossx
-            globy = ycrossy
-            n = int(n - dist_y)
-            ycrossx += yjumpx
-            ycrossy += yjumpy
-            dist_x -= dist_y
-            dist_y = yjumpdist
+            globx, globy, n, ycrossx, ycrossy, dist_y, dist_x = _region_jump(
+                ycrossx, ycrossy, yjumpx, yjumpy, yjumpdist, n, dist_y, dist_x)
     return range_max
 
 

@@ -67,6 +67,7 @@ def _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means):
     x0 = ix - ksize
     y0 = iy - ksize
     width = 2 * ksize + 1
+    # Two loops on purpose: one loop was 10 % slower, a shared cell helper 3× (intel replay).
     if (x0 >= 0 and y0 >= 0 and (x0 >> PATCH_BITS) == ((ix + ksize) >> PATCH_BITS)
             and (y0 >> PATCH_BITS) == ((iy + ksize) >> PATCH_BITS)):
         pid = patch_id(table, x0, y0)

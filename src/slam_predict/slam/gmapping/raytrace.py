@@ -36,22 +36,20 @@ def _line_start(x0, y0, x1, y1):
 
 
 @nb.njit(cache=True, inline="always")
+def _major_step(major, minor, d, minor_step, d_major, d_minor):
+    """One Bresenham step in (major, minor) axis coordinates → (major, minor, d)."""
+    if d < 0:
+        return major + 1, minor, d + 2 * d_minor
+    return major + 1, minor + minor_step, d + 2 * (d_minor - d_major)
+
+
+@nb.njit(cache=True, inline="always")
 def _line_step(x, y, d, minor_step, dx, dy, steep):
     """One Bresenham step along the major axis → (x, y, d)."""
-    if not steep:
-        x += 1
-        if d < 0:
-            d += 2 * dy
-        else:
-            y += minor_step
-            d += 2 * (dy - dx)
+    if steep:
+        y, x, d = _major_step(y, x, d, minor_step, dy, dx)
     else:
-        y += 1
-        if d < 0:
-            d += 2 * dx
-        else:
-            x += minor_step
-            d += 2 * (dx - dy)
+        x, y, d = _major_step(x, y, d, minor_step, dx, dy)
     return x, y, d
 
 
@@ -120,6 +118,19 @@ def _beam_cells(x, y, th, r, ca, sa, usable, sx2, sy2, cx, cy, delta):
     return ax, ay, bx, by, d < usable
 
 
+@nb.njit(cache=True, inline="always")
+def _scan_beam(poses, readings, k, i, ca, sa, max_range, usable, sx2, sy2, cx, cy, delta):
+    """Beam i of scan k: (used, laser cell x, y, end cell x, y, hit) as :func:`_beam_cells`
+    gives it; ``used`` False (and the rest 0) for a beam GMapping skips (r = 0 or
+    r > maxRange)."""
+    r = readings[k, i]
+    if r > max_range or r == 0.0:
+        return False, 0, 0, 0, 0, False
+    ax, ay, bx, by, hit = _beam_cells(poses[k, 0], poses[k, 1], poses[k, 2], r, ca[i], sa[i],
+                                      usable, sx2, sy2, cx, cy, delta)
+    return True, ax, ay, bx, by, hit
+
+
 @nb.njit(cache=True)
 def touched_cells(poses, readings, ca, sa, max_range, usable, sx2, sy2, cx, cy, delta):
     """(ixmin, iymin, ixmax, iymax): cell bounds of every laser and end cell of the scans."""
@@ -127,11 +138,10 @@ def touched_cells(poses, readings, ca, sa, max_range, usable, sx2, sy2, cx, cy, 
     hi_x = hi_y = -(1 << 40)
     for k in range(poses.shape[0]):
         for i in range(readings.shape[1]):
-            r = readings[k, i]
-            if r > max_range or r == 0.0:
+            used, ax, ay, bx, by, _ = _scan_beam(poses, readings, k, i, ca, sa, max_range,
+                                                 usable, sx2, sy2, cx, cy, delta)
+            if not used:
                 continue
-            ax, ay, bx, by, _ = _beam_cells(poses[k, 0], poses[k, 1], poses[k, 2], r, ca[i],
-                                            sa[i], usable, sx2, sy2, cx, cy, delta)
             lo_x = min(lo_x, ax, bx)
             lo_y = min(lo_y, ay, by)
             hi_x = max(hi_x, ax, bx)
@@ -157,12 +167,10 @@ def add_scans(hits, visits, poses, readings, ca, sa, max_range, usable, sx2, sy2
     cell (0, 0) is map cell (x0, y0)."""
     for k in range(poses.shape[0]):
         for i in range(readings.shape[1]):
-            r = readings[k, i]
-            if r > max_range or r == 0.0:
-                continue
-            ax, ay, bx, by, hit = _beam_cells(poses[k, 0], poses[k, 1], poses[k, 2], r, ca[i],
-                                              sa[i], usable, sx2, sy2, cx, cy, delta)
-            _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit, sign)
+            used, ax, ay, bx, by, hit = _scan_beam(poses, readings, k, i, ca, sa, max_range,
+                                                   usable, sx2, sy2, cx, cy, delta)
+            if used:
+                _count_beam(hits, visits, x0, y0, ax, ay, bx, by, hit, sign)
 
 
 @nb.njit(cache=True)
