@@ -234,6 +234,7 @@ def main(argv: Sequence[str]) -> int:
                 out.parent.mkdir(parents=True, exist_ok=True)
             if args.parallel:
                 from concurrent.futures import ThreadPoolExecutor
+                world_path(new_tree, case[1])   # import it once, before both sides look for it
                 with ThreadPoolExecutor(2) as pool:
                     ref_job = pool.submit(run_case, ref_tree, case, outs["ref"])
                     new_job = pool.submit(run_case, new_tree, case, outs["new"])
