@@ -119,7 +119,7 @@ def test_missing_robot_aware_model_says_how_to_train_one(root, tmp_path):
     err = one_line_error(str(root / WORLD), "--robot", f"{root / ROBOTS}/lds_360_3p5.yaml",
                          "--models-dir", str(tmp_path / "models"))
     assert f"no robot-aware model folder {tmp_path / 'models' / 'own-robots'}" in err
-    assert "slam-predict learn robots" in err and "--name own-robots" in err
+    assert "slam-predict learn train --runs" in err and "--name own-robots" in err
 
 
 def test_other_refusals(root, robot_models_dir, tmp_path):

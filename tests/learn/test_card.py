@@ -42,7 +42,7 @@ def test_check_kind_names_the_other_family(tmp_path):
     check_kind({"name": "p"}, PLAN_KIND, path)
     with pytest.raises(InputError, match="is a robot-aware model.*load_model"):
         check_kind(robot_card(), PLAN_KIND, path)
-    with pytest.raises(InputError, match="own-robots is a plan-only model.*learn robots"):
+    with pytest.raises(InputError, match="own-robots is a plan-only model.*learn train --runs"):
         check_kind({"name": "p"}, ROBOT_KIND, path)
     for key in ROBOT_REQUIRED:
         card = robot_card()

@@ -42,8 +42,8 @@ ROBOT_REQUIRED = ("max_urange_m", "input_ranges", "design")
 PROTOCOLS = ("buildings", "configs", "both")   # robot-aware evaluation: what is held out
 POINTS_FILE = "training_points.csv"   # a robot-aware folder's training POINT rows
 DEFAULT_ROBOT_MODEL = "own-robots"
-ROBOT_TRAIN_HINT = ("train one with 'slam-predict learn robots DATA_DIR... --features CSV "
-                    "--design data/campaigns/robots/design.yaml --name own-robots' "
+ROBOT_TRAIN_HINT = ("train one with 'slam-predict learn train --runs DATA_DIR... --features "
+                    "CSV --design data/campaigns/robots/design.yaml --name own-robots' "
                     "(docs/learning.md)")
 
 
