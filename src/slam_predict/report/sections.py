@@ -9,7 +9,8 @@ from slam_predict.errors import InputError
 from slam_predict.report import html as H
 from slam_predict.report.campaign import Campaign, Run, WorldRuns
 
-HASH_KEYS = ("sim", "gmapping", "nav", "explore", "stop", "metric")
+SLAM_HASH_KEYS = ("gmapping", "karto")   # config_hashes key of each SLAM back-end's parameters
+OTHER_HASH_KEYS = ("slam_compute", "nav", "explore", "stop", "metric")
 
 
 def _deg(value) -> float:
@@ -69,10 +70,11 @@ def overview(campaign: Campaign) -> str:
 
 def hash_table(runs: Sequence[Run]) -> str:
     """Distinct sets of configuration hashes (run.json config_hashes) and their run counts."""
+    keys = hash_keys(runs)
     combos: dict[tuple, list[str]] = collections.OrderedDict()
     for run in runs:
         hashes = run.value("config_hashes") or {}
-        key = tuple(str(hashes.get(k, H.MISSING)) for k in HASH_KEYS)
+        key = tuple(str(hashes.get(k, H.MISSING)) for k in keys)
         combos.setdefault(key, []).append(run.world)
     rows = [[*key, H.num_cell(len(worlds), 0), ", ".join(sorted(set(worlds)))]
             for key, worlds in combos.items()]
@@ -80,7 +82,15 @@ def hash_table(runs: Sequence[Run]) -> str:
         return "<p>No run records.</p>"
     note = ("" if len(rows) == 1 else "<p>More than one configuration: compare worlds only "
             "within the same configuration.</p>")
-    return H.table([*HASH_KEYS, "runs", "worlds"], rows) + note
+    return H.table([*keys, "runs", "worlds"], rows) + note
+
+
+def hash_keys(runs: Sequence[Run]) -> list[str]:
+    """The hash table's columns: sim, the SLAM back-ends whose parameters the runs hash
+    (gmapping when none does), slam_compute when a run has it, nav, explore, stop, metric."""
+    present = {k for run in runs for k in (run.value("config_hashes") or {})}
+    slam = [k for k in SLAM_HASH_KEYS if k in present] or ["gmapping"]
+    return ["sim", *slam, *(k for k in OTHER_HASH_KEYS if k in present or k != "slam_compute")]
 
 
 def stop_table(campaign: Campaign) -> str:
