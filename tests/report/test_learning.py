@@ -1,6 +1,7 @@
 """The learning section: model cards, predictions next to measured values, damaged models."""
 from __future__ import annotations
 
+import html
 import json
 import math
 import shutil
@@ -163,3 +164,23 @@ def test_tables_scroll_instead_of_being_cut():
 
     assert H.table(["a"], [[1]]).startswith('<div class="table"><table>')
     assert "div.table{overflow-x:auto;max-width:100%" in H.STYLE
+
+
+def test_a_model_of_another_slam_algorithm_is_not_scored(campaign_dir, model_dir, tmp_path):
+    """A Karto campaign and a GMapping model: the card is shown, its predictions are not set
+    beside the Karto measurements, and the map captions name Karto."""
+    from .conftest import Page
+    from .fake_campaign import copy
+
+    data = copy(campaign_dir, tmp_path / "karto")
+    for path in data.glob("*/run_*/run.json"):
+        record = json.loads(path.read_text())
+        record["slam"] = {"type": "karto", "params_hash": "k"}
+        path.write_text(json.dumps(record))
+    raw = build_report(data, model_dir, feature_fn=mid_range_features)
+    page, text = Page(raw), html.unescape(raw)
+    assert f"{MODEL} predicts the errors of GMapping; this campaign's runs used Karto: its " \
+           "predictions are not compared with them." in text
+    assert not any(h.startswith(f"Predictions of {MODEL}") for h in page.headings)
+    assert any(h.startswith(f"Model {MODEL}") for h in page.headings)
+    assert "final Karto map" in text and "final GMapping map" not in text

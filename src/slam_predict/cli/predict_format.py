@@ -8,14 +8,10 @@ from __future__ import annotations
 
 import math
 
+from slam_predict.learn.card import slam_label  # noqa: F401  (re-exported for the CLI)
+
 LABELS = {"trans_mean": "mean translational error", "trans_std": "std of translational error",
           "rot_mean": "mean rotational error", "rot_std": "std of rotational error"}
-SLAM_LABELS = {"gmapping": "GMapping", "karto": "Karto"}   # as the back-ends' ``label``
-
-
-def slam_label(name: str | None) -> str:
-    """The human-readable name of a SLAM algorithm (GMapping when None)."""
-    return SLAM_LABELS.get(name or "gmapping", name or "")
 
 
 def interval_text(entry: dict, digits: int) -> str:

@@ -121,7 +121,13 @@ SLAM_ALGORITHMS = ("gmapping", "karto")   # the SLAM algorithms a dataset row or
 DEFAULT_SLAM = "gmapping"   # the algorithm of a row or card that names none
 
 
+SLAM_LABELS = {"gmapping": "GMapping", "karto": "Karto"}   # as the back-ends' ``label``
 RANGE_CAP_NAMES = {"gmapping": "GMapping's maxUrange", "karto": "Karto's max_laser_range"}
+
+
+def slam_label(name: str | None) -> str:
+    """The human-readable name of a SLAM algorithm (GMapping when None)."""
+    return SLAM_LABELS.get(name or DEFAULT_SLAM, name or "")
 
 
 def range_cap_name(slam: str) -> str:

@@ -33,7 +33,7 @@ def contents(campaign: Campaign, with_models: bool) -> str:
 def learning(campaign: Campaign, models_path, feature_fn=None, worlds_dir=None) -> str:
     """Model cards and their predictions for the campaign's worlds (a robot-aware model's:
     per run's recorded robot)."""
-    from slam_predict.learn.card import is_robot_card
+    from slam_predict.learn.card import card_slam, is_robot_card, slam_label
     from slam_predict.report.models import card_section, load_models
     from slam_predict.report.predictions import FeatureCache, predictions_section
     from slam_predict.report.robot_predictions import robot_predictions_section
@@ -43,13 +43,25 @@ def learning(campaign: Campaign, models_path, feature_fn=None, worlds_dir=None) 
     parts = ["<p>Model cards of the given model folders and their predictions for the "
              "worlds of this campaign (features computed from each world's floor plan with "
              "the model's feature configuration).</p>"]
+    ran = campaign_slams(campaign)
     for entry in entries:
         parts.append(card_section(entry))
-        if is_robot_card(entry.card):
+        trained_for = card_slam(entry.card)
+        if ran and trained_for not in ran:
+            parts.append(f"<p>{H.esc(entry.name)} predicts the errors of "
+                         f"{H.esc(slam_label(trained_for))}; this campaign's runs used "
+                         f"{H.esc(', '.join(slam_label(s) for s in sorted(ran)))}: its "
+                         "predictions are not compared with them.</p>")
+        elif is_robot_card(entry.card):
             parts.append(robot_predictions_section(entry, campaign, cache))
         else:
             parts.append(predictions_section(entry, campaign, cache))
     return H.section("Learning", "\n".join(parts), anchor="learning")
+
+
+def campaign_slams(campaign: Campaign) -> set[str]:
+    """The SLAM algorithms of the campaign's runs (a run naming none ran GMapping)."""
+    return {str(run.value("slam", "type") or "gmapping") for run in campaign.runs}
 
 
 def build_report(data_dir, models_dir=None, title: str | None = None,

@@ -6,6 +6,7 @@ import math
 from collections.abc import Sequence
 
 from slam_predict.errors import InputError
+from slam_predict.learn.card import slam_label
 from slam_predict.report import html as H
 from slam_predict.report.campaign import Campaign, Run, WorldRuns
 
@@ -228,7 +229,8 @@ def map_figure(world: WorldRuns) -> tuple[str, list[str]]:
         why = ("the only run with map and trajectories" if len(candidates) == 1 else
                "the run with the median translational error" if rank == 0 else
                "the readable run closest to the median translational error")
-        caption = (f"{run.run_id} ({why}): final GMapping map ({resolution:g} m/px) with the "
+        slam = slam_label(run.value("slam", "type"))
+        caption = (f"{run.run_id} ({why}): final {slam} map ({resolution:g} m/px) with the "
                    "ground-truth path (green, moved into the map frame by the start poses) "
                    "and the SLAM estimate (red).")
         return H.image(png, f"SLAM map of {world.name} {run.run_id}", caption), notes

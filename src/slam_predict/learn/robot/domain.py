@@ -37,6 +37,7 @@ from pathlib import Path
 from typing import Any
 
 from slam_predict.errors import InputError
+from slam_predict.learn.card import slam_label
 from slam_predict.learn.robot.inputs import ROBOT_INPUTS, inputs_from_robot
 
 LOG = logging.getLogger(__name__)
@@ -93,9 +94,8 @@ class MaxUrangeSource:
             or slam.get("params_hash")
         settings_file = record.get("settings_file")
         if not isinstance(settings_file, str) or not settings_file or not recorded:
-            name = {"gmapping": "GMapping", "karto": "Karto"}[backend]
-            raise InputError(f"run record names no settings_file or {name} config hash: "
-                             f"cannot tell the SLAM back-end's range cap; {HINT}", path)
+            raise InputError(f"run record names no settings_file or {slam_label(backend)} config "
+                             f"hash: cannot tell the SLAM back-end's range cap; {HINT}", path)
         params = self.params(settings_file, path, backend)
         if backend == "karto":
             _check_karto_hash(params, str(recorded), settings_file, path)
