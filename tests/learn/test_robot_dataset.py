@@ -174,7 +174,8 @@ def test_runs_of_another_slam_algorithm_are_left_out_and_counted(tmp_path):
     assert records[1]["path"] not in {r.source for r in runs}
     # the karto run alone: its range cap comes from its settings file's Karto parameters, and
     # this one names a GMapping settings file (learn/robot/domain)
-    with pytest.raises(InputError, match="runs SLAM back-end 'gmapping', the run karto") as err:
+    with pytest.raises(InputError,
+                       match="runs SLAM back-end 'gmapping' but the run ran 'karto'") as err:
         read_runs([tmp_path], slam="karto")
     assert records[1]["path"] in err.value.one_line()
     with pytest.raises(InputError, match="unknown SLAM algorithm 'cartographer'"):

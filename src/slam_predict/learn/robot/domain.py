@@ -37,7 +37,7 @@ from pathlib import Path
 from typing import Any
 
 from slam_predict.errors import InputError
-from slam_predict.learn.card import slam_label
+from slam_predict.learn.card import SLAM_ALGORITHMS, slam_label
 from slam_predict.learn.robot.inputs import ROBOT_INPUTS, inputs_from_robot
 
 LOG = logging.getLogger(__name__)
@@ -86,7 +86,7 @@ class MaxUrangeSource:
             return float(self.override)
         slam = record.get("slam") if isinstance(record.get("slam"), Mapping) else {}
         backend = slam.get("type", "gmapping")
-        if backend not in ("gmapping", "karto"):
+        if backend not in SLAM_ALGORITHMS:
             raise InputError(f"run of SLAM back-end '{backend}': the robot-aware models learn "
                              "GMapping and Karto runs", path)
         hashes = record.get("config_hashes")
@@ -120,7 +120,7 @@ class MaxUrangeSource:
                                  path) from None
             if settings.slam.type != backend:
                 raise InputError(f"settings file {settings_file} runs SLAM back-end "
-                                 f"'{settings.slam.type}', the run {backend}", path)
+                                 f"'{settings.slam.type}' but the run ran '{backend}'", path)
             LOG.info("%s parameters of %s loaded", backend, settings_file)
             self._params[settings_file] = settings.slam.params
         return self._params[settings_file]
