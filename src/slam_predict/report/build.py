@@ -61,7 +61,9 @@ def learning(campaign: Campaign, models_path, feature_fn=None, worlds_dir=None) 
 
 def campaign_slams(campaign: Campaign) -> set[str]:
     """The SLAM algorithms of the campaign's runs (a run naming none ran GMapping)."""
-    return {str(run.value("slam", "type") or "gmapping") for run in campaign.runs}
+    from slam_predict.learn.robot.records import slam_of_record
+
+    return {slam_of_record(run.record) for run in campaign.runs}
 
 
 def build_report(data_dir, models_dir=None, title: str | None = None,

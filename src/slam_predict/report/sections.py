@@ -6,11 +6,10 @@ import math
 from collections.abc import Sequence
 
 from slam_predict.errors import InputError
-from slam_predict.learn.card import slam_label
+from slam_predict.learn.card import DEFAULT_SLAM, SLAM_ALGORITHMS, slam_label
 from slam_predict.report import html as H
 from slam_predict.report.campaign import Campaign, Run, WorldRuns
 
-SLAM_HASH_KEYS = ("gmapping", "karto")   # config_hashes key of each SLAM back-end's parameters
 OTHER_HASH_KEYS = ("slam_compute", "nav", "explore", "stop", "metric")
 
 
@@ -90,7 +89,7 @@ def hash_keys(runs: Sequence[Run]) -> list[str]:
     """The hash table's columns: sim, the SLAM back-ends whose parameters the runs hash
     (gmapping when none does), slam_compute when a run has it, nav, explore, stop, metric."""
     present = {k for run in runs for k in (run.value("config_hashes") or {})}
-    slam = [k for k in SLAM_HASH_KEYS if k in present] or ["gmapping"]
+    slam = [k for k in SLAM_ALGORITHMS if k in present] or [DEFAULT_SLAM]
     return ["sim", *slam, *(k for k in OTHER_HASH_KEYS if k in present or k != "slam_compute")]
 
 
