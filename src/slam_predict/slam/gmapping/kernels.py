@@ -58,43 +58,19 @@ def _is_hit(table, hits, ix, iy):
 
 
 @nb.njit(cache=True, inline="always")
-def _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means):
-    """The means (m) of the matching cells of the (2k+1)² window around (ix, iy) into
-    ``means`` (k, 2), window order; returns k. A cell matches when it is occupied and its
-    companion cell, offset by (ofx, ofy) cells, is not. A window inside one patch (most of
-    them) looks its patch up once."""
+def _window_walk(table, acc, hits, x0, y0, width, ofx, ofy, means, one_pid):
+    """The window walk of :func:`_window_means`; ``one_pid`` ≥ 0 is the patch of every
+    cell of the window, -1 looks each cell's patch up."""
     k = 0
-    x0 = ix - ksize
-    y0 = iy - ksize
-    width = 2 * ksize + 1
-    # Two loops on purpose: one loop was 10 % slower, a shared cell helper 3× (intel replay).
-    if (x0 >= 0 and y0 >= 0 and (x0 >> PATCH_BITS) == ((ix + ksize) >> PATCH_BITS)
-            and (y0 >> PATCH_BITS) == ((iy + ksize) >> PATCH_BITS)):
-        pid = patch_id(table, x0, y0)
-        if pid < 0:
-            return 0
-        for xx in range(width):
-            px = x0 + xx
-            for yy in range(width):
-                py = y0 + yy
-                s = slot(px, py)
-                n = hits[pid, s]
-                if n <= 0:
-                    continue
-                if _is_hit(table, hits, px + ofx, py + ofy):
-                    continue
-                inv = 1.0 / n
-                means[k, 0] = inv * np.float64(acc[pid, s, 0])
-                means[k, 1] = inv * np.float64(acc[pid, s, 1])
-                k += 1
-        return k
+    pid = one_pid
     for xx in range(width):
         px = x0 + xx
         for yy in range(width):
             py = y0 + yy
-            pid = patch_id(table, px, py)
-            if pid < 0:
-                continue
+            if one_pid < 0:
+                pid = patch_id(table, px, py)
+                if pid < 0:
+                    continue
             s = slot(px, py)
             n = hits[pid, s]
             if n <= 0:
@@ -106,6 +82,24 @@ def _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means):
             means[k, 1] = inv * np.float64(acc[pid, s, 1])
             k += 1
     return k
+
+
+@nb.njit(cache=True, inline="always")
+def _window_means(table, acc, hits, ix, iy, ofx, ofy, ksize, means):
+    """The means (m) of the matching cells of the (2k+1)² window around (ix, iy) into
+    ``means`` (k, 2), window order; returns k. A cell matches when it is occupied and its
+    companion cell, offset by (ofx, ofy) cells, is not. A window inside one patch (most of
+    them) looks its patch up once."""
+    x0 = ix - ksize
+    y0 = iy - ksize
+    width = 2 * ksize + 1
+    if (x0 >= 0 and y0 >= 0 and (x0 >> PATCH_BITS) == ((ix + ksize) >> PATCH_BITS)
+            and (y0 >> PATCH_BITS) == ((iy + ksize) >> PATCH_BITS)):
+        pid = patch_id(table, x0, y0)
+        if pid < 0:
+            return 0
+        return _window_walk(table, acc, hits, x0, y0, width, ofx, ofy, means, pid)
+    return _window_walk(table, acc, hits, x0, y0, width, ofx, ofy, means, -1)
 
 
 @nb.njit(cache=True, inline="always")
