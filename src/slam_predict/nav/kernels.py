@@ -446,6 +446,30 @@ def target_distance(costs, within_robot, seeds_x, seeds_y, dist, queue, cx, cy, 
 # --------------------------------------------------------------------------------------------
 # Ray tracing (costmap_2d ObstacleLayer clearing)
 # --------------------------------------------------------------------------------------------
+@numba.njit(cache=True, inline="always")
+def _bresenham_walk(grid, x, y, sxs, sys_, a_major, a_minor, steps, value, x_major):
+    """``steps`` Bresenham steps from (x, y) along the dominant axis (x when ``x_major``),
+    setting ``value`` on each cell left; returns the cell where it stopped. A constant
+    ``x_major`` at each call lets the compiler specialise the loop per axis."""
+    ny, nx = grid.shape
+    err = a_major // 2
+    for _ in range(steps):
+        if 0 <= x < nx and 0 <= y < ny:
+            grid[y, x] = value
+        if x_major:
+            x += sxs
+        else:
+            y += sys_
+        err += a_minor
+        if err >= a_major:
+            if x_major:
+                y += sys_
+            else:
+                x += sxs
+            err -= a_major
+    return x, y
+
+
 @numba.njit(cache=True)
 def _bresenham_mark(grid, x0, y0, x1, y1, max_len, value):
     """costmap_2d raytraceLine: set ``value`` on the cells from (x0, y0) towards (x1, y1),
@@ -459,31 +483,12 @@ def _bresenham_mark(grid, x0, y0, x1, y1, max_len, value):
     sys_ = 1 if dy > 0 else (-1 if dy < 0 else 0)
     dist = math.hypot(dx, dy)
     scale = 1.0 if dist == 0.0 else min(1.0, max_len / dist)
-    x = x0
-    y = y0
-    # One loop per dominant axis on purpose: one loop with step vectors was 10 % slower.
     if adx >= ady:
-        err = adx // 2
-        end = min(int(scale * adx), adx)
-        for _ in range(end):
-            if 0 <= x < nx and 0 <= y < ny:
-                grid[y, x] = value
-            x += sxs
-            err += ady
-            if err >= adx:
-                y += sys_
-                err -= adx
+        steps = min(int(scale * adx), adx)
+        x, y = _bresenham_walk(grid, x0, y0, sxs, sys_, adx, ady, steps, value, True)
     else:
-        err = ady // 2
-        end = min(int(scale * ady), ady)
-        for _ in range(end):
-            if 0 <= x < nx and 0 <= y < ny:
-                grid[y, x] = value
-            y += sys_
-            err += adx
-            if err >= ady:
-                x += sxs
-                err -= ady
+        steps = min(int(scale * ady), ady)
+        x, y = _bresenham_walk(grid, x0, y0, sxs, sys_, ady, adx, steps, value, False)
     if 0 <= x < nx and 0 <= y < ny:
         grid[y, x] = value
 
