@@ -180,19 +180,26 @@ def other_box(grid, value):
 # Grid search (navfn / global_planner equivalent): 8-connected A* with a goal window
 # --------------------------------------------------------------------------------------------
 @numba.njit(cache=True, inline="always")
-def _heap_push(keys, vals, size, key, val):
-    """Push onto the binary min-heap keys[:size]; the caller checks the capacity. The entry
-    rises while its parent's key is larger (a hole moves up; the same moves as swapping)."""
-    i = size
+def _heap_rise(keys, vals, i, key, val, past_equal):
+    """Put (key, val) into the hole at ``i`` of the binary min-heap, after moving the hole up
+    past every parent whose key is larger (also past equal ones when ``past_equal``, a
+    constant at each call)."""
     while i > 0:
         parent = (i - 1) >> 1
-        if keys[parent] <= key:
+        if keys[parent] < key or (keys[parent] == key and not past_equal):
             break
         keys[i] = keys[parent]
         vals[i] = vals[parent]
         i = parent
     keys[i] = key
     vals[i] = val
+
+
+@numba.njit(cache=True, inline="always")
+def _heap_push(keys, vals, size, key, val):
+    """Push onto the binary min-heap keys[:size]; the caller checks the capacity. The entry
+    rises while its parent's key is larger (a hole moves up; the same moves as swapping)."""
+    _heap_rise(keys, vals, size, key, val, False)
     return size + 1
 
 
@@ -223,15 +230,7 @@ def _heap_pop(keys, vals, size):
         keys[i] = keys[small]
         vals[i] = vals[small]
         i = small
-    while i > 0:
-        parent = (i - 1) >> 1
-        if keys[parent] < last_key:
-            break
-        keys[i] = keys[parent]
-        vals[i] = vals[parent]
-        i = parent
-    keys[i] = last_key
-    vals[i] = last_val
+    _heap_rise(keys, vals, i, last_key, last_val, True)
     return key, val, size
 
 
