@@ -41,4 +41,5 @@ def test_clearing_ray_matches_the_closed_form_line_on_random_rays():
         expected = {(x, y) for x, y in reference_cells(x0, y0, x1, y1, max_len)
                     if 0 <= x < shape[1] and 0 <= y < shape[0]}
         ys, xs = np.nonzero(grid)
-        assert set(zip(xs.tolist(), ys.tolist())) == expected, (x0, y0, x1, y1, max_len)
+        marked = set(zip(xs.tolist(), ys.tolist(), strict=True))
+        assert marked == expected, (x0, y0, x1, y1, max_len)
