@@ -16,7 +16,8 @@ import json
 import math
 from typing import Any
 
-from slam_predict.cli.predict_format import interval_text, slam_label
+from slam_predict.cli.predict_format import interval_text
+from slam_predict.learn.card import slam_label
 from slam_predict.learn.compare import decide
 
 PER_PREDICTION = ("setting", "model_store", "model_takes_robot", "robot", "failure",

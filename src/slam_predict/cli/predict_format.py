@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from slam_predict.learn.card import slam_label  # noqa: F401  (re-exported for the CLI)
+from slam_predict.learn.card import slam_label
 
 LABELS = {"trans_mean": "mean translational error", "trans_std": "std of translational error",
           "rot_mean": "mean rotational error", "rot_std": "std of rotational error"}
