@@ -58,6 +58,32 @@ def test_dataset_evaluate_train(inputs, capsys):
     assert "model written to" in capsys.readouterr().out
 
 
+def test_dataset_min_runs_skips_buildings_with_fewer_runs(inputs):
+    """--min-runs keeps the buildings with that many runs and no other (summary.csv 'runs')."""
+    rows = list(csv.reader(open(inputs / "summary.csv", newline="")))
+    for row in rows[1:4]:
+        row[1] = "2"
+    with open(inputs / "summary.csv", "w", newline="") as handle:
+        csv.writer(handle).writerows(rows)
+    args = ["learn", "dataset", "--errors", str(inputs / "summary.csv"), "--features",
+            str(inputs / "features.csv"), "--feature-version", "fv1", "--thesis-setting",
+            "realistic"]
+    assert main([*args, "--min-runs", "3", "--out", str(inputs / "three.csv")]) == 0
+    assert main([*args, "--out", str(inputs / "all.csv")]) == 0
+    three, every = read_dataset(inputs / "three.csv"), read_dataset(inputs / "all.csv")
+    assert set(every.worlds) - set(three.worlds) == {row[0] for row in rows[1:4]}
+    assert len(three) == len(every) - 3
+
+
+def test_dataset_min_runs_errors(inputs, capsys):
+    args = ["learn", "dataset", "--errors", str(inputs / "summary.csv"), "--features",
+            str(inputs / "features.csv"), "--feature-version", "fv1", "--thesis-setting",
+            "realistic", "--out", str(inputs / "x.csv")]
+    assert "no building has 6 or more runs" in run_error([*args, "--min-runs", "6"], capsys)
+    assert "--min-runs" in run_error([*args, "--min-runs", "0"], capsys)
+    assert not (inputs / "x.csv").exists()
+
+
 def run_error(argv, capsys):
     code = main(argv)
     err = capsys.readouterr().err.strip()

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import math
 import os
 
 from slam_predict.cli.deprecated import add_renamed_option
@@ -64,6 +65,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                     help="keep only the rows of this SLAM algorithm (gmapping or karto; a "
                          "summary.csv's rows take theirs from the run records beside it; "
                          "default: every row)")
+    ds.add_argument("--min-runs", type=int, default=1,
+                    help="skip buildings with fewer finished runs (a summary.csv's 'runs' "
+                         "column; default: 1)")
     ds.add_argument("--slam-config-hash", help="SLAM configuration hash (default: the table's)")
     ds.add_argument("--feature-version", help="feature version of a --features table")
     ds.add_argument("--feature-config", metavar="YAML",
@@ -137,16 +141,35 @@ def _feature_config(path):
     return yaml_section(path, "features")
 
 
+def with_min_runs(errors: list, min_runs: int, path: str) -> list:
+    """The rows with at least ``min_runs`` finished runs (a summary.csv's ``runs``); logs the
+    buildings it skips. InputError for a table without runs, or when no building is left."""
+    if min_runs <= 1:
+        return errors
+    if any(math.isnan(row.runs) for row in errors):
+        raise InputError(f"--min-runs {min_runs}: the table has no runs column", path)
+    kept = [row for row in errors if row.runs >= min_runs]
+    skipped = sorted(row.world for row in errors if row.runs < min_runs)
+    if skipped:
+        LOG.info("%d buildings with fewer than %d runs skipped: %s", len(skipped), min_runs,
+                 ", ".join(skipped))
+    if not kept:
+        raise InputError(f"no building has {min_runs} or more runs", path)
+    return kept
+
+
 def run_dataset(args: argparse.Namespace) -> int:
     from slam_predict.learn import dataset as ds
     from slam_predict.learn import sources
 
     check_at_least(args.jobs, 1, "--jobs")
+    check_at_least(args.min_runs, 1, "--min-runs")
     check_out_file(args.out, args.force)
     check_out_file(ds.meta_path(args.out), args.force, "the JSON beside --out")
     if args.save_features:
         check_out_file(args.save_features, args.force, "--save-features")
-    errors = sources.read_error_table(args.errors, args.setting or "")
+    errors = with_min_runs(sources.read_error_table(args.errors, args.setting or ""),
+                           args.min_runs, args.errors)
     if args.slam_config_hash:
         for row in errors:
             row.slam_config_hash = args.slam_config_hash
