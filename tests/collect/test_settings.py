@@ -103,3 +103,22 @@ def test_slam_section_takes_a_file_inline_parameters_or_defaults(tmp_path):
                                        "slam: {type: gmapping, params: [1, 2]}\n")
     with pytest.raises(InputError, match="slam.params must be"):
         load_settings(tmp_path / "bad.yaml")
+
+
+def test_fitted_settings_are_declared_checked_and_change_no_hash(tmp_path):
+    """config/fidelity/seed_study.yaml declares its fitted rebuild cost; extending files inherit
+    it, null drops it, a key naming no setting is an error, and no run hash changes."""
+    fidelity = load_settings(CONFIG / "fidelity" / "seed_study.yaml")
+    assert list(fidelity.fitted) == ["slam_compute.rebuild_s_per_line_cell"]
+    assert list(load_settings(CONFIG / "robot_campaign" / "settings.yaml").fitted) == \
+        ["slam_compute.rebuild_s_per_line_cell"]
+    assert load_settings(CONFIG / "fidelity" / "seed_study_karto.yaml").fitted == {}
+    assert load_settings().fitted == {}
+    same = tmp_path / "same.yaml"
+    same.write_text(f"extends: {CONFIG / 'fidelity' / 'seed_study.yaml'}\nfitted: {{}}\n")
+    assert load_settings(same).hashes() == fidelity.hashes()
+    for key in ("slam_compute.no_such_key", "nosuch.section", "slam_compute"):
+        bad = tmp_path / "bad.yaml"
+        bad.write_text(f"extends: {CONFIG / 'collect.yaml'}\nfitted:\n  {key}: chosen by eye\n")
+        with pytest.raises(InputError, match="names no setting"):
+            load_settings(bad)

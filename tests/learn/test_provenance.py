@@ -26,3 +26,16 @@ def test_sources_name_the_settings_only_when_every_campaign_agrees(tmp_path):
     assert same["settings"] == "config/x.yaml" and len(same["data"]) == 2
     assert "settings" not in campaign_sources(folders)
     assert "settings" not in campaign_sources([tmp_path])   # no campaign.json
+
+
+def test_sources_carry_the_settings_files_fitted_settings(tmp_path):
+    """The fidelity chain's fitted map-rebuild cost reaches the card; a chain without one adds
+    nothing."""
+    for name, settings in (("gm", "config/fidelity/seed_study.yaml"),
+                           ("karto", "config/fidelity/seed_study_karto.yaml")):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "campaign.json").write_text(json.dumps({"settings_file": settings}))
+    fitted = campaign_sources([tmp_path / "gm"])["fitted"]
+    assert list(fitted) == ["slam_compute.rebuild_s_per_line_cell"]
+    assert "fitted on the 17 'fit' buildings" in fitted["slam_compute.rebuild_s_per_line_cell"]
+    assert "fitted" not in campaign_sources([tmp_path / "karto"])   # set to null there

@@ -216,7 +216,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         robot_keys = (["model_takes_robot", "robot", "failure"] if model.takes_robot else [])
         keys = ["world", "plan", "slam", "setting", "model_store", *robot_keys, "confidence",
-                *components, "free_space", "warnings", "features"]
+                "fitted_settings", *components, "free_space", "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))
     else:
         print(format_text(result, components))

@@ -16,12 +16,12 @@ import json
 import math
 from typing import Any
 
-from slam_predict.cli.predict_format import interval_text
+from slam_predict.cli.predict_format import fitted_lines, interval_text
 from slam_predict.learn.card import slam_label
 from slam_predict.learn.compare import decide
 
 PER_PREDICTION = ("setting", "model_store", "model_takes_robot", "robot", "failure",
-                  "confidence")
+                  "confidence", "fitted_settings")
 
 
 def predictions(world, models: dict, predict) -> dict[str, dict]:
@@ -150,5 +150,7 @@ def text_form(world: str, plan: dict, results: dict[str, dict], decision: dict,
         lines.append(f"robot {robot['name']} ({robot['file']}); robot inputs: {inputs}")
     lines += table(results, components)
     lines += decision_text(decision, results)
+    lines += [f"{slam_label(s)}'s model: {line}" for s, r in results.items()
+              for line in fitted_lines(r.get("fitted_settings") or {})]
     lines += [f"warning: {s}: {w}" for s, r in results.items() for w in r["warnings"]]
     return "\n".join(lines)

@@ -78,5 +78,12 @@ def format_text(result: dict, components) -> str:
         from slam_predict.cli.predict_robot import failure_text
 
         lines += failure_text(result.get("failure"))
+    lines += fitted_lines(result.get("fitted_settings") or {})
     lines += [f"warning: {w}" for w in result["warnings"]]
     return "\n".join(lines)
+
+
+def fitted_lines(fitted: dict[str, str]) -> list[str]:
+    """One line per collection setting of the training runs fitted to the seed study."""
+    return [f"fitted: the training runs' {key} was fitted to the seed study, not measured "
+            f"({how})" for key, how in fitted.items()]

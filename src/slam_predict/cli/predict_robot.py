@@ -22,7 +22,7 @@ from typing import Any
 
 from slam_predict.errors import InputError
 from slam_predict.learn.card import DEFAULT_ROBOT_MODEL as DEFAULT_MODEL
-from slam_predict.learn.card import ROBOT_KIND, range_cap_name
+from slam_predict.learn.card import ROBOT_KIND, range_cap_name, training_fitted_settings
 from slam_predict.learn.card import ROBOT_TRAIN_HINT as TRAIN_HINT
 from slam_predict.learn.slam_choice import DEFAULT_SLAM
 
@@ -117,7 +117,8 @@ def predict(world, model, robot, robot_path: str, component: str = "all",
         summary["derived"] = derived_inputs(features, inputs)
     result: dict[str, Any] = {"world": world.name, "setting": model.card.get("setting"),
                               "model_store": model.name, "model_takes_robot": True,
-                              "robot": summary, "confidence": confidence}
+                              "robot": summary, "confidence": confidence,
+                              "fitted_settings": training_fitted_settings(model.card)}
     for comp in components_of(component):
         result[comp] = _entry(raw[comp])
     result["failure"] = failure_entry(model, features, inputs)

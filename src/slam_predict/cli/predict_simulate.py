@@ -158,6 +158,7 @@ def format_text(result: dict, components) -> str:
     from slam_predict.cli.predict_format import (
         LABELS,
         entry_text,
+        fitted_lines,
         model_tag,
         slam_label,
         value_text,
@@ -186,6 +187,7 @@ def format_text(result: dict, components) -> str:
 
         lines += failure_text(result.get("failure"))
     lines += [f"note: {n}" for n in sim["notes"]]
+    lines += fitted_lines(result.get("fitted_settings") or {})
     lines += [f"warning: {w}" for w in result["warnings"]]
     return "\n".join(lines)
 
@@ -220,7 +222,7 @@ def run(args: argparse.Namespace, world, components, predict) -> int:
     if args.json:
         robot = ["robot", "failure"] if result["model_takes_robot"] else []
         keys = ["world", "plan", "slam", "setting", "model_store", "model_takes_robot", *robot,
-                "confidence",
+                "confidence", "fitted_settings",
                 *components, "simulation", "free_space", "warnings", "features"]
         print(json.dumps({k: result[k] for k in keys}, indent=2))
     else:

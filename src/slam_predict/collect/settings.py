@@ -10,6 +10,11 @@ The SLAM back-end is ``slam: {type: NAME, params: FILE or {…}}``: any name of
 file) or inline; a file that sets ``type`` without ``params`` runs the back-end's defaults. The
 old ``gmapping: FILE`` key is still read as ``slam: {type: gmapping, params: FILE}``, with a
 deprecation warning.
+
+``fitted: {dotted.setting: how it was fitted}`` names the settings chosen to match the seed
+study rather than measured (project rule: labelled as fitted wherever used). It changes no run
+and no hash; model cards record it (``sources.fitted``) and ``predict`` shows it. A file that
+extends one with a fitted setting it does not use sets that key to null.
 """
 from __future__ import annotations
 
@@ -83,6 +88,7 @@ class CollectFiles:
     sensor_logs: bool = False
     sim_overrides: dict[str, Any] = field(default_factory=dict)
     slam_compute: ComputeDelayConfig = field(default_factory=ComputeDelayConfig)
+    fitted: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass
@@ -99,6 +105,7 @@ class CollectSettings:
     source: str
     sensor_logs: bool = False
     compute: ComputeDelayConfig = field(default_factory=ComputeDelayConfig)
+    fitted: dict[str, str] = field(default_factory=dict)   # not in components(): no hash
 
     def components(self) -> dict[str, Any]:
         """Every component config by name; the SLAM one under its back-end's name, the compute
@@ -139,12 +146,36 @@ def load_settings(path: os.PathLike | str | None = None,
         nav=load_nav_config(Path(files.navigation)),
         explore=load_config(ExploreConfig, Path(files.explore)),
         stop=files.stop, metric=files.metric, bag=files.bag, source=str(path),
-        sensor_logs=files.sensor_logs, compute=files.slam_compute)
+        sensor_logs=files.sensor_logs, compute=files.slam_compute,
+        fitted=checked_fitted(files.fitted, path))
     if robot is None:
         return settings
     from slam_predict.robot_file import load_robot, robot_path
 
     return with_robot(settings, load_robot(robot, force=force_robot), robot_path(robot))
+
+
+def checked_fitted(fitted: dict[str, Any], path: Path) -> dict[str, str]:
+    """The ``fitted`` entries that apply (null ones dropped), each key checked to name a
+    setting of the settings file (``section.key``); InputError otherwise."""
+    out = {}
+    for key, how in fitted.items():
+        section, _, name = str(key).partition(".")
+        sections = {f.name for f in dataclasses.fields(CollectFiles)} - {"fitted"}
+        inner = getattr(CollectFiles(), section) if section in sections else None
+        if inner is None or not name or (dataclasses.is_dataclass(inner)
+                             and name not in {f.name for f in dataclasses.fields(inner)}):
+            raise InputError(f"fitted: '{key}' names no setting (section.key, e.g. "
+                             "slam_compute.rebuild_s_per_line_cell)", path)
+        if how is not None:
+            out[str(key)] = str(how)
+    return out
+
+
+def fitted_settings(path: os.PathLike | str) -> dict[str, str]:
+    """The fitted settings of a settings file (module doc), ``extends`` resolved."""
+    path = Path(path)
+    return checked_fitted(read_settings_tree(path).get("fitted") or {}, path)
 
 
 def _refuse_robot_description(sim_file: Path, settings_path: Path) -> None:

@@ -125,6 +125,12 @@ SLAM_LABELS = {"gmapping": "GMapping", "karto": "Karto"}   # as the back-ends' `
 RANGE_CAP_NAMES = {"gmapping": "GMapping's maxUrange", "karto": "Karto's max_laser_range"}
 
 
+def training_fitted_settings(card: Mapping[str, Any]) -> dict[str, str]:
+    """The collection settings the model's training runs used that were fitted to the seed
+    study, not measured (``sources.fitted``: setting → how it was fitted; {} when none)."""
+    return dict((card.get("sources") or {}).get("fitted") or {})
+
+
 def slam_label(name: str | None) -> str:
     """The human-readable name of a SLAM algorithm (GMapping when None)."""
     return SLAM_LABELS.get(name or DEFAULT_SLAM, name or "")

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from slam_predict.errors import InputError, did_you_mean
+from slam_predict.learn.card import training_fitted_settings
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.plain import predict_plain
 from slam_predict.learn.store import ModelStore, evaluation_r2
@@ -127,7 +128,8 @@ def predict_features(features: dict[str, float], store: ModelStore,
         raise InputError(f"feature '{missing[0]}' needed by model {store.name} was not computed")
     x = np.array([[float(features[n]) for n in names]])
     result: dict[str, Any] = {"model_store": store.name, "setting": card["setting"],
-                              "confidence": card.get("confidence", 0.9)}
+                              "confidence": card.get("confidence", 0.9),
+                              "fitted_settings": training_fitted_settings(card)}
     warnings_: list[str] = list(store.notes)
     used_all: list[str] = []
     for comp in components_of(component):
