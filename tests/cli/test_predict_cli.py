@@ -70,6 +70,7 @@ def test_shipped_world_json(root, models, capsys, monkeypatch):
     result = predict_json(root, capsys, SHIPPED_WORLD)
     check_schema(result)
     assert result["setting"] == "realistic" and result["world"] == "office_150"
+    assert result["model_store"] == "thesis-realistic"     # the default (own-realistic: -1)
     assert result["trans_mean"]["status"] == "below_range" or \
         0.0 < result["trans_mean"]["value"] < 2.0
     assert any("extrapolates" in w and "building_area" in w for w in result["warnings"])
@@ -86,6 +87,20 @@ def test_text_output_lists_four_components_with_units(root, models, capsys, monk
         assert comp in out
     assert "90 % interval" in out and " m (" in out and " rad = " in out and " deg" in out
     assert "thesis-optimistic/" in out
+
+
+def test_a_model_from_a_fitted_chain_says_so(root, models, capsys, monkeypatch):
+    """own-realistic learnt from runs with a fitted map-rebuild cost: --json names it and the
+    text says it is fitted; the seed study's own model has none."""
+    monkeypatch.chdir(root)
+    key = "slam_compute.rebuild_s_per_line_cell"
+    own = predict_json(root, capsys, "worlds/office_500.world", "--model", "own-realistic")
+    assert list(own["fitted_settings"]) == [key]
+    assert "fitted on the 17 'fit' buildings" in own["fitted_settings"][key]
+    assert predict_json(root, capsys, "worlds/office_500.world")["fitted_settings"] == {}
+    assert main(["predict", "worlds/office_500.world", "--model", "own-realistic"]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("fitted:")]
+    assert len(lines) == 1 and key in lines[0] and "not measured" in lines[0]
 
 
 def test_ipa_map_with_resolution(shared_data, models, capsys):
