@@ -117,7 +117,8 @@ def test_fitted_settings_are_declared_checked_and_change_no_hash(tmp_path):
     same = tmp_path / "same.yaml"
     same.write_text(f"extends: {CONFIG / 'fidelity' / 'seed_study.yaml'}\nfitted: {{}}\n")
     assert load_settings(same).hashes() == fidelity.hashes()
-    for key in ("slam_compute.no_such_key", "nosuch.section", "slam_compute"):
+    for key in ("slam_compute.no_such_key", "nosuch.section", "slam_compute", "robot.range",
+                "sensor_logs.x", "fitted.x"):
         bad = tmp_path / "bad.yaml"
         bad.write_text(f"extends: {CONFIG / 'collect.yaml'}\nfitted:\n  {key}: chosen by eye\n")
         with pytest.raises(InputError, match="names no setting"):

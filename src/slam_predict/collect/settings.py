@@ -156,15 +156,17 @@ def load_settings(path: os.PathLike | str | None = None,
 
 
 def checked_fitted(fitted: dict[str, Any], path: Path) -> dict[str, str]:
-    """The ``fitted`` entries that apply (null ones dropped), each key checked to name a
-    setting of the settings file (``section.key``); InputError otherwise."""
+    """The ``fitted`` entries that apply (null ones dropped); each key must name a setting:
+    ``section.key`` of a settings section (``slam_compute``, ``stop``, ``metric``, ``slam``)
+    or ``sim_overrides.…``; InputError otherwise."""
     out = {}
     for key, how in fitted.items():
         section, _, name = str(key).partition(".")
-        sections = {f.name for f in dataclasses.fields(CollectFiles)} - {"fitted"}
-        inner = getattr(CollectFiles(), section) if section in sections else None
-        if inner is None or not name or (dataclasses.is_dataclass(inner)
-                             and name not in {f.name for f in dataclasses.fields(inner)}):
+        default = getattr(CollectFiles(), section, None) if section != "fitted" else None
+        known = (section == "sim_overrides" and name) or (
+            dataclasses.is_dataclass(default)
+            and name in {f.name for f in dataclasses.fields(default)})
+        if not known:
             raise InputError(f"fitted: '{key}' names no setting (section.key, e.g. "
                              "slam_compute.rebuild_s_per_line_cell)", path)
         if how is not None:
