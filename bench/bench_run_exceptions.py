@@ -1,0 +1,122 @@
+#!/usr/bin/env python3
+"""The runs of a campaign that end stuck or below coverage 0.95, with their final SLAM maps.
+
+For each such run (``WORLD/run_NNN/`` with run.json, map.pgm/map.yaml, slam.tum and
+ground_truth.tum: the run folder as collected, not only the committed run.json): coverage,
+stop reason, the stuck record (longest time without 0.1 m of progress), how the explorer
+ended, path, and the online SLAM pose error (largest, and at the end: slam.tum put on the true
+start, `bench_pose_jumps.online_error`). With ``--plot PNG``, one panel per run: the final SLAM
+map with the online trajectory, its end marked. docs/fidelity.md "Runs that end stuck or short".
+
+    python bench/bench_run_exceptions.py data/campaigns/fidelity_seed_study [--plot PNG]
+"""
+from __future__ import annotations
+
+import argparse
+import io
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "bench"))
+
+from bench_pose_jumps import FULL_COVERAGE, online_error  # noqa: E402
+
+from slam_predict.formats.tum import read_tum  # noqa: E402
+
+
+def exception_runs(campaign: Path) -> list[Path]:
+    """Run folders whose run.json is below FULL_COVERAGE or records the robot stuck."""
+    out = []
+    for path in sorted(campaign.glob("*/run_*/run.json")):
+        record = json.loads(path.read_text())
+        if record["coverage"] < FULL_COVERAGE or (record.get("stuck") or {}).get("stuck"):
+            out.append(path.parent)
+    return out
+
+
+def row(run: Path) -> dict:
+    """The table row of one run (module doc)."""
+    record = json.loads((run / "run.json").read_text())
+    t, error = online_error(run)
+    end = record.get("explorer_end") or {}
+    return {"world": record["world"], "run": run.name, "coverage": record["coverage"],
+            "stop": record["stop_reason"], "sim_s": record["sim_duration_s"],
+            "path_m": record["distance_m"],
+            "still_s": (record.get("stuck") or {}).get("longest_still_s", math.nan),
+            "stuck": bool((record.get("stuck") or {}).get("stuck")),
+            "explorer": f"{end['reason']} at {end['t']:.0f} s" if end else "running",
+            "max_error_m": float(error.max()), "max_error_s": float(t[int(np.argmax(error))]),
+            "end_error_m": float(error[-1])}
+
+
+def draw(ax, run: Path, info: dict) -> None:
+    """The run's final SLAM map, cropped to its known cells, with the online trajectory."""
+    import yaml
+    from PIL import Image
+
+    meta = yaml.safe_load((run / "map.yaml").read_text())
+    image = np.asarray(Image.open(run / meta["image"]).convert("L"))
+    res, (ox, oy) = float(meta["resolution"]), meta["origin"][:2]
+    known = np.argwhere(image != 205)
+    (r0, c0), (r1, c1) = known.min(axis=0), known.max(axis=0) + 1
+    height = image.shape[0]
+    extent = (ox + c0 * res, ox + c1 * res, oy + (height - r1) * res, oy + (height - r0) * res)
+    ax.imshow(image[r0:r1, c0:c1], cmap="gray", vmin=0, vmax=255, extent=extent)
+    _, pose = read_tum(run / "slam.tum")
+    ax.plot(pose[:, 0], pose[:, 1], lw=0.4, color="tab:blue")
+    ax.plot(*pose[-1, :2], "o", color="tab:red", ms=4)
+    ax.set_title(f"{info['world'][:24]} {info['run']}\ncoverage {info['coverage']:.2f}, "
+                 f"{'stuck' if info['stuck'] else info['explorer']}", fontsize=7)
+    ax.set_xticks([])
+    ax.set_yticks([])
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("campaign", type=Path)
+    parser.add_argument("--plot", type=Path, help="also draw the maps to this PNG")
+    args = parser.parse_args(argv)
+    found = exception_runs(args.campaign)
+    runs = [run for run in found if (run / "slam.tum").is_file() and (run / "map.yaml").is_file()]
+    for run in sorted(set(found) - set(runs)):
+        print(f"{run.parent.name}/{run.name}: its trajectories and map are not in this folder "
+              "(collected elsewhere; re-run its seed to see them)")
+    rows = [row(run) for run in runs]
+    print("| building | run | coverage | stuck (longest still, s) | explorer | sim s | path m | "
+          "online pose error: max (at s) / end, m |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['world']} | {r['run']} | {r['coverage']:.3f} | "
+              f"{'yes' if r['stuck'] else 'no'} ({r['still_s']:.0f}) | {r['explorer']} | "
+              f"{r['sim_s']:.0f} | {r['path_m']:.0f} | {r['max_error_m']:.2f} "
+              f"({r['max_error_s']:.0f}) / {r['end_error_m']:.2f} |")
+    if args.plot and rows:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from PIL import Image
+
+        cols = 4
+        fig, axes = plt.subplots(math.ceil(len(rows) / cols), cols,
+                                 figsize=(3.2 * cols, 3.0 * math.ceil(len(rows) / cols)))
+        for ax in np.ravel(axes):
+            ax.axis("off")
+        for ax, run, info in zip(np.ravel(axes), runs, rows, strict=False):
+            ax.axis("on")
+            draw(ax, run, info)
+        fig.tight_layout()
+        buffer = io.BytesIO()
+        fig.savefig(buffer, dpi=80)
+        # 64 colours: a map figure small enough for docs/
+        Image.open(buffer).convert("RGB").quantize(64).save(args.plot, optimize=True)
+        print(f"maps: {args.plot}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
