@@ -11,7 +11,7 @@ import json
 import pytest
 
 from slam_predict.collect.robot_design import load_design
-from slam_predict.collect.settings import load_settings
+from slam_predict.collect.settings import fitted_settings, load_settings
 from slam_predict.learn.card import read_card
 from slam_predict.paths import PROJECT_ROOT
 
@@ -65,3 +65,12 @@ def test_a_changed_settings_file_is_caught(tmp_path):
     assert record["config_hashes"] == expected_hashes(sources, record, {})
     assert record["config_hashes"] != expected_hashes({**sources, "settings": str(changed)},
                                                       record, {})
+
+
+@pytest.mark.parametrize("name", OWN)
+def test_own_model_cards_carry_their_settings_fitted_values(name):
+    """A card's sources.fitted is what its settings file declares fitted, word for word: the
+    file is the one copy, the card what predict shows."""
+    sources = read_card(MODELS / name)["sources"]
+    assert sources.get("fitted") == fitted_settings(PROJECT_ROOT / sources["settings"])
+    assert sources["fitted"], f"{name}: its chain's fitted rebuild cost is not on the card"

@@ -85,5 +85,5 @@ def format_text(result: dict, components) -> str:
 
 def fitted_lines(fitted: dict[str, str]) -> list[str]:
     """One line per collection setting of the training runs fitted to the seed study."""
-    return [f"fitted: the training runs' {key} was fitted to the seed study, not measured "
-            f"({how})" for key, how in fitted.items()]
+    return [f"fitted: the training runs' {key} was fitted to the seed study, not measured: "
+            f"{how}" for key, how in fitted.items()]
