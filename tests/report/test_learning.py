@@ -184,3 +184,17 @@ def test_a_model_of_another_slam_algorithm_is_not_scored(campaign_dir, model_dir
     assert not any(h.startswith(f"Predictions of {MODEL}") for h in page.headings)
     assert any(h.startswith(f"Model {MODEL}") for h in page.headings)
     assert "final Karto map" in text and "final GMapping map" not in text
+
+
+def test_card_overviews_name_the_fitted_collection_settings():
+    """Both card overviews (plan-only and robot-aware) show the training chain's fitted
+    settings, or say none was declared."""
+    from slam_predict.report.models import card_overview
+    from slam_predict.report.robot_models import overview
+
+    fitted = {"sources": {"fitted": {"slam_compute.rebuild_s_per_line_cell": "4x, fitted"}}}
+    for render in (card_overview, overview):
+        shown = render(fitted)
+        assert "fitted collection settings" in shown
+        assert "slam_compute.rebuild_s_per_line_cell: 4x, fitted" in shown
+        assert "none declared" in render({})

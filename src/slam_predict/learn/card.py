@@ -131,6 +131,12 @@ def training_fitted_settings(card: Mapping[str, Any]) -> dict[str, str]:
     return dict((card.get("sources") or {}).get("fitted") or {})
 
 
+def fitted_summary(card: Mapping[str, Any]) -> str:
+    """The card's fitted collection settings on one line ("none declared" without any)."""
+    fitted = training_fitted_settings(card)
+    return "; ".join(f"{key}: {how}" for key, how in fitted.items()) or "none declared"
+
+
 def slam_label(name: str | None) -> str:
     """The human-readable name of a SLAM algorithm (GMapping when None)."""
     return SLAM_LABELS.get(name or DEFAULT_SLAM, name or "")

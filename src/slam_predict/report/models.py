@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from slam_predict.errors import InputError
+from slam_predict.learn.card import fitted_summary
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.store import skilful
 from slam_predict.report import html as H
@@ -125,6 +126,7 @@ def card_overview(card: dict[str, Any]) -> str:
              ("features", len(card.get("features", []))),
              ("training buildings", len(buildings)),
              ("interval confidence", card.get("confidence", H.MISSING)),
+             ("fitted collection settings", fitted_summary(card)),
              ("created", card.get("created", H.MISSING)),
              ("libraries", ", ".join(f"{k} {v}" for k, v in versions.items()) or H.MISSING)]
     listing = H.details(f"the {len(buildings)} training buildings",

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from slam_predict.learn.card import PROTOCOLS, card_slam, range_cap_name
+from slam_predict.learn.card import PROTOCOLS, card_slam, fitted_summary, range_cap_name
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.robot.inputs import ROBOT_INPUTS, ROBOT_UNITS
 from slam_predict.report import html as H
@@ -49,6 +49,7 @@ def overview(card: dict[str, Any]) -> str:
                           f"{design.get('points', H.MISSING)} points, "
                           f"{design.get('runs', H.MISSING)} runs"),
              ("interval confidence", card.get("confidence", H.MISSING)),
+             ("fitted collection settings", fitted_summary(card)),
              ("created", card.get("created", H.MISSING)),
              ("libraries", ", ".join(f"{k} {v}" for k, v in card.get("versions", {}).items())
               or H.MISSING)]
