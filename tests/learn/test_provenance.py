@@ -24,8 +24,11 @@ def test_sources_name_the_settings_only_when_every_campaign_agrees(tmp_path):
         folders.append(folder)
     same = campaign_sources(folders[:2])
     assert same["settings"] == "config/x.yaml" and len(same["data"]) == 2
-    assert "settings" not in campaign_sources(folders)
+    mixed = campaign_sources(folders)["settings"]      # different files: one per campaign
+    assert list(mixed.values()) == ["config/x.yaml", "config/x.yaml", "config/y.yaml"]
+    assert list(mixed) == campaign_sources(folders)["data"]
     assert "settings" not in campaign_sources([tmp_path])   # no campaign.json
+    assert "settings" not in campaign_sources([*folders, tmp_path])
 
 
 def test_sources_carry_the_settings_files_fitted_settings(tmp_path):
@@ -39,3 +42,15 @@ def test_sources_carry_the_settings_files_fitted_settings(tmp_path):
     assert list(fitted) == ["slam_compute.rebuild_s_per_line_cell"]
     assert "fitted on the 17 'fit' buildings" in fitted["slam_compute.rebuild_s_per_line_cell"]
     assert "fitted" not in campaign_sources([tmp_path / "karto"])   # set to null there
+
+
+def test_campaigns_of_two_settings_files_join_their_fitted_settings(tmp_path):
+    """The fidelity campaign and a robot campaign (two files, one fitted rebuild cost)."""
+    for name, settings in (("fid", "config/fidelity/seed_study.yaml"),
+                           ("rob", "config/robot_campaign/settings.yaml")):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "campaign.json").write_text(json.dumps({"settings_file": settings}))
+    sources = campaign_sources([tmp_path / "fid", tmp_path / "rob"])
+    assert sorted(sources["settings"].values()) == ["config/fidelity/seed_study.yaml",
+                                                    "config/robot_campaign/settings.yaml"]
+    assert list(sources["fitted"]) == ["slam_compute.rebuild_s_per_line_cell"]

@@ -19,15 +19,22 @@ MODELS = PROJECT_ROOT / "models"
 OWN = sorted(p.name for p in MODELS.iterdir() if p.name.startswith("own-"))
 
 
-def expected_hashes(sources: dict, record: dict, cache: dict) -> dict:
-    """The hashes the card's settings file (and, for a design run, its design point's robot)
-    resolves to."""
-    key = record.get("design", {}).get("config")
+def settings_file(sources: dict, campaign: str) -> str:
+    """The card's settings file of ``campaign`` (one file, or one per campaign)."""
+    settings = sources["settings"]
+    return settings[campaign] if isinstance(settings, dict) else settings
+
+
+def expected_hashes(sources: dict, record: dict, cache: dict, campaign: str) -> dict:
+    """The hashes the campaign's settings file (and, for a design run, its design point's
+    robot) resolves to."""
+    file = settings_file(sources, campaign)
+    key = (file, record.get("design", {}).get("config"))
     if key not in cache:
-        settings = load_settings(PROJECT_ROOT / sources["settings"])
-        if key is not None:
+        settings = load_settings(PROJECT_ROOT / file)
+        if key[1] is not None:
             design = load_design(PROJECT_ROOT / sources["design"])
-            settings = design.settings_for(settings, key, sources["design"])
+            settings = design.settings_for(settings, key[1], sources["design"])
         cache[key] = settings.hashes()
     return cache[key]
 
@@ -49,7 +56,7 @@ def test_own_model_campaigns_match_the_shipped_settings(name):
         for path in records:
             record = json.loads(path.read_text())
             runs += 1
-            if record["config_hashes"] != expected_hashes(sources, record, cache):
+            if record["config_hashes"] != expected_hashes(sources, record, cache, campaign):
                 wrong.append(str(path.relative_to(PROJECT_ROOT)))
     assert not wrong, f"{name}: {len(wrong)} of {runs} runs have other settings: {wrong[:3]}"
 
@@ -62,9 +69,10 @@ def test_a_changed_settings_file_is_caught(tmp_path):
                        "  mse_threshold: 11.0\n")
     record = json.loads(next((PROJECT_ROOT / sources["data"][0]).glob(
         "*/run_*/run.json")).read_text())
-    assert record["config_hashes"] == expected_hashes(sources, record, {})
+    campaign = sources["data"][0]
+    assert record["config_hashes"] == expected_hashes(sources, record, {}, campaign)
     assert record["config_hashes"] != expected_hashes({**sources, "settings": str(changed)},
-                                                      record, {})
+                                                      record, {}, campaign)
 
 
 @pytest.mark.parametrize("name", OWN)
@@ -72,5 +80,8 @@ def test_own_model_cards_carry_their_settings_fitted_values(name):
     """A card's sources.fitted is what its settings file declares fitted, word for word: the
     file is the one copy, the card what predict shows."""
     sources = read_card(MODELS / name)["sources"]
-    assert sources.get("fitted") == fitted_settings(PROJECT_ROOT / sources["settings"])
+    declared: dict = {}
+    for campaign in sources["data"]:
+        declared.update(fitted_settings(PROJECT_ROOT / settings_file(sources, campaign)))
+    assert sources.get("fitted") == declared
     assert sources["fitted"], f"{name}: its chain's fitted rebuild cost is not on the card"

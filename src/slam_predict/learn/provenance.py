@@ -2,7 +2,8 @@
 
 A trained card's ``sources`` name the campaigns (``data``: project-relative folders) and the
 settings file of record (``settings``: the file whose resolved settings every run of those
-campaigns recorded, from each campaign's campaign.json) with, as ``fitted``, the settings that
+campaigns recorded, from each campaign's campaign.json; ``{campaign: file}`` when the
+campaigns were collected with different files) with, as ``fitted``, the settings that
 file declares fitted to the seed study rather than measured
 (:func:`slam_predict.collect.settings.fitted_settings`; ``predict`` shows them).
 tests/learn/test_shipped_model_campaigns.py checks that every run of a shipped own model's
@@ -30,19 +31,27 @@ def campaign_folder(errors_table: os.PathLike | str) -> Path | None:
 
 
 def campaign_sources(folders: Sequence[os.PathLike | str]) -> dict[str, object]:
-    """``{"data": [folders], "settings": file, "fitted": {...}}`` for a card's sources;
-    ``settings`` and ``fitted`` only when every folder's campaign.json names the same settings
-    file (``fitted`` only when that file is found and declares any)."""
-    files = set()
-    for folder in folders:
+    """``{"data": [folders], "settings": ..., "fitted": {...}}`` for a card's sources.
+
+    ``settings`` is the one settings file every folder's campaign.json names, or, when they
+    name different files, ``{folder: file}``; absent when a folder has no campaign.json.
+    ``fitted`` joins those files' fitted settings (:func:`fitted_settings`; only files found,
+    and only when any declares one)."""
+    data = [portable_path(f) for f in folders]
+    recorded = {}
+    for folder, name in zip(folders, data, strict=True):
         path = Path(folder) / CAMPAIGN_JSON
-        recorded = json.loads(path.read_text()).get("settings_file") if path.is_file() else None
-        files.add(recorded)
-    out: dict[str, object] = {"data": [portable_path(f) for f in folders]}
-    if len(files) == 1 and None not in files:
-        out["settings"] = files.pop()
-        file = PROJECT_ROOT / str(out["settings"])
-        fitted = fitted_settings(file) if file.is_file() else {}
-        if fitted:
-            out["fitted"] = fitted
+        recorded[name] = (json.loads(path.read_text()).get("settings_file")
+                          if path.is_file() else None)
+    out: dict[str, object] = {"data": data}
+    files = set(recorded.values())
+    if None in files:
+        return out
+    out["settings"] = files.pop() if len(files) == 1 else recorded
+    fitted: dict[str, str] = {}
+    for file in sorted(set(recorded.values())):
+        if (PROJECT_ROOT / file).is_file():
+            fitted.update(fitted_settings(PROJECT_ROOT / file))
+    if fitted:
+        out["fitted"] = fitted
     return out
