@@ -74,6 +74,26 @@ def test_changed_settings_need_max_urange_m(tmp_path):
     assert MaxUrangeSource(30.0).of_record(record, "run.json") == 30.0
 
 
+def test_a_run_whose_settings_file_is_gone_takes_its_campaigns(tmp_path):
+    """A run naming a settings file removed since falls back to the campaign.json beside its
+    world folder (the hash check still applies); without one it is the one-line error."""
+    import json
+
+    record = syn.record("w00", 0, 1, {"range_max": 10.0, "fov": 270.0, "xy": 0.01,
+                                      "yaw": syn.YAW}, (0.1, 0.01), None)
+    record["settings_file"] = "config/fidelity/probes/removed.yaml"
+    run = tmp_path / "camp" / "w00" / "run_000" / "run.json"
+    run.parent.mkdir(parents=True)
+    with pytest.raises(InputError, match="removed.yaml of the run not found"):
+        MaxUrangeSource().of_record(record, run)
+    (tmp_path / "camp" / "campaign.json").write_text(
+        json.dumps({"settings_file": "config/collect.yaml"}))
+    assert MaxUrangeSource().of_record(record, run) == 30.0
+    record["config_hashes"]["gmapping"] = "000000000000"
+    with pytest.raises(InputError, match="set robot_learning.max_urange_m"):
+        MaxUrangeSource().of_record(record, run)
+
+
 @pytest.fixture(scope="module")
 def designed(tmp_path_factory):
     folder = tmp_path_factory.mktemp("designed")

@@ -29,6 +29,7 @@ covers its box, and the seed study's robot (80 m laser, so 30 m used) sits at it
 """
 from __future__ import annotations
 
+import json
 import logging
 import math
 import os
@@ -36,6 +37,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from slam_predict.collect.campaign import CAMPAIGN_JSON
 from slam_predict.errors import InputError
 from slam_predict.learn.card import SLAM_ALGORITHMS, slam_label
 from slam_predict.learn.robot.inputs import ROBOT_INPUTS, inputs_from_robot
@@ -96,12 +98,29 @@ class MaxUrangeSource:
         if not isinstance(settings_file, str) or not settings_file or not recorded:
             raise InputError(f"run record names no settings_file or {slam_label(backend)} config "
                              f"hash: cannot tell the SLAM back-end's range cap; {HINT}", path)
+        settings_file = self.existing_settings_file(settings_file, path)
         params = self.params(settings_file, path, backend)
         if backend == "karto":
             _check_karto_hash(params, str(recorded), settings_file, path)
             return float(params.max_laser_range)
         self._check_hash(params, _laser_range(record, path), str(recorded), settings_file, path)
         return settings_cap(params)
+
+    def existing_settings_file(self, settings_file: str, path) -> str:
+        """The run's settings file, or, when that file is gone (e.g. a probe file removed
+        since), the one its campaign's campaign.json names (the run's config hash is checked
+        against it all the same)."""
+        file = Path(settings_file)
+        if (file if file.is_absolute() else self.root / file).is_file():
+            return settings_file
+        campaign = Path(path).resolve().parent.parent.parent / CAMPAIGN_JSON
+        if campaign.is_file():
+            recorded = json.loads(campaign.read_text()).get("settings_file")
+            if isinstance(recorded, str) and recorded:
+                LOG.info("%s: settings file %s gone; %s names %s", path, settings_file,
+                         campaign, recorded)
+                return recorded
+        return settings_file
 
     def params(self, settings_file: str, path, backend: str = "gmapping"):
         """The SLAM parameters (of back-end ``backend``) of a settings file (loaded once)."""
