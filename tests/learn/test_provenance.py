@@ -54,3 +54,13 @@ def test_campaigns_of_two_settings_files_join_their_fitted_settings(tmp_path):
     assert sorted(sources["settings"].values()) == ["config/fidelity/seed_study.yaml",
                                                     "config/robot_campaign/settings.yaml"]
     assert list(sources["fitted"]) == ["slam_compute.rebuild_s_per_line_cell"]
+
+
+def test_an_unreadable_campaign_json_is_a_one_line_error(tmp_path):
+    import pytest
+
+    from slam_predict.errors import InputError
+
+    (tmp_path / "campaign.json").write_text("{not json")
+    with pytest.raises(InputError, match="unreadable campaign record"):
+        campaign_sources([tmp_path])

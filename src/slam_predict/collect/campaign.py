@@ -271,6 +271,16 @@ def read_campaign(path: Path) -> dict[str, Any]:
     return data
 
 
+def recorded_settings_file(root: os.PathLike | str) -> str | None:
+    """The settings file the campaign in ``root`` records (campaign.json ``settings_file``), or
+    None without a campaign.json or that entry; InputError when campaign.json is unreadable."""
+    path = Path(root) / CAMPAIGN_JSON
+    if not path.is_file():
+        return None
+    recorded = read_campaign(path).get("settings_file")
+    return recorded if isinstance(recorded, str) and recorded else None
+
+
 def _write(path: Path, content: dict[str, Any]) -> dict[str, Any]:
     write_text(path, json.dumps(content, indent=1, sort_keys=True) + "\n")
     return content

@@ -160,9 +160,10 @@ def checked_fitted(fitted: dict[str, Any], path: Path) -> dict[str, str]:
     ``section.key`` of a settings section (``slam_compute``, ``stop``, ``metric``, ``slam``)
     or ``sim_overrides.…``; InputError otherwise."""
     out = {}
+    defaults = CollectFiles()
     for key, how in fitted.items():
         section, _, name = str(key).partition(".")
-        default = getattr(CollectFiles(), section, None) if section != "fitted" else None
+        default = getattr(defaults, section, None) if section != "fitted" else None
         known = (section == "sim_overrides" and name) or (
             dataclasses.is_dataclass(default)
             and name in {f.name for f in dataclasses.fields(default)})

@@ -11,12 +11,11 @@ campaigns recorded that file's settings hashes.
 """
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Sequence
 from pathlib import Path
 
-from slam_predict.collect.campaign import CAMPAIGN_JSON
+from slam_predict.collect.campaign import CAMPAIGN_JSON, recorded_settings_file
 from slam_predict.collect.settings import fitted_settings
 from slam_predict.paths import PROJECT_ROOT, portable_path
 
@@ -38,11 +37,8 @@ def campaign_sources(folders: Sequence[os.PathLike | str]) -> dict[str, object]:
     ``fitted`` joins those files' fitted settings (:func:`fitted_settings`; only files found,
     and only when any declares one)."""
     data = [portable_path(f) for f in folders]
-    recorded = {}
-    for folder, name in zip(folders, data, strict=True):
-        path = Path(folder) / CAMPAIGN_JSON
-        recorded[name] = (json.loads(path.read_text()).get("settings_file")
-                          if path.is_file() else None)
+    recorded = {name: recorded_settings_file(folder)
+                for folder, name in zip(folders, data, strict=True)}
     out: dict[str, object] = {"data": data}
     files = set(recorded.values())
     if None in files:

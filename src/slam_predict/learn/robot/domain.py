@@ -29,7 +29,6 @@ covers its box, and the seed study's robot (80 m laser, so 30 m used) sits at it
 """
 from __future__ import annotations
 
-import json
 import logging
 import math
 import os
@@ -37,7 +36,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from slam_predict.collect.campaign import CAMPAIGN_JSON
+from slam_predict.collect.campaign import recorded_settings_file
 from slam_predict.errors import InputError
 from slam_predict.learn.card import SLAM_ALGORITHMS, slam_label
 from slam_predict.learn.robot.inputs import ROBOT_INPUTS, inputs_from_robot
@@ -113,14 +112,13 @@ class MaxUrangeSource:
         file = Path(settings_file)
         if (file if file.is_absolute() else self.root / file).is_file():
             return settings_file
-        campaign = Path(path).resolve().parent.parent.parent / CAMPAIGN_JSON
-        if campaign.is_file():
-            recorded = json.loads(campaign.read_text()).get("settings_file")
-            if isinstance(recorded, str) and recorded:
-                LOG.info("%s: settings file %s gone; %s names %s", path, settings_file,
-                         campaign, recorded)
-                return recorded
-        return settings_file
+        campaign = Path(path).resolve().parent.parent.parent   # CAMPAIGN/WORLD/run_NNN/run.json
+        recorded = recorded_settings_file(campaign)
+        if recorded is None:
+            return settings_file
+        LOG.info("%s: settings file %s gone; the campaign's campaign.json names %s", path,
+                 settings_file, recorded)
+        return recorded
 
     def params(self, settings_file: str, path, backend: str = "gmapping"):
         """The SLAM parameters (of back-end ``backend``) of a settings file (loaded once)."""
