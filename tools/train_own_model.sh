@@ -19,17 +19,11 @@ MODELS="${MODELS:-$ROOT/models}"
 set +u; source "$ROOT/setup.bash"; set -u
 rm -rf "$OUT/worlds"; mkdir -p "$OUT/worlds"
 [ -f "$CAMPAIGN/summary.csv" ] || { echo "train_own_model: $CAMPAIGN/summary.csv not found" >&2; exit 2; }
-# buildings with at least MIN_RUNS finished runs (column 2 of summary.csv is runs); the dataset
-# reads the campaign's own summary.csv (with --min-runs), so the card names the campaign.
-# --priority -1 below: thesis-realistic (the seed study's own errors of the same buildings)
-# stays the default model.
-awk -F, -v m="$MIN_RUNS" 'NR == 1 || $2 >= m' "$CAMPAIGN/summary.csv" > "$OUT/summary.csv"
-BUILDINGS=$(($(wc -l < "$OUT/summary.csv") - 1))
-echo "[own model] $BUILDINGS buildings with >= $MIN_RUNS runs"
 slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$OUT/thesis_worlds" \
   --force > /dev/null
-# one folder with the campaign's worlds (symlinks), named as in summary.csv
-tail -n +2 "$OUT/summary.csv" | cut -d, -f1 | while read -r world; do
+# one folder with the worlds of every building of the campaign (symlinks), named as in
+# summary.csv; `learn dataset` keeps those with >= MIN_RUNS runs (--min-runs)
+tail -n +2 "$CAMPAIGN/summary.csv" | cut -d, -f1 | while read -r world; do
   for candidate in "$ROOT/worlds/$world" "$OUT/thesis_worlds/$world"; do
     if [ -f "$candidate.world" ]; then
       for ext in world png json; do
@@ -40,9 +34,14 @@ tail -n +2 "$OUT/summary.csv" | cut -d, -f1 | while read -r world; do
   done
   [ -f "$OUT/worlds/$world.world" ] || { echo "train_own_model: no world file for $world" >&2; exit 2; }
 done
+# the campaign's own summary.csv, so that the card names the campaign
 slam-predict learn dataset --errors "$CAMPAIGN/summary.csv" --min-runs "$MIN_RUNS" \
   --worlds "$OUT/worlds" --thesis-setting realistic \
   --out "$OUT/own-realistic.csv" --jobs "$JOBS" --force
+BUILDINGS=$(($(wc -l < "$OUT/own-realistic.csv") - 1))   # one row per building
+echo "[own model] $BUILDINGS buildings with >= $MIN_RUNS runs"
+# --priority -1: thesis-realistic (the seed study's own errors of the same buildings) stays the
+# default model
 slam-predict learn train "$OUT/own-realistic.csv" --name own-realistic --models-dir "$MODELS" \
   --evaluation-out "$OUT/eval" --jobs "$JOBS" --force --priority -1 \
   --description "${DESCRIPTION:-GMapping errors collected by slam_predict itself (data/campaigns/fidelity_seed_study, issue #16: in-process Stage-like simulator with Stage-style fixed odometry biases + our GMapping with slam_gmapping's compute delay (map rebuild cost per traced cell fitted at 4x the measured one on the campaign's 17 fit buildings) + move_base-like navigation + nearest-frontier exploration, realistic setting, >= $MIN_RUNS runs per building) on $BUILDINGS seed-study buildings of every size}"
