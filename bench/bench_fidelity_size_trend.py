@@ -8,14 +8,15 @@ delay, for each declared part (parts.yaml). docs/notes/fidelity.md, "2026-12-06"
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import statistics
 from pathlib import Path
 
 import numpy as np
-import yaml
 from scipy.stats import spearmanr
+
+from slam_predict.collect.fidelity import read_thesis_table
+from slam_predict.collect.fidelity_parts import load_parts
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL_M2, LARGE_M2 = 1200.0, 2200.0
@@ -36,8 +37,8 @@ def building_row(runs: list[dict], theirs: dict) -> dict[str, float]:
     mean = statistics.mean
     return {"area": runs[0]["free_area_m2"],
             "ratio": mean(r["metric"]["trans_mean"] for r in runs)
-            / float(theirs["transError.mean.mean"]),
-            "path": mean(r["distance_m"] for r in runs) / float(theirs["totalLen"]),
+            / theirs["trans_mean"],
+            "path": mean(r["distance_m"] for r in runs) / theirs["path_length_mean"],
             "handled_per_m": mean(r["slam_compute"]["scans_handled"] / r["distance_m"]
                                   for r in runs),
             "busy": mean(r["slam_compute"]["busy_s"] / r["sim_duration_s"] for r in runs)}
@@ -86,9 +87,8 @@ def main() -> int:
     parser.add_argument("--min-coverage", type=float, default=0.5)
     args = parser.parse_args()
     campaign = Path(args.campaign)
-    with open(args.thesis, newline="") as handle:
-        theirs = {r["dataset"].strip(): r for r in csv.DictReader(handle, skipinitialspace=True)}
-    parts = yaml.safe_load((campaign / "parts.yaml").read_text())["parts"]
+    theirs = read_thesis_table(Path(args.thesis))
+    parts = load_parts(campaign / "parts.yaml")
     by = runs_by_building(campaign, args.min_coverage)
     slope, rho, n = within_building_slope(by)
     print(f"within a building: d log ε_t / d log path = {slope:.2f} (Spearman {rho:.2f}, "
