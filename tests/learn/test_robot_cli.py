@@ -240,3 +240,35 @@ def test_the_failure_model_sees_a_building_whose_runs_all_failed(inputs, tmp_pat
     card = json.loads((tmp_path / "models" / "m" / "card.json").read_text())
     assert failing not in card["training_buildings"] and len(card["training_buildings"]) == 7
     assert (card["failure"]["runs"], card["failure"]["failed"]) == (64, 8)
+
+
+def test_runs_collected_without_the_design_join_inside_its_bounds(inputs, tmp_path, capsys):
+    """--design with a second campaign collected with one robot file (as the fidelity
+    campaign's seed robot): its configuration joins when it lies inside the design's bounds,
+    and the card lists it; outside them it is refused naming the input."""
+    import numpy as np
+
+    folder, _ = inputs
+    worlds = {w: f for w, f in syn.buildings(8, np.random.default_rng(0)).items()
+              if w in ("w00", "w01")}
+    seed_robot = {"range_max": 30.0, "fov": 270.0, "xy": 0.01, "yaw": syn.YAW}
+    extra = tmp_path / "seed_robot"
+    syn.write_campaign(extra, worlds, [seed_robot], 2, np.random.default_rng(1), design=False)
+    models = tmp_path / "models"
+    assert main(["learn", "train", "--runs", str(folder / "data"), str(extra), "--features",
+                 str(folder / "features.csv"), "--config", str(folder / "fast.yaml"),
+                 "--design", str(folder / "design.yaml"), "--name", "mixed", "--models-dir",
+                 str(models)]) == 0
+    assert "68 runs, 34 points, 8 buildings, 5 configurations" in capsys.readouterr().out
+    configs = json.loads((models / "mixed" / "card.json").read_text())["design"]["configs"]
+    assert len(configs) == 5 and sum(not c.startswith("c0") for c in configs) == 1
+    narrow = tmp_path / "narrow"
+    syn.write_campaign(narrow, worlds, [dict(seed_robot, fov=120.0)], 1,
+                       np.random.default_rng(2), design=False)
+    err = run_error(["learn", "evaluate", "--runs", str(folder / "data"), str(narrow),
+                     "--features", str(folder / "features.csv"), "--config",
+                     str(folder / "fast.yaml"), "--design", str(folder / "design.yaml"),
+                     "--out", str(tmp_path / "ev")], capsys)
+    assert "(runs collected without the design): laser_fov_deg 120 lies outside the " \
+           "design's bounds [180, 360]" in err
+    assert not (tmp_path / "ev").exists()

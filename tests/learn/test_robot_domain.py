@@ -175,3 +175,21 @@ def test_karto_runs_get_the_max_laser_range_of_their_settings_file():
     record["slam"]["type"] = record["config_hashes"]["cartographer"] = "cartographer"
     with pytest.raises(InputError, match="learn GMapping and Karto runs"):
         MaxUrangeSource().of_record(record, "run.json")
+
+
+def test_runs_collected_without_the_design_join_inside_its_bounds(designed):
+    """A configuration of runs with no design entry (e.g. the seed robot of the fidelity
+    campaign) need not be in the file, but must lie inside its bounds."""
+    design, data = designed
+    configs = dict(data.configs)
+    inside = dict(configs["c00"], laser_range_max_m=30.0, laser_fov_deg=270.0)
+    ranges = design_ranges(design, 30.0, {**configs, "f61b30949018": inside},
+                           undesigned={"f61b30949018"})
+    assert ranges == design_ranges(design, 30.0, configs)
+    wide = dict(inside, laser_fov_deg=90.0)
+    with pytest.raises(InputError, match="'f61b30949018' .*laser_fov_deg 90 lies outside the "
+                                         r"design's bounds \[180, 360\]"):
+        design_ranges(design, 30.0, {**configs, "f61b30949018": wide},
+                      undesigned={"f61b30949018"})
+    with pytest.raises(InputError, match="'f61b30949018' of the runs is not in the design"):
+        design_ranges(design, 30.0, {**configs, "f61b30949018": inside})

@@ -313,7 +313,8 @@ def run(args: argparse.Namespace) -> int:
     if args.design:
         from slam_predict.learn.robot.domain import design_ranges
 
-        bounds = design_ranges(args.design, data.max_urange_m, data.configs)
+        undesigned = {run.config for run in data.runs if not run.designed}
+        bounds = design_ranges(args.design, data.max_urange_m, data.configs, undesigned)
     tables = data.tables(config.plan_features, config.sightline_input)
     previous = getattr(args, "evaluation_from", None)
     if previous:

@@ -25,14 +25,16 @@ name, ``max_urange_m``: the range cap of the back-end the model was trained for.
 training ranges are the design's bounds (range 3.5–30 m, fov 180–360°, odometry 0–2 × the base
 robot's bounds), not only the span of the configurations drawn from them: a Latin hypercube
 covers its box, and the seed study's robot (80 m laser, so 30 m used) sits at its edge
-(:func:`design_ranges`). The design's configurations are checked against the runs' inputs.
+(:func:`design_ranges`). The design's configurations are checked against the runs' inputs;
+runs collected without the design (no ``design`` entry in run.json, e.g. the fidelity
+campaign's seed robot) may join when their inputs lie inside the bounds.
 """
 from __future__ import annotations
 
 import logging
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -186,17 +188,30 @@ def _text(value: float | None) -> str:
 
 
 def design_ranges(paths, max_urange_m: float | None,
-                  configs: Mapping[str, Mapping[str, float]]) -> dict[str, list[float]]:
+                  configs: Mapping[str, Mapping[str, float]],
+                  undesigned: Iterable[str] = ()) -> dict[str, list[float]]:
     """Robot input → [low, high] of the bounds of one design file or several (``paths``: a
     path or a sequence of them, e.g. a campaign's design and an extension's that adds
     configurations), in the inputs' units (range capped at ``max_urange_m``); InputError
     naming a file when a configuration of the runs (``configs``: id → robot inputs) is in none
     of them or has other inputs there, when two files define a configuration id differently,
-    or when they disagree on the bounds, base robot or resolution."""
+    or when they disagree on the bounds, base robot or resolution. The configurations named in
+    ``undesigned`` (runs collected without the design, e.g. with the seed robot's file) need
+    not be in a file but must lie inside the bounds."""
     from slam_predict.collect.robot_design import FACTORS, configured_robot
 
     first_path, first, robots = _pooled_designs(paths)
+    corners = [inputs_from_robot(configured_robot(first.base,
+                                                  {f: first.bounds[f][i] for f in FACTORS},
+                                                  first.resolution_deg, f"bound{i}"),
+                                 max_urange_m) for i in (0, 1)]
+    ranges = {name: [min(c[name] for c in corners), max(c[name] for c in corners)]
+              for name in ROBOT_INPUTS}
+    outside = set(undesigned)
     for config, inputs in configs.items():
+        if config in outside:
+            _check_inside(config, inputs, ranges, first_path)
+            continue
         if config not in robots:
             raise InputError(f"configuration '{config}' of the runs is not in the design",
                              first_path)
@@ -206,12 +221,21 @@ def design_ranges(paths, max_urange_m: float | None,
             if not math.isclose(expected[name], inputs[name], rel_tol=1e-6, abs_tol=1e-9):
                 raise InputError(f"configuration '{config}': {name} is {expected[name]:.6g} in "
                                  f"the design, {inputs[name]:.6g} in the runs", path)
-    corners = [inputs_from_robot(configured_robot(first.base,
-                                                  {f: first.bounds[f][i] for f in FACTORS},
-                                                  first.resolution_deg, f"bound{i}"),
-                                 max_urange_m) for i in (0, 1)]
-    return {name: [min(c[name] for c in corners), max(c[name] for c in corners)]
-            for name in ROBOT_INPUTS}
+    return ranges
+
+
+def _check_inside(config: str, inputs: Mapping[str, float],
+                  ranges: Mapping[str, Sequence[float]], path) -> None:
+    """InputError unless a configuration collected outside the design lies inside its bounds
+    (relative tolerance 1e-6)."""
+    for name in ROBOT_INPUTS:
+        low, high = ranges[name]
+        slack = 1e-6 * max(abs(low), abs(high), 1e-9)
+        if not low - slack <= inputs[name] <= high + slack:
+            raise InputError(f"configuration '{config}' (runs collected without the design): "
+                             f"{name} {inputs[name]:.6g} lies outside the design's bounds "
+                             f"[{low:.6g}, {high:.6g}]", path)
+    LOG.info("configuration %s: collected without the design, inside its bounds", config)
 
 
 def _pooled_designs(paths):

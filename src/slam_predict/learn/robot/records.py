@@ -76,6 +76,7 @@ class RunRow:
     max_urange_m: float | None = None    # GMapping's maxUrange of the run's settings, m
     odom_model: str = ""                 # the sensor's odometry model (inputs.odom_model_of)
     slam: str = DEFAULT_SLAM             # the run's SLAM algorithm (run.json slam.type)
+    designed: bool = True                # run.json has a ``design`` entry (collect --design)
 
 
 # ----------------------------------------------------------------------------- run records
@@ -207,7 +208,7 @@ def run_row(record: Mapping[str, Any], path, max_urange_m: float | None = None) 
                   resolution_deg=angular_resolution_deg(record["sensor"], path),
                   config_hashes={str(k): str(v) for k, v in hashes.items()}, source=str(path),
                   max_urange_m=max_urange_m, odom_model=odom_model,
-                  slam=slam_of_record(record))
+                  slam=slam_of_record(record), designed=record.get("design") is not None)
 
 
 def read_runs(folders: Sequence[os.PathLike | str], min_coverage: float = MIN_COVERAGE,
