@@ -39,12 +39,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "predict each building of a 'learn dataset' file leave-one-building-out, with the "
         "model kinds of a shipped plan-only model refitted on the other buildings, and score "
         "the predictions against the seed study's measured mean errors")
-    loo.add_argument("--loo-dataset", metavar="CSV",
-                     help="dataset of the campaign (slam-predict learn dataset --errors "
-                          "DATA/summary.csv ...)")
+    source = loo.add_mutually_exclusive_group()
+    source.add_argument("--loo-dataset", metavar="CSV",
+                        help="dataset of the campaign (slam-predict learn dataset --errors "
+                             "DATA/summary.csv ...), for a plan-only --loo-model")
+    source.add_argument("--loo-runs", nargs="+", metavar="DATA",
+                        help="campaign folders to refit a robot-aware --loo-model on (e.g. "
+                             "those its card names); the robot scored is the one the compared "
+                             "campaigns were collected with")
     loo.add_argument("--loo-model", default="own-realistic", metavar="MODEL",
                      help="model name (under the models folder) or folder whose card names "
                           "the model kind and learning configuration")
+    loo.add_argument("--worlds", metavar="DIR",
+                     help="with --loo-runs: folder of worlds to compute features on (the "
+                          "card's feature configuration)")
+    loo.add_argument("--jobs", type=int, default=1, metavar="N",
+                     help="with --loo-runs: parallel workers (features and refits)")
     add_force_argument(parser)
 
 
@@ -56,6 +66,11 @@ def run(args: argparse.Namespace) -> int:
 
     check_at_least(args.min_runs, 1, "--min-runs")
     check_share(args.min_coverage, "--min-coverage")
+    check_at_least(args.jobs, 1, "--jobs")
+    if args.loo_runs and not args.worlds:
+        from slam_predict.errors import InputError
+
+        raise InputError("--loo-runs needs --worlds DIR (the plans of the campaigns' buildings)")
     if args.out:
         check_out_file(args.out, args.force)
     thesis = read_thesis_table(Path(args.thesis))
@@ -66,6 +81,8 @@ def run(args: argparse.Namespace) -> int:
         text += parts_report(args.parts, comparisons, [Path(c) for c in args.campaigns])
     if args.loo_dataset:
         text += "\n" + models_against_thesis(args.loo_dataset, args.loo_model, thesis)
+    if args.loo_runs:
+        text += "\n" + robot_model_against_thesis(args, thesis)
     if args.out:
         write_text(args.out, text)
     if args.plot:
@@ -103,3 +120,19 @@ def models_against_thesis(dataset_csv: str, model: str, thesis) -> str:
     rows = against.leave_one_out_against(read_dataset(dataset_csv),
                                          against.card_learning_config(card), chosen, thesis)
     return against.markdown(rows, card["name"], "the seed study")
+
+
+def robot_model_against_thesis(args: argparse.Namespace, thesis) -> str:
+    """The markdown of :func:`slam_predict.learn.robot.against.leave_one_building_out_against`:
+    the robot-aware ``--loo-model`` refitted on ``--loo-runs`` without each building, predicting
+    the compared campaigns' robot there, scored against the seed study."""
+    from slam_predict.learn import against
+    from slam_predict.learn.robot.against import leave_one_building_out_against as lobo
+    from slam_predict.learn.robot.against import load_card_tables, robot_of_campaigns
+
+    card, config, tables = load_card_tables(args.loo_model, args.loo_runs, args.worlds,
+                                            args.jobs)
+    config_id = robot_of_campaigns(args.campaigns, config, card)
+    chosen = against.card_models(card, ["trans_mean", "rot_mean"])
+    rows = lobo(tables, config, chosen, config_id, thesis, args.jobs)
+    return against.markdown(rows, f"{card['name']} (robot {config_id})", "the seed study")

@@ -84,7 +84,7 @@ def protocol_splits(tables: RobotTables, protocol: str, n_folds: int,
             for name, test, train in cells if test.any() and train.any()]
 
 
-def _prediction_rows(tables: RobotTables, split: Split, component: str, kind: str,
+def prediction_rows(tables: RobotTables, split: Split, component: str, kind: str,
                      model, confidence: float) -> list[dict]:
     test = split.test
     y = tables.point_y[component][test]
@@ -120,7 +120,7 @@ def evaluate_split(tables: RobotTables, split: Split, config: RobotLearningConfi
                 LOG.warning("%s %s, %s: not fitted (%s)", split.protocol, split.fold,
                             component, exc.one_line())
                 break
-            rows += _prediction_rows(tables, split, component, kind, model, config.confidence)
+            rows += prediction_rows(tables, split, component, kind, model, config.confidence)
     return rows
 
 
