@@ -19,7 +19,26 @@ from slam_predict.learn.robot.inputs import ROBOT_INPUTS
 from .conftest import synthetic_dataset
 
 ROOT = Path(__file__).resolve().parents[2]
-SHIPPED_POINTS = ROOT / "models" / "own-robots" / "training_points.csv"
+# header and three rows of models/own-robots/training_points.csv as shipped 2026-12-05
+OLD_POINTS = (
+    "world,config,point,runs,laser_range_max_m,laser_fov_deg,odom_xy_error"
+    ",odom_yaw_error,trans_mean,trans_std,rot_mean,rot_std,building_area"
+    ",sightline_isotropy,voronoi_traversal_distance,floor_elongation"
+    ",laser_blind_fraction\n"
+    "324-Elm-Furn-Plan_updated,c02,324-Elm-Furn-Plan_updated/c02,4,15.7918,215.7625"
+    ",0.004762000000000001,0.03328691949403585,0.6347231693074796,0.1288843352893546"
+    ",0.03810392110097656,0.010179130274287468,1288.7900000000002,0.6551254153469059"
+    ",737.2250616357753,3.9390164613603047,0.0027416057973151196\n"
+    "324-Elm-Furn-Plan_updated,c04,324-Elm-Furn-Plan_updated/c04,3,4.3001,238.4068"
+    ",0.012462,0.008011061266653973,2.734293557969952,0.903264795311686"
+    ",0.04253414571281653,0.013979117339636438,1288.7900000000002,0.6551254153469059"
+    ",737.2250616357753,3.9390164613603047,0.2835908362578996\n"
+    "324-Elm-Furn-Plan_updated,c12,324-Elm-Furn-Plan_updated/c12,4,23.922,313.8874"
+    ",0.0055769999999999995,0.029848620867607024,0.4991983553713534"
+    ",0.02867889883660824,0.028171228952051423,0.002216396638060137"
+    ",1288.7900000000002,0.6551254153469059,737.2250616357753,3.9390164613603047"
+    ",0.0010000000000000002\n"
+)
 
 
 def _rows(names, slams=None):
@@ -100,15 +119,15 @@ def test_select_slam_keeps_the_rows_of_one_algorithm():
         data.select_slam("kartoo")
 
 
-def test_the_shipped_old_point_file_reads_as_the_dataset():
-    """training_points.csv of models/own-robots predates the format (config, point columns):
-    read_dataset gives the same numbers as a plain CSV parse."""
-    if not SHIPPED_POINTS.is_file():
-        pytest.skip(f"{SHIPPED_POINTS} not present")
-    with open(SHIPPED_POINTS, newline="") as handle:
+def test_an_old_point_file_reads_as_the_dataset(tmp_path):
+    """training_points.csv of models/own-robots before 2026-12-06 predates the format (config,
+    point columns): read_dataset gives the same numbers as a plain CSV parse."""
+    path = tmp_path / "training_points.csv"
+    path.write_text(OLD_POINTS)
+    with open(path, newline="") as handle:
         rows = list(csv.DictReader(handle))
-    data = ds.read_dataset(SHIPPED_POINTS)
-    assert data.worlds == [r["world"] for r in rows]
+    data = ds.read_dataset(path)
+    assert len(rows) == 3 and data.worlds == [r["world"] for r in rows]
     assert data.robot == [r["config"] for r in rows] and set(data.slam) == {"gmapping"}
     assert sorted(data.robot_inputs) == sorted(ROBOT_INPUTS)
     assert "point" not in data.feature_names and "config" not in data.feature_names
