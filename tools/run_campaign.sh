@@ -5,7 +5,8 @@
 #
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
 #       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | robots | robots_rep3 |
-#       robots_more | robots_configs2 | robots_rep4 | karto_seed_study | karto_robots
+#       robots_more | robots_configs2 | robots_rep4 | robots_res025 | robots_res100 |
+#       karto_seed_study | karto_robots
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
@@ -44,6 +45,10 @@
 #              data/campaigns/robots/design_configs2.yaml) on robots' 21 buildings, 2 points x
 #              2 runs per building (84 runs), breadth-first; pooled with robots and robots_rep3
 #              it gives the configuration-held-out protocol 42 configurations instead of 28.
+#   robots_res025, robots_res100 (issue #43, 2026-12-06): 7 configurations each at 0.25 and
+#              1.0 deg angular resolution (data/campaigns/robots/design_res025.yaml,
+#              design_res100.yaml; the robots design has 0.5 deg only), one point on each of
+#              robots' 21 buildings, 2 runs, breadth-first: every building's first run first.
 # Records go to data/campaigns/NAME/ (run.json and summary.csv are committed, the rest is not);
 # finished runs are never redone, so the command can be repeated in every working period.
 set -euo pipefail
@@ -95,7 +100,10 @@ case "$NAME" in
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_more.yaml") ;;
   robots_configs2) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_configs2.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, karto_seed_study, karto_robots)" >&2; exit 2 ;;
+  robots_res025|robots_res100) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"
+          WITH_SHIPPED=0
+          DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_${NAME#robots_}.yaml") ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots)" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
@@ -133,6 +141,10 @@ if [ "$NAME" = robots_more ]; then   # breadth-first: the first replicate of eve
   slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --runs 4 --jobs "$JOBS" \
     --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
 fi
+case "$NAME" in robots_res*)   # breadth-first: every building's first run first
+  slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --runs 1 --jobs "$JOBS" \
+    --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME" ;;
+esac
 if [ "$NAME" = robots_configs2 ]; then   # breadth-first: each building's 2 points once first
   slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --runs 2 --jobs "$JOBS" \
     --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
