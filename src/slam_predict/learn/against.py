@@ -54,11 +54,17 @@ def leave_one_out_against(data: Dataset, config: LearningConfig, chosen: Mapping
             if world not in truth:
                 continue
             row = loo_one(data, config, component, model_id, i)
-            theirs = float(truth[world][component])
-            rows.append({**row, "ours": row["y"], "y": theirs,
-                         "covered": bool(row["low"] <= theirs <= row["high"]),
-                         "pct_error": abs(row["prediction"] - theirs) / theirs})
+            rows.append(scored_against(row, float(truth[world][component])))
     return rows
+
+
+def scored_against(row: Mapping[str, Any], theirs: float) -> dict:
+    """A prediction row (``y`` our measurement, ``prediction``, ``low``, ``high``) scored
+    against the other table's value ``theirs``: ``ours`` keeps our measurement, ``y`` becomes
+    theirs, with the interval's ``covered`` and the ``pct_error`` against it."""
+    return {**row, "ours": row["y"], "y": theirs,
+            "covered": bool(row["low"] <= theirs <= row["high"]),
+            "pct_error": abs(row["prediction"] - theirs) / theirs}
 
 
 def summary(rows: Sequence[dict]) -> list[dict]:

@@ -15,6 +15,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from slam_predict.errors import InputError
+from slam_predict.learn.against import scored_against
 from slam_predict.learn.robot.config import RobotLearningConfig
 from slam_predict.learn.robot.evaluate import Split, prediction_rows
 from slam_predict.learn.robot.models import fit_component
@@ -51,12 +52,8 @@ def leave_one_building_out_against(tables: RobotTables, config: RobotLearningCon
                          "row in the other table")
     chunks = Parallel(n_jobs=n_jobs)(delayed(_predict_split)(tables, s, config, chosen)
                                      for s in splits)
-    rows = []
-    for row in (r for chunk in chunks for r in chunk):
-        theirs = float(truth[row["world"]][row["component"]])
-        rows.append({**row, "ours": row["y"], "y": theirs,
-                     "covered": bool(row["low"] <= theirs <= row["high"]),
-                     "pct_error": abs(row["prediction"] - theirs) / theirs})
+    rows = [scored_against(row, float(truth[row["world"]][row["component"]]))
+            for chunk in chunks for row in chunk]
     return sorted(rows, key=lambda r: (list(chosen).index(r["component"]), r["world"]))
 
 

@@ -85,7 +85,7 @@ def protocol_splits(tables: RobotTables, protocol: str, n_folds: int,
 
 
 def prediction_rows(tables: RobotTables, split: Split, component: str, kind: str,
-                     model, confidence: float) -> list[dict]:
+                    model, confidence: float) -> list[dict]:
     test = split.test
     y = tables.point_y[component][test]
     runs = tables.point_runs[test]
