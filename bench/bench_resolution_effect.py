@@ -2,9 +2,9 @@
 """What the laser's angular resolution does to the error, measured against a robot-aware model
 that does not take it as an input (issue #43).
 
-For every run of the campaigns (coverage ≥ ``--min-coverage``): the model's prediction for the
-run's robot (its four inputs; the resolution is not one) on the run's building, and the run's
-measured mean ε_t and ε_r. Prints, per angular resolution of the runs, the median ratio
+For every usable run of the campaigns (the learner's rule, ``records.skip_reason``, with
+coverage ≥ ``--min-coverage``): the model's prediction for the run's robot (its four inputs;
+the resolution is not one) on the run's building, and the run's measured mean ε_t and ε_r. Prints, per angular resolution of the runs, the median ratio
 measured ÷ predicted and the share of runs inside the 90 % interval of a point mean — a
 resolution the model generalises to has ratios near those of the training resolution.
 
@@ -40,7 +40,7 @@ def run_rows(args: argparse.Namespace) -> list[dict]:
     from slam_predict.learn.featurize import find_plan
     from slam_predict.learn.robot.inputs import angular_resolution_deg, inputs_from_sensor
     from slam_predict.learn.robot.predict import RobotModel
-    from slam_predict.learn.robot.records import find_records, read_record
+    from slam_predict.learn.robot.records import find_records, read_record, skip_reason
     from slam_predict.world.load import load_plan
 
     model = RobotModel.load(args.model)
@@ -49,8 +49,7 @@ def run_rows(args: argparse.Namespace) -> list[dict]:
     rows = []
     for path in find_records(args.data):
         record = read_record(path)
-        if not isinstance(record.get("metric"), dict) \
-                or float(record["coverage"]) < args.min_coverage:
+        if skip_reason(record, args.min_coverage, path) is not None:
             continue
         world = record["world"]
         if world not in features:
