@@ -4,9 +4,10 @@ that does not take it as an input (issue #43).
 
 For every usable run of the campaigns (the learner's rule, ``records.skip_reason``, with
 coverage ≥ ``--min-coverage``): the model's prediction for the run's robot (its four inputs;
-the resolution is not one) on the run's building, and the run's measured mean ε_t and ε_r. Prints, per angular resolution of the runs, the median ratio
-measured ÷ predicted and the share of runs inside the 90 % interval of a point mean — a
-resolution the model generalises to has ratios near those of the training resolution.
+the resolution is not one) on the run's building, and the run's measured mean ε_t and ε_r.
+Prints, per angular resolution of the runs, the median ratio measured ÷ predicted and the
+share of runs inside the 90 % interval of a point mean — a resolution the model
+generalises to has ratios near those of the training resolution.
 
 Usage: ``bench/bench_resolution_effect.py DATA_DIR... [--model DIR] [--worlds DIR]
 [--min-coverage X]``.
