@@ -51,7 +51,8 @@ def load_tables(args: argparse.Namespace, config):
                                          None if args.features else args.worlds,
                                          None, None, args.jobs)
     data = build_run_data(runs, skipped, features, version)
-    return data.tables(config.plan_features, config.sightline_input)
+    return data.tables(config.plan_features, config.sightline_input,
+                       config.robot_inputs)
 
 
 def size_split(tables, held: int) -> tuple[np.ndarray, np.ndarray, list[str]]:

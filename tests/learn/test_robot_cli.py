@@ -60,11 +60,11 @@ def test_evaluate_and_train(inputs, tmp_path, capsys):
     header = (out / "robots_eval.csv").read_text().splitlines()[0]
     assert header.startswith("protocol,component,model,n_points,median_pct_error,r2,coverage")
     from slam_predict.learn.dataset import read_dataset
-    from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+    from slam_predict.learn.robot.inputs import ALL_ROBOT_INPUTS
 
     for points in (read_dataset(out / "points.csv"),
                    read_dataset(models / "own-robots" / "training_points.csv")):
-        assert len(points) == 32 and sorted(points.robot_inputs) == sorted(ROBOT_INPUTS)
+        assert len(points) == 32 and sorted(points.robot_inputs) == sorted(ALL_ROBOT_INPUTS)
         assert set(points.setting) == {"robots"} and set(points.slam) == {"gmapping"}
         assert set(points.runs) == {2.0} and len(set(points.robot)) == 4
     card = json.loads((models / "own-robots" / "card.json").read_text())

@@ -105,7 +105,8 @@ def designed(tmp_path_factory):
 def test_design_ranges_are_its_bounds_in_input_units(designed):
     design, data = designed
     ranges = design_ranges(design, 30.0, data.configs)
-    assert list(ranges) == list(ROBOT_INPUTS)
+    assert list(ranges) == [*ROBOT_INPUTS, "laser_resolution_deg"]
+    assert ranges["laser_resolution_deg"] == [0.5, 0.5]
     assert ranges["laser_range_max_m"] == [3.5, 30.0]
     assert ranges["laser_fov_deg"] == pytest.approx([180.0, 360.0])
     assert ranges["odom_xy_error"] == pytest.approx([0.0, 0.02])
@@ -151,8 +152,36 @@ def test_several_design_files_pool_their_configurations(designed, tmp_path):
         design_ranges([a, b], 30.0, data.configs)
     wider = dict(second, bounds=dict(content["bounds"], fov=[90.0, 360.0]))
     b.write_text(yaml.safe_dump(wider))
-    with pytest.raises(InputError, match="bounds, base robot or resolution differ"):
+    with pytest.raises(InputError, match="bounds or base robot differ"):
         design_ranges([a, b], 30.0, data.configs)
+
+
+def test_design_files_of_other_resolutions_pool_only_when_the_model_learns_it(designed,
+                                                                            tmp_path):
+    """The same box at another angular resolution (0.25° and 1° beside 0.5°): refused for a
+    model without the resolution input, with the option that accepts it; accepted with it,
+    the resolution's range then being the files'."""
+    import yaml
+
+    design, data = designed
+    content = yaml.safe_load(open(design))
+    fine = dict(content, resolution_deg=0.25, configs={"f00": content["configs"]["c00"]},
+                worlds={w: ["f00"] for w in content["worlds"]})
+    path = tmp_path / "fine.yaml"
+    path.write_text(yaml.safe_dump(fine))
+    with pytest.raises(InputError, match=r"angular resolution \(0.25 deg\) differs .*"
+                                         "resolution_input: true"):
+        design_ranges([design, path], 30.0, data.configs)
+    ranges = design_ranges([design, path], 30.0, data.configs, resolution_input=True)
+    assert ranges["laser_resolution_deg"] == [0.25, 0.5]
+    assert {k: v for k, v in ranges.items() if k != "laser_resolution_deg"} == \
+        {k: v for k, v in design_ranges(design, 30.0, data.configs).items()
+         if k != "laser_resolution_deg"}
+    wrong = json.loads(json.dumps(dict(data.configs)))
+    wrong["c00"]["laser_resolution_deg"] = 1.0
+    with pytest.raises(InputError, match="'c00': laser_resolution_deg is 0.5 in the design, "
+                                         "1 in the runs"):
+        design_ranges(design, 30.0, wrong)
 
 
 def test_karto_runs_get_the_max_laser_range_of_their_settings_file():

@@ -8,12 +8,14 @@ import pytest
 
 from slam_predict.errors import InputError
 from slam_predict.learn.robot.inputs import (
+    ALL_ROBOT_INPUTS,
     ROBOT_INPUTS,
     ROBOT_UNITS,
     angular_resolution_deg,
     effective_range,
     inputs_from_robot,
     inputs_from_sensor,
+    model_robot_inputs,
     sensor_dict,
 )
 from slam_predict.robot_file import load_robot
@@ -27,11 +29,27 @@ REALISTIC = {"laser": {"fov": 4.712389, "noise_std": 0.0, "pose": [0.0, 0.0, 0.0
 
 def test_inputs_of_a_recorded_sensor():
     inputs = inputs_from_sensor(REALISTIC)
-    assert tuple(inputs) == ROBOT_INPUTS and set(ROBOT_UNITS) == set(ROBOT_INPUTS)
+    assert tuple(inputs) == ALL_ROBOT_INPUTS and set(ROBOT_UNITS) == set(ALL_ROBOT_INPUTS)
     assert inputs["laser_range_max_m"] == 80.0
     assert inputs["laser_fov_deg"] == pytest.approx(270.0, abs=1e-5)
     assert inputs["odom_xy_error"] == 0.01 and inputs["odom_yaw_error"] == 0.0349066
     assert angular_resolution_deg(REALISTIC) == pytest.approx(0.5, abs=1e-6)
+    assert inputs["laser_resolution_deg"] == 0.5
+
+
+def test_the_resolution_input_is_degrees_between_beams_rounded_to_a_hundredth():
+    """fov / (samples − 1) in degrees (Stage's beam rule), rounded to 0.01° so that a design's
+    fov/0.5 + 1 beams (0.4997–0.5003° after rounding the count) are one value; a model reads
+    it only when its configuration asks."""
+    sensor = json.loads(json.dumps(REALISTIC))
+    for samples, expected in ((1081, 0.25), (271, 1.0), (726, 0.37), (541, 0.5)):
+        sensor["laser"]["samples"] = samples
+        assert inputs_from_sensor(sensor)["laser_resolution_deg"] == expected
+    sensor["laser"]["fov"] = math.radians(239.9)   # 480 beams over 239.9°: 0.50084°
+    sensor["laser"]["samples"] = 480
+    assert inputs_from_sensor(sensor)["laser_resolution_deg"] == 0.5
+    assert model_robot_inputs(False) == ROBOT_INPUTS
+    assert model_robot_inputs(True) == (*ROBOT_INPUTS, "laser_resolution_deg")
 
 
 def test_xy_input_is_the_mean_of_the_x_and_y_bounds_and_none_means_zero():

@@ -92,7 +92,7 @@ plan = {{"building_area": 800.0, "building_perimeter": 130.0,
         "voronoi_traversal_distance": 320.0, "voronoi_traversal_rotation": 40.0}}
 plan.update({{c: 0.5 ** r for c, r in zip(curve_columns(), CURVE_RANGES_M)}})
 robot = {{"laser_range_max_m": 12.0, "laser_fov_deg": 270.0, "odom_xy_error": 0.01,
-         "odom_yaw_error": 0.035}}
+         "odom_yaw_error": 0.035, "laser_resolution_deg": 0.5}}
 result = model.predict(plan, robot)
 model.partial_dependence("trans_mean", "laser_range_max_m", 5)
 assert all(isinstance(m, PlainComponentModel) for m in model.models.values())

@@ -21,7 +21,7 @@ from slam_predict.learn.store import CARD
 from . import robot_synthetic as syn
 
 ROBOT = {"laser_range_max_m": 6.0, "laser_fov_deg": 270.0, "odom_xy_error": 0.01,
-         "odom_yaw_error": 0.035}
+         "odom_yaw_error": 0.035, "laser_resolution_deg": 0.5}
 
 
 @pytest.fixture(scope="module")

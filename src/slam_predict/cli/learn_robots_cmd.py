@@ -220,7 +220,7 @@ def _header(data, tables, config, plan: list[str], outcomes: dict | None = None)
             f"- plan features ({data.feature_version}): {', '.join(plan)}; robot inputs: "
             f"laser_range_max_m (capped at {range_cap_name(data.slam)} "
             + (f"{data.max_urange_m:g} m" if data.max_urange_m is not None else "(unset)")
-            + "), laser_fov_deg, odom_xy_error, odom_yaw_error"
+            + "), " + ", ".join(config.robot_inputs[1:])
             + ("; plan × robot: laser_blind_fraction (sight lines without a wall within the "
                "laser's range)" if config.sightline_input else ""),
             f"- models: {', '.join(config.models)}; {config.folds} folds per protocol"
@@ -256,13 +256,13 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
     from slam_predict.atomic import atomic_dir
     from slam_predict.learn.dataset import to_csv_text
     from slam_predict.learn.robot.evaluate import report_markdown
-    from slam_predict.learn.robot.inputs import DERIVED_INPUTS, ROBOT_INPUTS
+    from slam_predict.learn.robot.inputs import ALL_ROBOT_INPUTS, DERIVED_INPUTS
     from slam_predict.learn.robot.rundata import runs_csv
     from slam_predict.learn.sources import write_feature_table
     from slam_predict.learn.tables import csv_text
 
-    plan = [n for n in tables.names if n not in ROBOT_INPUTS]
-    features_only = [n for n in plan if n not in DERIVED_INPUTS]
+    features_only = [n for n in tables.names
+                     if n not in ALL_ROBOT_INPUTS and n not in DERIVED_INPUTS]
     with atomic_dir(out) as tmp:
         (tmp / "robots_eval.md").write_text(
             report_markdown(summary, best,
@@ -271,7 +271,7 @@ def write_evaluation(out: str, data, tables, config, rows, summary, best,
         (tmp / "robots_eval.csv").write_text(csv_text(summary))
         (tmp / "robots_predictions.csv").write_text(csv_text(rows))
         (tmp / "runs.csv").write_text(runs_csv(data))
-        (tmp / "points.csv").write_text(to_csv_text(data.point_dataset(plan)))
+        (tmp / "points.csv").write_text(to_csv_text(data.tables_points(tables)))
         write_feature_table(data.features, data.feature_version, tmp / "features.csv",
                                feature_meta)
         (tmp / "best.json").write_text(json.dumps({"best": best}, indent=2) + "\n")
@@ -314,8 +314,10 @@ def run(args: argparse.Namespace) -> int:
         from slam_predict.learn.robot.domain import design_ranges
 
         undesigned = {run.config for run in data.runs if not run.designed}
-        bounds = design_ranges(args.design, data.max_urange_m, data.configs, undesigned)
-    tables = data.tables(config.plan_features, config.sightline_input)
+        bounds = design_ranges(args.design, data.max_urange_m, data.configs, undesigned,
+                               config.resolution_input)
+    tables = data.tables(config.plan_features, config.sightline_input,
+                       config.robot_inputs)
     previous = getattr(args, "evaluation_from", None)
     if previous:
         rows, summary = None, evaluation_of_card(previous, config, args.data)

@@ -109,7 +109,7 @@ def input_names(card: Mapping[str, Any]) -> list[str]:
     from slam_predict.learn.robot.inputs import ROBOT_INPUTS
 
     return (list(card["features"]) + list(card.get("derived_inputs") or [])
-            + list(ROBOT_INPUTS))
+            + list(card.get("robot_inputs") or ROBOT_INPUTS))
 
 
 def confidence(card: Mapping[str, Any]) -> float:

@@ -10,7 +10,7 @@ one of :data:`~slam_predict.learn.card.SLAM_ALGORITHMS`; written only when a row
 ``rot_mean``, ``rot_std`` in rad; a std is empty for a row of one run); reference columns
 (``ref_*``: numbers known only from the source table, e.g. the thesis' own Voronoi distance;
 never used as features); optional robot
-columns (:data:`~slam_predict.learn.robot.inputs.ROBOT_INPUTS`, in their units) and the
+columns (:data:`~slam_predict.learn.robot.inputs.ALL_ROBOT_INPUTS`, in their units) and the
 features. A plan-only dataset has no robot columns; the robot-aware models' POINT rows (one per
 building × robot configuration, :mod:`slam_predict.learn.robot.rundata`) have them.
 
@@ -34,7 +34,7 @@ import numpy as np
 from slam_predict.atomic import write_text
 from slam_predict.errors import InputError, did_you_mean, require_file
 from slam_predict.learn.card import DEFAULT_SLAM, check_slam
-from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+from slam_predict.learn.robot.inputs import ALL_ROBOT_INPUTS
 
 COMPONENTS = ("trans_mean", "trans_std", "rot_mean", "rot_std")
 UNITS = {"trans_mean": "m", "trans_std": "m", "rot_mean": "rad", "rot_std": "rad"}
@@ -342,7 +342,7 @@ def read_dataset(path: os.PathLike | str) -> Dataset:
     fixed = {"world", "robot", "slam", "__line__", *PROVENANCE, *COMPONENTS,
              *(LEGACY_POINT_COLUMNS if legacy else ())}
     refs = [c for c in rows[0] if c.startswith(REF_PREFIX)]
-    inputs = [c for c in ROBOT_INPUTS if c in rows[0]]
+    inputs = [c for c in ALL_ROBOT_INPUTS if c in rows[0]]
     names = [c for c in rows[0] if c not in fixed and c not in refs and c not in inputs]
     if not names:
         raise InputError("dataset has no feature columns", path)

@@ -177,17 +177,19 @@ def predicted_vs_measured(points: dict[str, list[dict]], units: dict[str, str],
 
 
 def partial_dependence(curves: dict[str, dict], ylabel: str, title: str) -> bytes:
-    """One panel per robot input (2×2 for four): the model's average prediction against the
-    input, the training range shaded, the training configurations as ticks on the x axis and
-    an optional cap line (GMapping's maxUrange on the range).
+    """One panel per robot input (two rows for four or more): the model's average prediction
+    against the input, the training range shaded, the training configurations as ticks on the
+    x axis and an optional cap line (GMapping's maxUrange on the range).
 
     ``curves[input]``: ``grid``, ``values`` (same length), ``xlabel`` (with unit),
     ``trained`` (low, high), ``configs`` (values of the configurations), ``cap`` (x or None).
     """
     n = len(curves)
-    cols = 2 if n == 4 else n
-    rows = 2 if n == 4 else 1
+    rows = 2 if n >= 4 else 1
+    cols = -(-n // rows)
     fig, axes = plt.subplots(rows, cols, figsize=(4.75 * cols, 3.6 * rows + 0.5), squeeze=False)
+    for ax in axes.ravel()[n:]:
+        ax.set_visible(False)
     for ax, (name, c) in zip(axes.ravel(), curves.items(), strict=False):
         ax.axvspan(*c["trained"], color="tab:green", alpha=0.12, label="training range")
         ax.plot(c["grid"], c["values"], "-", color="tab:blue", lw=1.6,

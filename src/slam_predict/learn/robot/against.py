@@ -82,7 +82,9 @@ def load_card_tables(model: str, data_dirs, worlds_dir, n_jobs: int = 1):
     folder = find_model(DEFAULT_SLAM, ROBOT_KIND, model, default_models_dir())
     card = read_card(folder)
     check_kind(card, ROBOT_KIND, folder / "card.json")
-    config = from_dict(RobotLearningConfig, dict(card["robot_learning_config"]), "model card")
+    # cards from before the resolution input learnt four robot inputs
+    config = from_dict(RobotLearningConfig,
+                       {"resolution_input": False, **card["robot_learning_config"]}, "model card")
     runs, skipped = read_runs(data_dirs, config.min_coverage, config.max_urange_m,
                               card.get("slam") or DEFAULT_SLAM)
     features, version, _ = plan_features(sorted({r.world for r in runs}), None, worlds_dir,
@@ -91,7 +93,8 @@ def load_card_tables(model: str, data_dirs, worlds_dir, n_jobs: int = 1):
         raise InputError(f"features of version {version}, the card's are "
                          f"{card['feature_version']}", worlds_dir)
     data = build_run_data(runs, skipped, features, version)
-    return card, config, data.tables(config.plan_features, config.sightline_input)
+    return card, config, data.tables(config.plan_features, config.sightline_input,
+                                     config.robot_inputs)
 
 
 def robot_of_campaigns(campaigns, config: RobotLearningConfig, card) -> str:

@@ -114,6 +114,8 @@ class RobotLearningConfig:
             against its recorded GMapping config hash (learn/robot/domain.py).
         sightline_input: also take the plan's blind fraction at the laser's range
             (``laser_blind_fraction``, features/sightline.py) as an input.
+        resolution_input: also take the laser's angular resolution (``laser_resolution_deg``,
+            deg between beams) as an input: for runs collected at more than one resolution.
         failure_coverage: an exploration that maps less than this share of the free area
             failed (the failure probability's outcome, learn/robot/failure.py).
         failure_c: inverse L2 penalty of the failure probability's logistic regression
@@ -134,6 +136,7 @@ class RobotLearningConfig:
     joint_factor: float = 2.0
     max_urange_m: float | None = None
     sightline_input: bool = True
+    resolution_input: bool = True
     failure_coverage: float = 0.9
     failure_c: float = 0.3
     elasticnet: ElasticNetConfig = field(default_factory=ElasticNetConfig)
@@ -146,19 +149,25 @@ class RobotLearningConfig:
         "joint_factor": AT_LEAST_ONE, "max_urange_m": POSITIVE,
         "failure_coverage": FRACTION, "failure_c": POSITIVE}
 
-    def __post_init__(self) -> None:
-        from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+    @property
+    def robot_inputs(self) -> tuple[str, ...]:
+        """The robot inputs the models learn (with the resolution when ``resolution_input``)."""
+        from slam_predict.learn.robot.inputs import model_robot_inputs
 
+        return model_robot_inputs(self.resolution_input)
+
+    def __post_init__(self) -> None:
         if not self.models:
             raise ValueError("models must name at least one model kind")
         for kind in self.models:
             if kind not in ROBOT_MODEL_KINDS:
                 raise ValueError(f"unknown model kind '{kind}' (choose from "
                                  f"{', '.join(ROBOT_MODEL_KINDS)})")
+        known = self.robot_inputs
         for name in self.log_robot_inputs:
-            if name not in ROBOT_INPUTS:
+            if name not in known:
                 raise ValueError(f"log_robot_inputs: unknown robot input '{name}' (choose from "
-                                 f"{', '.join(ROBOT_INPUTS)})")
+                                 f"{', '.join(known)})")
         if self.select_protocol not in PROTOCOLS:
             raise ValueError(f"select_protocol must be one of {', '.join(PROTOCOLS)}")
         if len(set(self.plan_features)) != len(self.plan_features):

@@ -27,7 +27,9 @@ robot's bounds), not only the span of the configurations drawn from them: a Lati
 covers its box, and the seed study's robot (80 m laser, so 30 m used) sits at its edge
 (:func:`design_ranges`). The design's configurations are checked against the runs' inputs;
 runs collected without the design (no ``design`` entry in run.json, e.g. the fidelity
-campaign's seed robot) may join when their inputs lie inside the bounds.
+campaign's seed robot) may join when their inputs lie inside the bounds. Design files that
+differ only in their angular resolution (the same box at 0.25°, 0.5° and 1°) pool when the
+model learns the resolution (``robot_learning.resolution_input``); its range is then theirs.
 """
 from __future__ import annotations
 
@@ -41,7 +43,12 @@ from typing import Any
 from slam_predict.collect.campaign import recorded_settings_file
 from slam_predict.errors import InputError
 from slam_predict.learn.card import SLAM_ALGORITHMS, slam_label
-from slam_predict.learn.robot.inputs import ROBOT_INPUTS, inputs_from_robot
+from slam_predict.learn.robot.inputs import (
+    ALL_ROBOT_INPUTS,
+    RESOLUTION_INPUT,
+    ROBOT_INPUTS,
+    inputs_from_robot,
+)
 
 LOG = logging.getLogger(__name__)
 HINT = ("set robot_learning.max_urange_m to the range cap (m: GMapping's maxUrange, Karto's "
@@ -189,24 +196,27 @@ def _text(value: float | None) -> str:
 
 def design_ranges(paths, max_urange_m: float | None,
                   configs: Mapping[str, Mapping[str, float]],
-                  undesigned: Iterable[str] = ()) -> dict[str, list[float]]:
+                  undesigned: Iterable[str] = (),
+                  resolution_input: bool = False) -> dict[str, list[float]]:
     """Robot input → [low, high] of the bounds of one design file or several (``paths``: a
     path or a sequence of them, e.g. a campaign's design and an extension's that adds
     configurations), in the inputs' units (range capped at ``max_urange_m``); InputError
     naming a file when a configuration of the runs (``configs``: id → robot inputs) is in none
     of them or has other inputs there, when two files define a configuration id differently,
-    or when they disagree on the bounds, base robot or resolution. The configurations named in
-    ``undesigned`` (runs collected without the design, e.g. with the seed robot's file) need
-    not be in a file but must lie inside the bounds."""
+    or when they disagree on the bounds, the base robot or (unless ``resolution_input``) the
+    angular resolution; ``laser_resolution_deg`` spans the files' resolutions. The
+    configurations named in ``undesigned`` (runs collected without the design, e.g. with the
+    seed robot's file) need not be in a file but must lie inside the bounds."""
     from slam_predict.collect.robot_design import FACTORS, configured_robot
 
-    first_path, first, robots = _pooled_designs(paths)
+    first_path, first, robots, resolutions = _pooled_designs(paths, resolution_input)
     corners = [inputs_from_robot(configured_robot(first.base,
                                                   {f: first.bounds[f][i] for f in FACTORS},
                                                   first.resolution_deg, f"bound{i}"),
                                  max_urange_m) for i in (0, 1)]
     ranges = {name: [min(c[name] for c in corners), max(c[name] for c in corners)]
               for name in ROBOT_INPUTS}
+    ranges[RESOLUTION_INPUT] = [min(resolutions), max(resolutions)]
     outside = set(undesigned)
     for config, inputs in configs.items():
         if config in outside:
@@ -217,7 +227,7 @@ def design_ranges(paths, max_urange_m: float | None,
                              first_path)
         path, robot = robots[config]
         expected = inputs_from_robot(robot, max_urange_m)
-        for name in ROBOT_INPUTS:
+        for name in ALL_ROBOT_INPUTS:
             if not math.isclose(expected[name], inputs[name], rel_tol=1e-6, abs_tol=1e-9):
                 raise InputError(f"configuration '{config}': {name} is {expected[name]:.6g} in "
                                  f"the design, {inputs[name]:.6g} in the runs", path)
@@ -228,7 +238,7 @@ def _check_inside(config: str, inputs: Mapping[str, float],
                   ranges: Mapping[str, Sequence[float]], path) -> None:
     """InputError unless a configuration collected outside the design lies inside its bounds
     (relative tolerance 1e-6)."""
-    for name in ROBOT_INPUTS:
+    for name in ALL_ROBOT_INPUTS:
         low, high = ranges[name]
         slack = 1e-6 * max(abs(low), abs(high), 1e-9)
         if not low - slack <= inputs[name] <= high + slack:
@@ -238,9 +248,10 @@ def _check_inside(config: str, inputs: Mapping[str, float],
     LOG.info("configuration %s: collected without the design, inside its bounds", config)
 
 
-def _pooled_designs(paths):
-    """(first path, its design, configuration id → (path, robot) over every file); InputError
-    when a file's bounds, base robot or resolution differ from the first's, or two files
+def _pooled_designs(paths, resolution_input: bool = False):
+    """(first path, its design, configuration id → (path, robot) over every file, the files'
+    angular resolutions rounded to 0.01 deg); InputError when a file's bounds or base robot
+    differ from the first's, its resolution does without ``resolution_input``, or two files
     define one configuration id differently."""
     from slam_predict.collect.robot_design import load_design
 
@@ -249,13 +260,15 @@ def _pooled_designs(paths):
     first_path, first = designs[0]
     robots: dict = {}
     for path, design in designs:
-        if (design.bounds, design.base, design.resolution_deg) != (
-                first.bounds, first.base, first.resolution_deg):
-            raise InputError(f"its bounds, base robot or resolution differ from {first_path}'s",
-                             path)
+        if (design.bounds, design.base) != (first.bounds, first.base):
+            raise InputError(f"its bounds or base robot differ from {first_path}'s", path)
+        if design.resolution_deg != first.resolution_deg and not resolution_input:
+            raise InputError(f"its angular resolution ({design.resolution_deg:g} deg) differs "
+                             f"from {first_path}'s ({first.resolution_deg:g} deg): set "
+                             "robot_learning.resolution_input: true to learn it", path)
         for config in design.configs:
             robot = design.robot(config)
             if robots.setdefault(config, (path, robot))[1] != robot:
                 raise InputError(f"configuration '{config}' differs from "
                                  f"{robots[config][0]}'s", path)
-    return first_path, first, robots
+    return first_path, first, robots, [round(d.resolution_deg, 2) for _, d in designs]

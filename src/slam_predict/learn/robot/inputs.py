@@ -21,8 +21,11 @@ Two sources give the same numbers: a run record's ``sensor`` dict (:func:`inputs
 and a robot description file (:func:`inputs_from_robot`, through its ``to_sensor_config()``),
 both with the maxUrange of the GMapping settings the runs were collected with
 (:mod:`slam_predict.learn.robot.domain`; a model folder's card records it).
-The laser's angular resolution is not a model input: the design keeps it at
-:data:`DESIGN_RESOLUTION_DEG` (:func:`angular_resolution_deg`).
+A fifth input, ``laser_resolution_deg`` (:data:`RESOLUTION_INPUT`, degrees between beams,
+fov / (samples − 1), rounded to 0.01°), is read from both sources too; a model learns it only
+when its configuration asks (``robot_learning.resolution_input``, for campaigns that vary it:
+the robot design keeps it at :data:`DESIGN_RESOLUTION_DEG`), and its card lists the robot
+inputs it reads (``robot_inputs``; :func:`model_robot_inputs`).
 
 One input depends on the plan AND the robot (:data:`DERIVED_INPUTS`, :func:`derived_inputs`):
 ``laser_blind_fraction``, the fraction of sight lines from the plan's floor that reach no wall
@@ -39,8 +42,10 @@ from typing import Any
 from slam_predict.errors import InputError
 
 ROBOT_INPUTS = ("laser_range_max_m", "laser_fov_deg", "odom_xy_error", "odom_yaw_error")
+RESOLUTION_INPUT = "laser_resolution_deg"   # degrees between beams (optional fifth input)
+ALL_ROBOT_INPUTS = (*ROBOT_INPUTS, RESOLUTION_INPUT)   # every name a robot input may have
 ROBOT_UNITS = {"laser_range_max_m": "m", "laser_fov_deg": "deg", "odom_xy_error": "m/m",
-               "odom_yaw_error": "rad/rad"}
+               "odom_yaw_error": "rad/rad", RESOLUTION_INPUT: "deg"}
 DESIGN_RESOLUTION_DEG = 0.5   # the design's laser angular resolution (samples = fov/0.5 + 1)
 ODOM_INPUT_MODELS = ("uniform_per_run", "fixed", "none")   # odometry models with error magnitudes
 DERIVED_INPUTS = ("laser_blind_fraction",)    # plan × robot inputs
@@ -102,11 +107,12 @@ def effective_range(range_max: float, max_urange_m: float | None) -> float:
 
 def inputs_from_sensor(sensor: Mapping[str, Any], source: os.PathLike | str | None = None,
                        max_urange_m: float | None = None) -> dict[str, float]:
-    """The robot inputs of a run record's ``sensor`` dict (SI units, fov in rad).
+    """The robot inputs of a run record's ``sensor`` dict (SI units, fov in rad): the four of
+    :data:`ROBOT_INPUTS` and :data:`RESOLUTION_INPUT`.
 
     Args:
-        sensor: ``{"laser": {"range_max" m, "fov" rad, ...}, "odom": {"model", "error":
-            [x m/m, y m/m, yaw rad/rad]}}`` as run.json records it.
+        sensor: ``{"laser": {"range_max" m, "fov" rad, "samples", ...}, "odom": {"model",
+            "error": [x m/m, y m/m, yaw rad/rad]}}`` as run.json records it.
         source: file named in the InputError raised for a missing or malformed value.
         max_urange_m: GMapping's maxUrange, m (None: no cap), see :func:`effective_range`.
     """
@@ -119,7 +125,14 @@ def inputs_from_sensor(sensor: Mapping[str, Any], source: os.PathLike | str | No
     x, y, yaw = _odom_bounds(sensor, source)
     return {"laser_range_max_m": effective_range(range_max, max_urange_m),
             "laser_fov_deg": math.degrees(fov),
-            "odom_xy_error": 0.5 * (x + y), "odom_yaw_error": yaw}
+            "odom_xy_error": 0.5 * (x + y), "odom_yaw_error": yaw,
+            RESOLUTION_INPUT: round(angular_resolution_deg(sensor, source), 2)}
+
+
+def model_robot_inputs(resolution_input: bool) -> tuple[str, ...]:
+    """The robot inputs a model learns: :data:`ROBOT_INPUTS`, with :data:`RESOLUTION_INPUT`
+    when ``resolution_input`` (robot_learning.resolution_input)."""
+    return ALL_ROBOT_INPUTS if resolution_input else ROBOT_INPUTS
 
 
 def sensor_dict(robot) -> dict[str, Any]:

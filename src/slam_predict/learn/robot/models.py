@@ -1,6 +1,6 @@
 """Robot-aware models: plan features + robot inputs → the four error components (issue #18).
 
-Inputs: the configured plan features and :data:`~slam_predict.learn.robot.inputs.ROBOT_INPUTS`;
+Inputs: the configured plan features and the robot inputs (:mod:`~slam_predict.learn.robot.inputs`);
 model side, the plan features that are > 0 on every training building and the laser range
 enter as their log (errors scale as powers of size and range), fov and odometry bounds as they
 are (a bound of 0 is a valid robot).
@@ -49,7 +49,7 @@ from sklearn.utils.validation import check_is_fitted, validate_data
 
 from slam_predict.errors import InputError
 from slam_predict.learn.robot.config import RobotLearningConfig
-from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+from slam_predict.learn.robot.inputs import ALL_ROBOT_INPUTS
 from slam_predict.learn.robot.plain import (  # noqa: F401  (is_std, MEANS, STDS re-exported)
     MEANS,
     STDS,
@@ -99,7 +99,7 @@ def log_columns(names: list[str], X: np.ndarray, config: RobotLearningConfig) ->
     cols = [j for j, n in enumerate(names) if n in config.log_robot_inputs]
     if config.log_plan_features:
         cols += [j for j, n in enumerate(names)
-                 if n not in ROBOT_INPUTS and np.min(X[:, j]) > 0]
+                 if n not in ALL_ROBOT_INPUTS and np.min(X[:, j]) > 0]
     return tuple(sorted(cols))
 
 

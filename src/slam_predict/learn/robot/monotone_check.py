@@ -9,7 +9,10 @@ four robot inputs — the training box and beyond it (laser ranges down to 0.1 m
 down to 10°, odometry errors up to 3 × the training maximum) — for every given plan row
 (the laser's blind fraction follows the range through the plan's sight-line curve) and
 reports, per robot input, the largest relative DROP of the value or of an interval bound
-when the robot gets worse along that input's axis.
+when the robot gets worse along that input's axis. A model that learns the laser's angular
+resolution is checked at every resolution of its training points: whether finer beams help or
+hurt is not known beforehand (more beams match better but cost more compute, which drops
+scans), so the resolution has no direction of its own.
 """
 from __future__ import annotations
 
@@ -17,7 +20,7 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
-from slam_predict.learn.robot.inputs import ROBOT_INPUTS
+from slam_predict.learn.robot.inputs import RESOLUTION_INPUT, ROBOT_INPUTS
 
 # +1: a larger value is a worse robot; -1: a smaller value is
 WORSE = {"laser_range_max_m": -1, "laser_fov_deg": -1, "odom_xy_error": 1,
@@ -122,6 +125,12 @@ def check_fitted(fitted: Mapping[str, Mapping[str, object]], tables, curves: Map
     blinds = [None if not curves else (lambda r, c=curves[w]: blind_fraction(c, r))
               for w in worlds]
     plan_rows = tables.point_X[first]
+    if RESOLUTION_INPUT in tables.names:   # every trained resolution at every building
+        j = tables.names.index(RESOLUTION_INPUT)
+        values = np.unique(tables.point_X[:, j])
+        plan_rows = np.repeat(plan_rows, len(values), axis=0)
+        plan_rows[:, j] = np.tile(values, len(first))
+        blinds = [blind for blind in blinds for _ in values]
     return {component: {kind: monotone_violations(model, tables.names, plan_rows, blinds,
                                                   axes, confidence, runs)
                         for kind, model in models.items()}

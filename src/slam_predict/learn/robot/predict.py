@@ -30,7 +30,7 @@ from slam_predict.learn.robot.inputs import (
     DERIVED_INPUTS,
     DERIVED_UNITS,
     DESIGN_RESOLUTION_DEG,
-    ROBOT_INPUTS,
+    RESOLUTION_INPUT,
     ROBOT_UNITS,
     derived_inputs,
     reads_sight_lines,
@@ -134,10 +134,10 @@ class RobotModel:
                                  f"the laser range (missing {exc.args[0]}): compute the "
                                  "features with model.sightline_config") from None
         for name in self.names:
-            source = (robot if name in ROBOT_INPUTS else derived if name in DERIVED_INPUTS
+            source = (robot if name in ROBOT_UNITS else derived if name in DERIVED_INPUTS
                       else plan_features)
             if name not in source:
-                what = "robot input" if name in ROBOT_INPUTS else "plan feature"
+                what = "robot input" if name in ROBOT_UNITS else "plan feature"
                 raise InputError(f"{what} '{name}' needed by model {self.name} is missing"
                                  + did_you_mean(name, list(source)))
             value = float(source[name])
@@ -251,9 +251,10 @@ class RobotModel:
 
     def resolution_warning(self, angular_resolution_deg: float) -> str | None:
         """A line, with what to do, when the laser's angular resolution (deg) lies outside
-        the training runs' range (1 % tolerance); None inside it."""
+        the training runs' range (1 % tolerance); None inside it, or when the model learns it
+        (then the input-range check covers it)."""
         low, high = self.resolution_range_deg()
-        if low / 1.01 <= angular_resolution_deg <= high * 1.01:
+        if low / 1.01 <= angular_resolution_deg <= high * 1.01 or RESOLUTION_INPUT in self.names:
             return None
         trained = f"{low:g} deg" if low == high else f"{low:g}-{high:g} deg"
         side = "finer" if angular_resolution_deg < low else "coarser"
@@ -340,9 +341,10 @@ class RobotModel:
         if component not in self.models:
             raise InputError(f"model has no component '{component}'"
                              + did_you_mean(component, list(self.models)))
-        if robot_input not in ROBOT_INPUTS:
+        robot_inputs = [n for n in self.names if n in ROBOT_UNITS]
+        if robot_input not in robot_inputs:
             raise InputError(f"unknown robot input '{robot_input}'"
-                             + did_you_mean(robot_input, ROBOT_INPUTS))
+                             + did_you_mean(robot_input, robot_inputs))
         if grid_points < 2:
             raise InputError(f"grid_points must be ≥ 2, got {grid_points}")
         j = self.names.index(robot_input)

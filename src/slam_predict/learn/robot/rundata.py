@@ -26,7 +26,12 @@ from slam_predict.errors import InputError, did_you_mean
 from slam_predict.features.sightline import COLUMN_PREFIX, PLAN_COLUMNS, curve_columns
 from slam_predict.learn.card import ROBOT_KIND
 from slam_predict.learn.dataset import COMPONENTS, Dataset
-from slam_predict.learn.robot.inputs import DERIVED_INPUTS, ROBOT_INPUTS, derived_inputs
+from slam_predict.learn.robot.inputs import (
+    ALL_ROBOT_INPUTS,
+    DERIVED_INPUTS,
+    ROBOT_INPUTS,
+    derived_inputs,
+)
 from slam_predict.learn.robot.records import (
     RUN_COLUMNS,
     RUN_TARGETS,
@@ -43,8 +48,8 @@ LOG = logging.getLogger(__name__)
 
 @dataclass
 class RobotTables:
-    """Numeric RUN and POINT tables over ``names`` = plan features [+ DERIVED_INPUTS] +
-    ROBOT_INPUTS.
+    """Numeric RUN and POINT tables over ``names`` = plan features [+ DERIVED_INPUTS] + the
+    robot inputs (ROBOT_INPUTS [+ RESOLUTION_INPUT]).
 
     Attributes:
         names: input column names.
@@ -159,7 +164,7 @@ class RunData:
 
     def input_value(self, world: str, robot: Mapping[str, float], name: str) -> float:
         """Input ``name`` of a point: a robot input, a derived input or a plan feature."""
-        if name in ROBOT_INPUTS:
+        if name in ALL_ROBOT_INPUTS:
             return float(robot[name])
         if name in DERIVED_INPUTS:
             return derived_inputs(self.features[world], robot)[name]
@@ -179,10 +184,11 @@ class RunData:
                     raise InputError(f"plan feature '{name}' is missing for building '{world}'")
         return names
 
-    def point_dataset(self, names: Sequence[str] = ()) -> Dataset:
+    def point_dataset(self, names: Sequence[str] = (),
+                      robot: Sequence[str] = ROBOT_INPUTS) -> Dataset:
         """The POINT rows as the learning dataset: one row per building × configuration with
-        its run count, four components, robot inputs and the columns ``names`` (plan features
-        and derived inputs; default: every plan feature)."""
+        its run count, four components, the robot inputs ``robot`` and the columns ``names``
+        (plan features and derived inputs; default: every plan feature)."""
         names = list(names) or self.feature_names()
         groups = self.groups
         first = [m[0] for m in groups]
@@ -197,16 +203,23 @@ class RunData:
             slam_config_hash=[r.config_hashes.get(r.slam, "") for r in first],
             feature_version=[self.feature_version] * len(first),
             robot=[r.config for r in first], slam=[r.slam for r in first],
-            robot_inputs={k: np.array([float(r.robot[k]) for r in first]) for k in ROBOT_INPUTS})
+            robot_inputs={k: np.array([float(r.robot[k]) for r in first]) for k in robot})
 
-    def tables(self, plan_features: Sequence[str], derived: bool = False) -> RobotTables:
+    def tables_points(self, tables: RobotTables) -> Dataset:
+        """The POINT rows with the columns of ``tables`` (plan features, derived and robot
+        inputs): what a model folder's ``training_points.csv`` holds."""
+        robot = [n for n in tables.names if n in ALL_ROBOT_INPUTS]
+        return self.point_dataset([n for n in tables.names if n not in robot], robot)
+
+    def tables(self, plan_features: Sequence[str], derived: bool = False,
+               robot: Sequence[str] = ROBOT_INPUTS) -> RobotTables:
         """The numeric tables over ``plan_features`` (checked) [+ DERIVED_INPUTS when
-        ``derived``: the sight-line curves are checked] + ROBOT_INPUTS."""
+        ``derived``: the sight-line curves are checked] + the robot inputs ``robot``."""
         plan = self.check_features(plan_features)
         if derived:
             self.sightline_curves()
-        names = plan + (list(DERIVED_INPUTS) if derived else []) + list(ROBOT_INPUTS)
-        points = self.point_dataset(names[:-len(ROBOT_INPUTS)])
+        names = plan + (list(DERIVED_INPUTS) if derived else []) + list(robot)
+        points = self.point_dataset(names[:-len(robot)], robot)
         index = {m[0].point: i for i, m in enumerate(self.groups)}
         return RobotTables(
             names=names,

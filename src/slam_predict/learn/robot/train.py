@@ -34,9 +34,9 @@ from slam_predict.learn.dataset import COMPONENTS, UNITS, to_csv_text
 from slam_predict.learn.robot.config import RobotLearningConfig
 from slam_predict.learn.robot.failure import FILE as FAILURE_FILE
 from slam_predict.learn.robot.inputs import (
+    ALL_ROBOT_INPUTS,
     DERIVED_INPUTS,
     DESIGN_RESOLUTION_DEG,
-    ROBOT_INPUTS,
     ROBOT_UNITS,
     reads_sight_lines,
 )
@@ -56,6 +56,8 @@ def input_ranges(tables: RobotTables,
     out = {name: [float(tables.point_X[:, j].min()), float(tables.point_X[:, j].max())]
            for j, name in enumerate(tables.names)}
     for name, (low, high) in (design or {}).items():
+        if name not in out:    # the design's resolution, for a model that does not learn it
+            continue
         out[name] = [min(out[name][0], float(low)), max(out[name][1], float(high))]
     return out
 
@@ -110,8 +112,9 @@ def build_card(data: RunData, tables: RobotTables, config: RobotLearningConfig,
     ``name``, ``description``, ``feature_config``, ``sources``, ``design_bounds`` (robot
     input → [low, high] of the design file, optional), ``exploration`` (failed explorations
     per configuration, :func:`slam_predict.learn.robot.outcomes.exploration_outcomes`)."""
-    plan = [n for n in tables.names if n not in ROBOT_INPUTS and n not in DERIVED_INPUTS]
+    plan = [n for n in tables.names if n not in ALL_ROBOT_INPUTS and n not in DERIVED_INPUTS]
     derived = [n for n in tables.names if n in DERIVED_INPUTS]
+    robot = [n for n in tables.names if n in ALL_ROBOT_INPUTS]
     hashes = data.config_hashes()
     bounds = meta.get("design_bounds")
     design = design_summary(data, bounds)
@@ -132,7 +135,7 @@ def build_card(data: RunData, tables: RobotTables, config: RobotLearningConfig,
         "config_hashes": hashes,
         "feature_version": data.feature_version,
         "feature_config": dict(meta.get("feature_config") or {}), "features": plan,
-        "robot_inputs": list(ROBOT_INPUTS), "robot_units": dict(ROBOT_UNITS),
+        "robot_inputs": robot, "robot_units": {n: ROBOT_UNITS[n] for n in robot},
         "derived_inputs": derived, **_sightline_entries(data, derived, plan),
         "max_urange_m": data.max_urange_m, "odom_model": data.odom_model,
         "input_ranges": input_ranges(tables, bounds), "design": design,
@@ -256,7 +259,8 @@ def train_robot_store(data: RunData, config: RobotLearningConfig,
     if not data.feature_version or data.feature_version == "reference-table":
         raise InputError(f"feature version '{data.feature_version}' cannot be shipped: use "
                          "features computed by slam_predict")
-    tables = data.tables(config.plan_features, config.sightline_input)
+    tables = data.tables(config.plan_features, config.sightline_input,
+                       config.robot_inputs)
     fitted = fit_all(tables, config, n_jobs)
     if not fitted:
         raise InputError("no component could be trained: nothing to store")
@@ -277,8 +281,7 @@ def train_robot_store(data: RunData, config: RobotLearningConfig,
         failure, card["failure"] = failure_model(outcome_data, tables, config,
                                                  meta["outcome_runs"])
         extra[FAILURE_FILE] = json.dumps(failure.to_form()) + "\n"
-    plan = [n for n in tables.names if n not in ROBOT_INPUTS]
-    return save_robot_store(out, card, fitted, to_csv_text(data.point_dataset(plan)),
+    return save_robot_store(out, card, fitted, to_csv_text(data.tables_points(tables)),
                             plain_forms(fitted, tables.point_X), extra)
 
 
