@@ -90,7 +90,8 @@ def test_seed_robot_is_inside_the_design_range(root, robot_models_dir):
                         f"seed_realistic ({root / ROBOTS}/seed_realistic.yaml)")
     assert lines[1].startswith("model own-robots (robot-aware: takes the robot into account), "
                                "90 % intervals; robot inputs: laser range 30 m used (laser "
-                               "80 m, GMapping's maxUrange 30 m), fov 270°, odometry 0.01 m/m")
+                               "80 m, GMapping's maxUrange 30 m), fov 270°, beams every 0.5°, "
+                               "odometry 0.01 m/m")
     for comp in COMPONENTS:
         assert any(line.startswith(f"  {comp} ") and "[own-robots/" in line for line in lines)
     warnings = [line for line in lines if line.startswith("warning: ")]

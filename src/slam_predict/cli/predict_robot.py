@@ -134,7 +134,8 @@ def predict(world, model, robot, robot_path: str, component: str = "all",
 
 def robot_text(result: dict[str, Any]) -> str:
     """What the robot-aware model took: "laser range 30 m used (laser 80 m, GMapping's
-    maxUrange 30 m), fov 270°, odometry 0.01 m/m and 0.0349 rad/rad"."""
+    maxUrange 30 m), fov 270°, beams every 0.5°, odometry 0.01 m/m and 0.0349 rad/rad" (the
+    beams when the model reads the angular resolution)."""
     robot = result["robot"]
     inputs = robot["inputs"]
     cap = robot["max_urange_m"]
@@ -144,7 +145,9 @@ def robot_text(result: dict[str, Any]) -> str:
              f"{cap_name} {cap:g} m)" if cap is not None and not math.isclose(
                  used, robot["laser_range_max_m"]) else f"laser range {used:g} m")
     blind = robot.get("derived", {}).get("laser_blind_fraction")
-    return (f"{laser}, fov {inputs['laser_fov_deg']:g}°, odometry {inputs['odom_xy_error']:.4g}"
+    beams = inputs.get("laser_resolution_deg")
+    laser += f", fov {inputs['laser_fov_deg']:g}°" + (f", beams every {beams:g}°" if beams else "")
+    return (f"{laser}, odometry {inputs['odom_xy_error']:.4g}"
             f" m/m and {inputs['odom_yaw_error']:.4g} rad/rad"
             + (f"; {100 * blind:.3g} % of the plan's sight lines reach no wall within that "
                "range" if blind is not None else ""))

@@ -33,6 +33,7 @@ from slam_predict.learn.robot.inputs import (
     RESOLUTION_INPUT,
     ROBOT_UNITS,
     derived_inputs,
+    inputs_from_robot,
     reads_sight_lines,
 )
 from slam_predict.learn.robot.plain import (
@@ -93,11 +94,10 @@ class RobotModel:
         return None if value is None else float(value)
 
     def inputs(self, robot) -> dict[str, float]:
-        """The robot inputs of a :class:`~slam_predict.robot_file.RobotDescription`, its
-        laser range capped at :attr:`max_urange_m`."""
-        from slam_predict.learn.robot.inputs import inputs_from_robot
-
-        return inputs_from_robot(robot, self.max_urange_m)
+        """The card's robot inputs of a :class:`~slam_predict.robot_file.RobotDescription`,
+        its laser range capped at :attr:`max_urange_m`."""
+        every = inputs_from_robot(robot, self.max_urange_m)
+        return {name: every[name] for name in self.names if name in every}
 
     @property
     def notes(self) -> list[str]:
