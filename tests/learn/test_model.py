@@ -67,7 +67,8 @@ def test_robot_model_features_add_the_sight_lines_it_reads():
                     **sightline_features(world, SightlineConfig(**model.sightline_config)))
     assert features == expected
     assert set(model.names) - set(model.derived) - set(features) == {
-        "laser_range_max_m", "laser_fov_deg", "odom_xy_error", "odom_yaw_error"}
+        "laser_range_max_m", "laser_fov_deg", "odom_xy_error", "odom_yaw_error",
+        "laser_resolution_deg"}
 
 
 def test_pickles_of_older_robot_folders_load_under_the_new_module_names():

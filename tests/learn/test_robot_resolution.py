@@ -76,3 +76,37 @@ def test_the_report_plots_the_resolution_it_learnt(trained):
     lines = curves(RobotModel.load(trained[0]), "trans_mean")
     assert list(lines)[-1] == "laser_resolution_deg"
     assert lines["laser_resolution_deg"]["trained"] == [0.25, 1.0]
+
+
+def test_brackets_weigh_the_two_trained_resolutions_around_a_laser_on_a_log_scale():
+    from slam_predict.learn.robot.resolution import brackets
+
+    assert brackets(RESOLUTIONS, 0.5) == [(0.5, 1.0)]
+    assert brackets(RESOLUTIONS, 0.1) == [(0.1, 1.0)] and brackets(RESOLUTIONS, 2.0) == [(2.0, 1.0)]
+    assert brackets([0.5], 0.35) == [(0.35, 1.0)]
+    (low, a), (high, b) = brackets(RESOLUTIONS, 0.35)
+    assert (low, high) == (0.25, 0.5) and a + b == pytest.approx(1.0)
+    assert b == pytest.approx(np.log(0.35 / 0.25) / np.log(2.0))
+    (_, a), (_, b) = brackets(RESOLUTIONS, 0.5 * 2 ** 0.5)      # log midpoint of 0.5 and 1
+    assert a == pytest.approx(0.5) and b == pytest.approx(0.5)
+
+
+def test_a_laser_between_trained_resolutions_reads_between_their_predictions(trained):
+    """Trees step between the three trained resolutions; the prediction between two of them is
+    their log-scale interpolation: at the log midpoint the geometric mean of both ends (value
+    and bounds), and it moves smoothly across the span, never beyond its ends."""
+    folder, worlds = trained
+    model = RobotModel.load(folder)
+    plan = dict(next(iter(worlds.values())))
+    robot = {"laser_range_max_m": 12.0, "laser_fov_deg": 270.0, "odom_xy_error": 0.01,
+             "odom_yaw_error": 0.035}
+    at = {r: model.predict(plan, dict(robot, laser_resolution_deg=r))["trans_mean"]
+          for r in (0.25, 0.5, 0.25 * 2 ** 0.5)}
+    for key in ("value", "low", "high"):
+        assert at[0.25 * 2 ** 0.5][key] == pytest.approx((at[0.25][key] * at[0.5][key]) ** 0.5)
+    grid = np.geomspace(0.25, 0.5, 9)
+    values = [model.predict(plan, dict(robot, laser_resolution_deg=r))["trans_mean"]["value"]
+              for r in grid]
+    assert values[0] == at[0.25]["value"] and values[-1] == at[0.5]["value"]
+    steps = np.diff(np.log(values))
+    assert np.all(np.sign(steps) == np.sign(steps[0])) and np.ptp(steps) < 1e-9

@@ -27,14 +27,20 @@ def test_card_describes_the_complete_campaign(model):
     assert len(card["training_buildings"]) == 44 and card["derived_inputs"] == [
         "laser_blind_fraction"]
     by_config = card["exploration"]["by_config"].values()
-    assert sum(e["runs"] for e in by_config) == 468 and len(by_config) == 29
+    assert sum(e["runs"] for e in by_config) == 552 and len(by_config) == 43
+    assert card["robot_inputs"][-1] == "laser_resolution_deg"
+    assert card["input_ranges"]["laser_resolution_deg"] == [0.25, 1.0]
     sources = card["sources"]
     assert sources["data"] == ["data/campaigns/fidelity_seed_study", "data/campaigns/robots",
-                               "data/campaigns/robots_rep3", "data/campaigns/robots_rep4"]
+                               "data/campaigns/robots_rep3", "data/campaigns/robots_rep4",
+                               "data/campaigns/robots_res025", "data/campaigns/robots_res100"]
     assert sources["settings"]["data/campaigns/fidelity_seed_study"] == \
         "config/fidelity/seed_study.yaml"
     assert card["components"]["trans_mean"]["best"] == "trend_boosting"
-    assert not any(str(v).startswith("/") for v in (sources["features_from"], sources["design"]))
+    assert sources["design"] == ["data/campaigns/robots/design.yaml",
+                                 "data/campaigns/robots/design_res025.yaml",
+                                 "data/campaigns/robots/design_res100.yaml"]
+    assert not sources["features_from"].startswith("/")
 
 
 def test_shorter_laser_and_larger_building_predict_larger_error(model, root):

@@ -25,12 +25,10 @@ import numpy as np
 from slam_predict.errors import InputError, did_you_mean
 from slam_predict.learn.card import CARD, POINTS_FILE, ROBOT_KIND, check_kind, input_names
 from slam_predict.learn.dataset import COMPONENTS, UNITS
-from slam_predict.learn.robot import envelope
+from slam_predict.learn.robot import envelope, resolution
 from slam_predict.learn.robot.inputs import (
     DERIVED_INPUTS,
     DERIVED_UNITS,
-    DESIGN_RESOLUTION_DEG,
-    RESOLUTION_INPUT,
     ROBOT_UNITS,
     derived_inputs,
     inputs_from_robot,
@@ -156,11 +154,17 @@ class RobotModel:
         run count; stds: the run-to-run std σ and the interval of the sample std over that
         many runs (``card["interval_runs"]``, 2 by design). A component the folder has no
         model for gets None values. The value always lies inside its interval. ``slam``:
-        None or ``gmapping`` (the training runs' SLAM algorithm).
+        None or ``gmapping`` (the training runs' SLAM algorithm). A laser between two trained
+        angular resolutions: :mod:`~slam_predict.learn.robot.resolution`.
         """
         from slam_predict.learn.card import check_slam
 
         check_slam(slam, self.card)
+        return resolution.between_resolutions(self, plan_features, robot, confidence)
+
+    def predict_at(self, plan_features: Mapping[str, float], robot: Mapping[str, float],
+                   confidence: float) -> dict[str, dict]:
+        """:meth:`predict` with the robot's inputs as they are (no resolution blend)."""
         x = self.row(plan_features, robot)
         grid = None
         out: dict[str, dict] = {}
@@ -246,21 +250,11 @@ class RobotModel:
 
     def resolution_range_deg(self) -> tuple[float, float]:
         """(finest, coarsest) laser angular resolution of the training runs, deg."""
-        trained = self.card["design"].get("angular_resolution_deg") or [DESIGN_RESOLUTION_DEG]
-        return float(min(trained)), float(max(trained))
+        return resolution.trained_range(self.card)
 
     def resolution_warning(self, angular_resolution_deg: float) -> str | None:
-        """A line, with what to do, when the laser's angular resolution (deg) lies outside
-        the training runs' range (1 % tolerance); None inside it, or when the model learns it
-        (then the input-range check covers it)."""
-        low, high = self.resolution_range_deg()
-        if low / 1.01 <= angular_resolution_deg <= high * 1.01 or RESOLUTION_INPUT in self.names:
-            return None
-        trained = f"{low:g} deg" if low == high else f"{low:g}-{high:g} deg"
-        side = "finer" if angular_resolution_deg < low else "coarser"
-        return (f"laser angular resolution {angular_resolution_deg:.4g} deg is {side} than "
-                f"every training run's ({trained}; not a model input): measure this robot "
-                "on the plan with --simulate 3 to check the prediction")
+        """:func:`~slam_predict.learn.robot.resolution.resolution_warning` of this model."""
+        return resolution.resolution_warning(self.card, self.names, angular_resolution_deg)
 
     def domain_warnings(self, plan_features: Mapping[str, float], robot: Mapping[str, float],
                         angular_resolution_deg: float | None = None) -> list[str]:
