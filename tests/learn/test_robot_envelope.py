@@ -62,10 +62,12 @@ def robot_grid():
 
 
 def test_no_component_improves_when_the_robot_gets_worse(root, model):
-    names = ("laser_range_max_m", "laser_fov_deg", "odom_xy_error", "odom_yaw_error")
+    names = ("laser_range_max_m", "laser_fov_deg", "odom_xy_error", "odom_yaw_error",
+             "laser_resolution_deg")
     grid = robot_grid()
-    for features in plans(root, model):
-        pred = {q: model.predict(features, dict(zip(names, q, strict=True))) for q in grid}
+    for features, resolution in itertools.product(plans(root, model), (0.25, 0.35, 1.0)):
+        pred = {q: model.predict(features, dict(zip(names, (*q, resolution), strict=True)))
+                for q in grid}
         for good, bad in itertools.product(grid, grid):
             worse = (bad[0] <= good[0] and bad[1] <= good[1] and bad[2] >= good[2]
                      and bad[3] >= good[3])

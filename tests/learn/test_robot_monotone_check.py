@@ -5,6 +5,7 @@ extrapolation beyond it) of the shipped ``own-robots``: no component, value or i
 gets smaller when the robot gets worse, on every training building."""
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -155,11 +156,12 @@ def test_shipped_model_never_improves_when_the_robot_gets_worse(shipped, compone
 
 def test_shipped_predict_path_is_monotone_in_each_robot_input(shipped):
     """Through RobotModel.predict (plan features → derived input → value and interval), on
-    3 buildings, one robot input at a time from a mid-box robot."""
+    3 buildings, one robot input at a time from a mid-box robot, at the trained angular
+    resolutions and between them (the prediction interpolated between two)."""
     worlds, rows, _ = _plans(shipped)
     curves = shipped.card["sightline_curves"]
     plan_names = [n for n in shipped.names if n not in ROBOT_INPUTS
-                  and n != "laser_blind_fraction"]
+                  and n not in ("laser_blind_fraction", "laser_resolution_deg")]
     from slam_predict.features.sightline import curve_columns
 
     axes = robot_axes(shipped.card["input_ranges"], shipped.max_urange_m, points=6)
@@ -167,10 +169,11 @@ def test_shipped_predict_path_is_monotone_in_each_robot_input(shipped):
     for world, row in list(zip(worlds, rows, strict=True))[:3]:
         plan = {n: float(row[shipped.names.index(n)]) for n in plan_names}
         plan.update(dict(zip(curve_columns(), curves[world], strict=True)))
-        for name in ROBOT_INPUTS:
-            out = [shipped.predict(plan, dict(base, **{name: float(v)})) for v in axes[name]]
+        for name, resolution in itertools.product(ROBOT_INPUTS, (0.25, 0.35, 0.5, 1.0)):
+            robot = dict(base, laser_resolution_deg=resolution)
+            out = [shipped.predict(plan, dict(robot, **{name: float(v)})) for v in axes[name]]
             for component in COMPONENTS:
                 for key in ("value", "low", "high"):
                     series = np.array([o[component][key] for o in out])
-                    assert np.all(np.diff(series) >= -1e-9 * series[:-1]), (world, name,
-                                                                            component, key)
+                    assert np.all(np.diff(series) >= -1e-9 * series[:-1]), (
+                        world, name, resolution, component, key)

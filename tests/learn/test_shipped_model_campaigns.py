@@ -32,9 +32,11 @@ def expected_hashes(sources: dict, record: dict, cache: dict, campaign: str) -> 
     key = (file, record.get("design", {}).get("config"))
     if key not in cache:
         settings = load_settings(PROJECT_ROOT / file)
-        if key[1] is not None:
-            design = load_design(PROJECT_ROOT / sources["design"])
-            settings = design.settings_for(settings, key[1], sources["design"])
+        if key[1] is not None:   # the design file (of the card's one or more) with the point
+            files = sources["design"]
+            path = next(p for p in ([files] if isinstance(files, str) else files)
+                        if key[1] in load_design(PROJECT_ROOT / p).configs)
+            settings = load_design(PROJECT_ROOT / path).settings_for(settings, key[1], path)
         cache[key] = settings.hashes()
     return cache[key]
 
