@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """What the laser's angular resolution does to the error, measured against a robot-aware model
-that does not take it as an input (issue #43).
+(issue #43): against one without the resolution input, how far runs at other resolutions lie
+from its predictions; against one that learnt them (own-robots since 2026-12-06), in-sample.
 
 For every usable run of the campaigns (the learner's rule, ``records.skip_reason``, with
-coverage ≥ ``--min-coverage``): the model's prediction for the run's robot (its four inputs;
-the resolution is not one) on the run's building, and the run's measured mean ε_t and ε_r.
+coverage ≥ ``--min-coverage``): the model's prediction for the run's robot (the model's robot
+inputs) on the run's building, and the run's measured mean ε_t and ε_r.
 Prints, per angular resolution of the runs, the median ratio measured ÷ predicted and the
 share of runs inside the 90 % interval of a point mean — a resolution the model
 generalises to has ratios near those of the training resolution.
