@@ -42,17 +42,13 @@ def parse_args(argv=None) -> argparse.Namespace:
 
 
 def load_tables(args: argparse.Namespace, config):
-    from slam_predict.learn.robot.records import read_runs
-    from slam_predict.learn.robot.rundata import build_run_data, plan_features
+    from slam_predict.learn.card import DEFAULT_SLAM
+    from slam_predict.learn.robot.rundata import learning_data
 
-    runs, skipped = read_runs(args.data, config.min_coverage, config.max_urange_m)
-    worlds = sorted({r.world for r in runs})
-    features, version, _ = plan_features(worlds, args.features,
-                                         None if args.features else args.worlds,
-                                         None, None, args.jobs)
-    data = build_run_data(runs, skipped, features, version)
-    return data.tables(config.plan_features, config.sightline_input,
-                       config.robot_inputs)
+    data, _, _ = learning_data(args.data, config, DEFAULT_SLAM, features_csv=args.features,
+                               worlds_dir=None if args.features else args.worlds,
+                               n_jobs=args.jobs)
+    return data.config_tables(config)
 
 
 def size_split(tables, held: int) -> tuple[np.ndarray, np.ndarray, list[str]]:

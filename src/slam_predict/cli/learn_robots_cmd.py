@@ -289,8 +289,7 @@ def _designs(paths: list[str] | None):
 def run(args: argparse.Namespace) -> int:
     from slam_predict.learn.robot.evaluate import best_models, evaluate, summarize
     from slam_predict.learn.robot.outcomes import exploration_outcomes
-    from slam_predict.learn.robot.records import read_runs, record_worlds
-    from slam_predict.learn.robot.rundata import build_run_data, plan_features
+    from slam_predict.learn.robot.rundata import learning_data
     from slam_predict.paths import portable_path
 
     target = _check_outputs(args)
@@ -302,12 +301,11 @@ def run(args: argparse.Namespace) -> int:
             require_file(path, "design file")
     feature_config = _feature_config(args.feature_config)
     slam = slam_option(args)
-    runs, skipped = read_runs(args.data, config.min_coverage, config.max_urange_m, slam)
     # every building with a run, also those whose runs all failed: the failure model needs them
-    features, version, full_config = plan_features(
-        sorted({r.world for r in runs} | record_worlds(args.data, slam)), args.features,
-        args.worlds, feature_config, args.feature_version, args.jobs)
-    data = build_run_data(runs, skipped, features, version)
+    data, features, full_config = learning_data(
+        args.data, config, slam, every_world=True, features_csv=args.features,
+        worlds_dir=args.worlds, feature_config=feature_config,
+        feature_version=args.feature_version, n_jobs=args.jobs)
     outcomes = exploration_outcomes(args.data, config.min_coverage, slam)
     bounds = None
     if args.design:
@@ -316,8 +314,7 @@ def run(args: argparse.Namespace) -> int:
         undesigned = {run.config for run in data.runs if not run.designed}
         bounds = design_ranges(args.design, data.max_urange_m, data.configs, undesigned,
                                config.resolution_input)
-    tables = data.tables(config.plan_features, config.sightline_input,
-                       config.robot_inputs)
+    tables = data.config_tables(config)
     previous = getattr(args, "evaluation_from", None)
     if previous:
         rows, summary = None, evaluation_of_card(previous, config, args.data)

@@ -74,8 +74,7 @@ def load_card_tables(model: str, data_dirs, worlds_dir, n_jobs: int = 1):
     for a plan-only card or features of another version."""
     from slam_predict.config import from_dict
     from slam_predict.learn.card import DEFAULT_SLAM, ROBOT_KIND, check_kind, read_card
-    from slam_predict.learn.robot.records import read_runs
-    from slam_predict.learn.robot.rundata import build_run_data, plan_features
+    from slam_predict.learn.robot.rundata import learning_data
     from slam_predict.learn.slam_choice import find_model
     from slam_predict.learn.store import default_models_dir
 
@@ -85,16 +84,13 @@ def load_card_tables(model: str, data_dirs, worlds_dir, n_jobs: int = 1):
     # cards from before the resolution input learnt four robot inputs
     config = from_dict(RobotLearningConfig,
                        {"resolution_input": False, **card["robot_learning_config"]}, "model card")
-    runs, skipped = read_runs(data_dirs, config.min_coverage, config.max_urange_m,
-                              card.get("slam") or DEFAULT_SLAM)
-    features, version, _ = plan_features(sorted({r.world for r in runs}), None, worlds_dir,
-                                         card["feature_config"], None, n_jobs)
-    if version != card["feature_version"]:
-        raise InputError(f"features of version {version}, the card's are "
+    data, _, _ = learning_data(data_dirs, config, card.get("slam") or DEFAULT_SLAM,
+                               worlds_dir=worlds_dir, feature_config=card["feature_config"],
+                               n_jobs=n_jobs)
+    if data.feature_version != card["feature_version"]:
+        raise InputError(f"features of version {data.feature_version}, the card's are "
                          f"{card['feature_version']}", worlds_dir)
-    data = build_run_data(runs, skipped, features, version)
-    return card, config, data.tables(config.plan_features, config.sightline_input,
-                                     config.robot_inputs)
+    return card, config, data.config_tables(config)
 
 
 def robot_of_campaigns(campaigns, config: RobotLearningConfig, card) -> str:

@@ -211,6 +211,11 @@ class RunData:
         robot = [n for n in tables.names if n in ALL_ROBOT_INPUTS]
         return self.point_dataset([n for n in tables.names if n not in robot], robot)
 
+    def config_tables(self, config) -> RobotTables:
+        """:meth:`tables` with the inputs of a
+        :class:`~slam_predict.learn.robot.config.RobotLearningConfig`."""
+        return self.tables(config.plan_features, config.sightline_input, config.robot_inputs)
+
     def tables(self, plan_features: Sequence[str], derived: bool = False,
                robot: Sequence[str] = ROBOT_INPUTS) -> RobotTables:
         """The numeric tables over ``plan_features`` (checked) [+ DERIVED_INPUTS when
@@ -262,6 +267,23 @@ def build_run_data(runs: Sequence[RunRow], skipped: Mapping[str, int],
                          "features (need 2 or more)")
     return RunData(list(have), {w: dict(features[w]) for w in worlds}, feature_version,
                    skipped)
+
+
+def learning_data(data_dirs: Sequence[os.PathLike | str], config, slam: str,
+                  every_world: bool = False, **features: Any
+                  ) -> tuple[RunData, dict[str, dict[str, float]], dict[str, Any]]:
+    """(RunData, building → plan features, the full feature configuration) of the campaign
+    folders' runs of SLAM algorithm ``slam`` under a RobotLearningConfig ``config``
+    (min_coverage, max_urange_m), the plan features computed by :func:`plan_features` with
+    ``features`` (``features_csv``, ``worlds_dir``, ``feature_config``, ``feature_version``,
+    ``n_jobs``) for the buildings of the usable runs and, with ``every_world``, also of the
+    runs that all failed (the failure model's inputs)."""
+    from slam_predict.learn.robot.records import read_runs, record_worlds
+
+    runs, skipped = read_runs(data_dirs, config.min_coverage, config.max_urange_m, slam)
+    worlds = {r.world for r in runs} | (record_worlds(data_dirs, slam) if every_world else set())
+    table, version, full_config = plan_features(sorted(worlds), **features)
+    return build_run_data(runs, skipped, table, version), table, full_config
 
 
 # ----------------------------------------------------------------------------- CSV texts

@@ -259,8 +259,7 @@ def train_robot_store(data: RunData, config: RobotLearningConfig,
     if not data.feature_version or data.feature_version == "reference-table":
         raise InputError(f"feature version '{data.feature_version}' cannot be shipped: use "
                          "features computed by slam_predict")
-    tables = data.tables(config.plan_features, config.sightline_input,
-                       config.robot_inputs)
+    tables = data.config_tables(config)
     fitted = fit_all(tables, config, n_jobs)
     if not fitted:
         raise InputError("no component could be trained: nothing to store")
