@@ -19,7 +19,7 @@ import numpy as np
 
 from slam_predict.learn.card import PROTOCOLS, card_slam, fitted_summary, range_cap_name
 from slam_predict.learn.dataset import COMPONENTS, UNITS
-from slam_predict.learn.robot.inputs import ROBOT_UNITS
+from slam_predict.learn.robot.inputs import ALL_ROBOT_INPUTS, ROBOT_UNITS
 from slam_predict.report import html as H
 from slam_predict.report.labels import LABELS
 
@@ -61,7 +61,7 @@ def ranges_table(card: dict[str, Any]) -> str:
     bounds = (card.get("design") or {}).get("bounds") or {}
     rows = []
     for name, span in card.get("input_ranges", {}).items():
-        robot = name in ROBOT_UNITS
+        robot = name in ALL_ROBOT_INPUTS
         rows.append([name, "robot" if robot else "plan", ROBOT_UNITS.get(name, ""),
                      H.Cell(_range_text(span), numeric=True),
                      H.Cell(_range_text(bounds[name]), numeric=True) if name in bounds
@@ -125,7 +125,7 @@ def curves(model, component: str) -> dict[str, dict]:
     out = {}
     for j, name in enumerate(model.names):
         low, high = model.card["input_ranges"].get(name, (0.0, 0.0))
-        if name not in ROBOT_UNITS or low == high:
+        if name not in ALL_ROBOT_INPUTS or low == high:
             continue
         grid, values = model.partial_dependence(component, name, GRID_POINTS, _span(model, name))
         cap = model.max_urange_m if name == "laser_range_max_m" else None

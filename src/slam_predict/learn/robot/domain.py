@@ -48,6 +48,7 @@ from slam_predict.learn.robot.inputs import (
     RESOLUTION_INPUT,
     ROBOT_INPUTS,
     inputs_from_robot,
+    resolution_input_value,
 )
 
 LOG = logging.getLogger(__name__)
@@ -271,4 +272,4 @@ def _pooled_designs(paths, resolution_input: bool = False):
             if robots.setdefault(config, (path, robot))[1] != robot:
                 raise InputError(f"configuration '{config}' differs from "
                                  f"{robots[config][0]}'s", path)
-    return first_path, first, robots, [round(d.resolution_deg, 2) for _, d in designs]
+    return first_path, first, robots, [resolution_input_value(d.resolution_deg) for _, d in designs]

@@ -126,7 +126,13 @@ def inputs_from_sensor(sensor: Mapping[str, Any], source: os.PathLike | str | No
     return {"laser_range_max_m": effective_range(range_max, max_urange_m),
             "laser_fov_deg": math.degrees(fov),
             "odom_xy_error": 0.5 * (x + y), "odom_yaw_error": yaw,
-            RESOLUTION_INPUT: round(angular_resolution_deg(sensor, source), 2)}
+            RESOLUTION_INPUT: resolution_input_value(angular_resolution_deg(sensor, source))}
+
+
+def resolution_input_value(degrees: float) -> float:
+    """The :data:`RESOLUTION_INPUT` of an angular resolution, deg: rounded to 0.01° (a
+    design's fov/0.5 + 1 beams, the count rounded, give 0.4997–0.5003°: all 0.5)."""
+    return round(float(degrees), 2)
 
 
 def model_robot_inputs(resolution_input: bool) -> tuple[str, ...]:

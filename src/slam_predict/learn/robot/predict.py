@@ -27,6 +27,7 @@ from slam_predict.learn.card import CARD, POINTS_FILE, ROBOT_KIND, check_kind, i
 from slam_predict.learn.dataset import COMPONENTS, UNITS
 from slam_predict.learn.robot import envelope, resolution
 from slam_predict.learn.robot.inputs import (
+    ALL_ROBOT_INPUTS,
     DERIVED_INPUTS,
     DERIVED_UNITS,
     ROBOT_UNITS,
@@ -132,10 +133,10 @@ class RobotModel:
                                  f"the laser range (missing {exc.args[0]}): compute the "
                                  "features with model.sightline_config") from None
         for name in self.names:
-            source = (robot if name in ROBOT_UNITS else derived if name in DERIVED_INPUTS
+            source = (robot if name in ALL_ROBOT_INPUTS else derived if name in DERIVED_INPUTS
                       else plan_features)
             if name not in source:
-                what = "robot input" if name in ROBOT_UNITS else "plan feature"
+                what = "robot input" if name in ALL_ROBOT_INPUTS else "plan feature"
                 raise InputError(f"{what} '{name}' needed by model {self.name} is missing"
                                  + did_you_mean(name, list(source)))
             value = float(source[name])
@@ -335,7 +336,7 @@ class RobotModel:
         if component not in self.models:
             raise InputError(f"model has no component '{component}'"
                              + did_you_mean(component, list(self.models)))
-        robot_inputs = [n for n in self.names if n in ROBOT_UNITS]
+        robot_inputs = [n for n in self.names if n in ALL_ROBOT_INPUTS]
         if robot_input not in robot_inputs:
             raise InputError(f"unknown robot input '{robot_input}'"
                              + did_you_mean(robot_input, robot_inputs))

@@ -42,7 +42,6 @@ from slam_predict.learn.card import DEFAULT_SLAM, check_slam
 from slam_predict.learn.dataset import COMPONENTS
 from slam_predict.learn.robot.inputs import (
     ROBOT_INPUTS,
-    angular_resolution_deg,
     inputs_from_sensor,
     odom_model_of,
 )
@@ -70,7 +69,6 @@ class RunRow:
     coverage: float
     trans_mean: float
     rot_mean: float
-    resolution_deg: float = math.nan
     config_hashes: dict[str, str] = field(default_factory=dict)
     source: str = ""
     max_urange_m: float | None = None    # GMapping's maxUrange of the run's settings, m
@@ -205,7 +203,6 @@ def run_row(record: Mapping[str, Any], path, max_urange_m: float | None = None) 
                   replicate=replicate, robot=robot, coverage=float(record["coverage"]),
                   trans_mean=float(record["metric"]["trans_mean"]),
                   rot_mean=float(record["metric"]["rot_mean"]),
-                  resolution_deg=angular_resolution_deg(record["sensor"], path),
                   config_hashes={str(k): str(v) for k, v in hashes.items()}, source=str(path),
                   max_urange_m=max_urange_m, odom_model=odom_model,
                   slam=slam_of_record(record), designed=record.get("design") is not None)

@@ -19,10 +19,17 @@ from slam_predict.learn.robot.inputs import DESIGN_RESOLUTION_DEG, RESOLUTION_IN
 BOUNDS = ("value", "low", "high")
 
 
+def trained_levels(card: Mapping) -> list[float]:
+    """The laser angular resolutions of a card's training runs, deg (``design.
+    angular_resolution_deg``; the design's 0.5° for cards without the field)."""
+    return [float(v) for v in card["design"].get("angular_resolution_deg")
+            or [DESIGN_RESOLUTION_DEG]]
+
+
 def trained_range(card: Mapping) -> tuple[float, float]:
     """(finest, coarsest) laser angular resolution of a card's training runs, deg."""
-    trained = card["design"].get("angular_resolution_deg") or [DESIGN_RESOLUTION_DEG]
-    return float(min(trained)), float(max(trained))
+    trained = trained_levels(card)
+    return min(trained), max(trained)
 
 
 def resolution_warning(card: Mapping, names: Sequence[str], value: float) -> str | None:
@@ -78,10 +85,9 @@ def between_resolutions(model, plan_features: Mapping[str, float],
     robot, interpolated between the trained resolutions (the card's
     ``design.angular_resolution_deg``) when the model learns the resolution and the robot's
     lies between two of them."""
-    levels = (model.card.get("design") or {}).get("angular_resolution_deg") or []
     if RESOLUTION_INPUT not in model.names or RESOLUTION_INPUT not in robot:
         return model.predict_at(plan_features, robot, confidence)
-    parts = brackets(levels, float(robot[RESOLUTION_INPUT]))
+    parts = brackets(trained_levels(model.card), float(robot[RESOLUTION_INPUT]))
     if len(parts) == 1:
         return model.predict_at(plan_features, robot, confidence)
     return blend([(weight, model.predict_at(plan_features,

@@ -29,6 +29,7 @@ from slam_predict.learn.dataset import COMPONENTS, Dataset
 from slam_predict.learn.robot.inputs import (
     ALL_ROBOT_INPUTS,
     DERIVED_INPUTS,
+    RESOLUTION_INPUT,
     ROBOT_INPUTS,
     derived_inputs,
 )
@@ -143,7 +144,7 @@ class RunData:
     def resolutions_deg(self) -> list[float]:
         """The distinct laser angular resolutions of the runs, deg, rounded to 0.01 deg
         (fov/0.5 + 1 beams, the count rounded, give 0.4997–0.5003 deg: all 0.5)."""
-        return sorted({round(r.resolution_deg, 2) for r in self.runs})
+        return sorted({r.robot[RESOLUTION_INPUT] for r in self.runs})
 
     def feature_names(self) -> list[str]:
         """Every plan feature name of the table (its order), without the sight-line curve."""
