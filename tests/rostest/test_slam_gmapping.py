@@ -48,6 +48,26 @@ def wait_for(predicate, timeout):
     return True
 
 
+def shape_of(maps):
+    with maps.lock:
+        return maps.count, (maps.msg.info.width, maps.msg.info.height)
+
+
+def wait_until_settled(maps, timeout):
+    """Wait until two successive map messages have the same size: the robot has stopped and the
+    back-end has processed the scans it had queued, so the map no longer grows."""
+    deadline = rospy.get_rostime() + rospy.Duration(timeout)
+    count, size = shape_of(maps)
+    while not rospy.is_shutdown() and rospy.get_rostime() <= deadline:
+        if not wait_for(lambda seen=count: maps.count > seen, timeout):
+            return False
+        count, newer = shape_of(maps)
+        if newer == size:
+            return True
+        size = newer
+    return False
+
+
 class SlamGMappingTest(unittest.TestCase):
     def test_map_grows_and_tf_is_broadcast(self):
         maps = Latest("map", OccupancyGrid)
@@ -64,7 +84,9 @@ class SlamGMappingTest(unittest.TestCase):
         drive(cmd, 8.0, 0.0, 0.6)     # turn on the spot: the hidden half of the room appears
         drive(cmd, 6.0, 0.3, 0.0)
         self.assertTrue(wait_for(lambda: maps.count > count, 30.0), "map not updated")
-        last = grid_from_ros(maps.msg)
+        self.assertTrue(wait_until_settled(maps, 30.0), "map still growing 30 s after the stop")
+        with maps.lock:
+            last = grid_from_ros(maps.msg)
         # 270° laser: most is seen at once
         self.assertGreater(int((last.data >= 0).sum()), known0 * 1.05)
         self.assertGreater(int((last.data == 100).sum()), 200)
