@@ -32,8 +32,9 @@ rostest:
 test-full: setup
 	@$(MAKE) --no-print-directory lint pytest rostest PYTEST_ARGS=
 
+# The quick benchmarks (no arguments, no upstream checkout); the others: docs/benchmarks.md.
 bench: setup
-	@for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
+	@bash tools/run_benches.sh
 
 clean:
 	[ -f .workspace_path ] && rm -rf "$$(cat .workspace_path)"; rm -rf out .numba_cache setup.bash .workspace_path
