@@ -125,6 +125,27 @@ def test_reversing_is_committed_for_escape_reset_dist_then_ends():
     assert cmd[0] > 0 and lp.tc.state == PlannerState()
 
 
+def test_reverse_cut_short_by_a_wall_behind_drives_on_until_the_robot_can_turn():
+    """REVERSE_BLOCKED: in a corridor too narrow to turn, with the goal behind and a wall
+    0.4 m behind the robot, the reverse stops 5 cm after it began; the robot then drives
+    forward past escape_reset_dist (0.1 m) instead of reversing again, which a planner without
+    that memory does there (the 2 cm shuttle of NLB run_000, stuck for 511 s)."""
+    cm, pose, _ = narrow_corridor_facing_away()
+    boxed = Costmap(cm.costs.copy(), (0.0, 0.0), RES)
+    boxed.costs[:, 20] = LETHAL                                # x = 1.00–1.05 m
+    plan = straight_plan(x0=1.5, x1=1.15)
+    tc = planner(plan, reverse_when_blocked=True)
+    assert tc.find_best_path(boxed, pose, STILL).xv == -0.15
+    cut = (1.45, 1.5, 0.0)
+    assert tc.find_best_path(boxed, cut, (-0.15, 0.0)).xv > 0
+    assert tc.state == PlannerState(Mode.REVERSE_BLOCKED, cut)
+    ahead = (1.6, 1.5, 0.0)                                    # 0.15 m from where it stopped
+    assert tc.find_best_path(boxed, ahead, (0.1, 0.0)).xv > 0
+    assert tc.state == PlannerState(Mode.REVERSE_BLOCKED, cut)
+    fresh = planner(plan, reverse_when_blocked=True)
+    assert fresh.find_best_path(boxed, ahead, (0.1, 0.0)).xv == -0.15
+
+
 def test_reversing_robot_with_nothing_legal_enters_escape_mode():
     cm, pose, plan = narrow_corridor_facing_away()
     tc = planner(plan, reverse_when_blocked=True)
@@ -229,6 +250,8 @@ def test_next_state_table():
     escaping = PlannerState(Mode.ESCAPING, AT)
     keeping = PlannerState(Mode.KEEPING_MOVE, AT, MOVE)
     reversing = PlannerState(Mode.REVERSING, AT)
+    blocked = PlannerState(Mode.REVERSE_BLOCKED, AT)
+    turned = (1.0, 1.0, 1.7)                        # 1.7 rad from AT's heading: > π/2
     table = [
         (normal, C.SAMPLE, NEAR, None, normal),
         (normal, C.NO_PATH, NEAR, None, normal),
@@ -236,7 +259,11 @@ def test_next_state_table():
         (normal, C.BODY_SAFE, NEAR, MOVE, PlannerState(Mode.KEEPING_MOVE, NEAR, MOVE)),
         (normal, C.REVERSE, NEAR, None, PlannerState(Mode.REVERSING, NEAR)),
         (reversing, C.REVERSE, FAR, None, reversing),
-        (reversing, C.SAMPLE, NEAR, None, normal),
+        (reversing, C.SAMPLE, NEAR, None, PlannerState(Mode.REVERSE_BLOCKED, NEAR)),
+        (reversing, C.SAMPLE, FAR, None, normal),
+        (blocked, C.SAMPLE, FAR, None, blocked),
+        (blocked, C.SAMPLE, turned, None, normal),
+        (blocked, C.BACK_UP, NEAR, None, PlannerState(Mode.ESCAPING, NEAR)),
         (reversing, C.BACK_UP, NEAR, None, PlannerState(Mode.ESCAPING, NEAR)),
         (escaping, C.SAMPLE, NEAR, None, escaping),
         (escaping, C.SAMPLE, FAR, None, normal),

@@ -151,6 +151,9 @@ class TrajectoryPlannerConfig:
     rotation wins and every legal forward sample scores worse than standing still, legal
     backward arcs at ``escape_vel`` m/s (vθ over the window) are taken while they score better
     than standing still, and for at least escape_reset_dist m once begun (a multi-point turn).
+    A reverse that stops short of escape_reset_dist (a wall behind) is not taken up again
+    until the heading has turned escape_reset_theta rad: the robot drives forward, as
+    base_local_planner does, until it can turn.
     Neither base_local_planner nor move_base's recoveries do this: base_local_planner backs up
     (straight, escape_vel) only when *no* sample is legal, until escape_reset_dist /
     escape_reset_theta; move_base's recoveries only clear costmaps and rotate in place (a

@@ -8,6 +8,12 @@ it and what the cycle commanded (:class:`Observed`). Modes:
   ``reverse_when_blocked``) backward arcs, then the escape.
 - ``REVERSING`` (extension ``reverse_when_blocked``): as NORMAL; backward arcs are kept up while
   they pay, and in any case until escape_reset_dist m from where reversing began (``anchor``).
+- ``REVERSE_BLOCKED`` (same extension): reversing stopped short of escape_reset_dist (no
+  backward arc was legal any more, or an in-place turn won). NORMAL without backward arcs — the
+  best forward sample is taken even where it scores worse than standing still, as in
+  base_local_planner — until the heading has turned escape_reset_theta rad from where reversing
+  stopped (``anchor``) or escape mode begins: a robot boxed beside a wall drives on until it can
+  turn instead of shuttling.
 - ``ESCAPING`` (base_local_planner's ``escaping_``, the blind escape): no forward samples, no
   backward arcs, until escape_reset_dist m / escape_reset_theta rad from the escape pose
   (``anchor``).
@@ -34,6 +40,7 @@ class Mode(Enum):
 
     NORMAL = "normal"
     REVERSING = "reversing"
+    REVERSE_BLOCKED = "reverse_blocked"
     ESCAPING = "escaping"
     KEEPING_MOVE = "keeping_move"
 
@@ -52,11 +59,17 @@ class Chosen(Enum):
 @dataclass(frozen=True)
 class PlannerState:
     """The mode and the values it needs: ``anchor`` (x m, y m, θ rad) where REVERSING or
-    ESCAPING began; ``move`` (vx m/s, vθ rad/s) the move KEEPING_MOVE commands again."""
+    ESCAPING began or REVERSING stopped (REVERSE_BLOCKED); ``move`` (vx m/s, vθ rad/s) the
+    move KEEPING_MOVE commands again."""
 
     mode: Mode = Mode.NORMAL
     anchor: Pose = (0.0, 0.0, 0.0)
     move: tuple[float, float] | None = None
+
+    @property
+    def may_reverse(self) -> bool:
+        """May this cycle take a backward arc (``reverse_when_blocked``)?"""
+        return not self.escaping and self.mode is not Mode.REVERSE_BLOCKED
 
     @property
     def escaping(self) -> bool:
@@ -110,10 +123,15 @@ def next_state(state: PlannerState, seen: Observed, resets: Resets) -> PlannerSt
        extension ``reverse_when_blocked``).
     3. BACK_UP or BODY_SAFE outside escape mode: escape mode begins at this pose (upstream:
        only "when the planner has given a valid goal point", hence not on NO_PATH).
-    4. In escape mode and farther than escape_reset_dist / escape_reset_theta from its anchor
+    4. REVERSING that did not reverse this cycle within escape_reset_dist of its anchor:
+       REVERSE_BLOCKED at this pose; REVERSE_BLOCKED until the heading is escape_reset_theta
+       from its anchor's (extension: the robot shuttled 2–15 cm forward and back between a
+       wall behind and a goal behind, for minutes, where its footprint beside a wall could not
+       turn: NLB run_000 and office_a run_002 of the fidelity campaign ended stuck).
+    5. In escape mode and farther than escape_reset_dist / escape_reset_theta from its anchor
        after any other command: NORMAL (upstream); outside escape mode: NORMAL (a REVERSING
-       robot that did not reverse this cycle stops reversing).
-    5. Otherwise escape mode goes on: KEEPING_MOVE with the move after BODY_SAFE (extension
+       robot that did not reverse this cycle past escape_reset_dist stops reversing).
+    6. Otherwise escape mode goes on: KEEPING_MOVE with the move after BODY_SAFE (extension
        ``escape_footprint_margin``), else ESCAPING (a kept move that is no longer clear or a
        fresh straight escape ends the keeping).
     """
@@ -124,6 +142,11 @@ def next_state(state: PlannerState, seen: Observed, resets: Resets) -> PlannerSt
         return PlannerState(Mode.REVERSING, anchor)
     if seen.chosen in (Chosen.BACK_UP, Chosen.BODY_SAFE) and not state.escaping:
         state = PlannerState(Mode.ESCAPING, seen.pose)
+    if reverse_committed(state, seen.pose, resets):
+        return PlannerState(Mode.REVERSE_BLOCKED, seen.pose)
+    if (state.mode is Mode.REVERSE_BLOCKED
+            and abs(wrap_angle(seen.pose[2] - state.anchor[2])) <= resets.theta):
+        return state
     if not state.escaping or past_escape_reset(state.anchor, seen.pose, resets):
         return PlannerState()
     if seen.chosen is Chosen.BODY_SAFE:

@@ -181,7 +181,7 @@ class TrajectoryPlanner:
             best = self._best_forward(costmap, pose, vel, window, footprint)
         forward = best
         best = self._in_place(costmap, pose, vel, best, window, footprint)
-        if c.reverse_when_blocked and not self.state.escaping and best is forward:
+        if c.reverse_when_blocked and self.state.may_reverse and best is forward:
             reverse = self._reverse(costmap, pose, vel, best, window, footprint)
             if reverse is not None:
                 return reverse, Chosen.REVERSE
