@@ -127,7 +127,7 @@ def test_reversing_is_committed_for_escape_reset_dist_then_ends():
 
 def test_reverse_cut_short_by_a_wall_behind_drives_on_until_the_robot_can_turn():
     """REVERSE_BLOCKED: in a corridor too narrow to turn, with the goal behind and a wall
-    0.4 m behind the robot, the reverse stops 5 cm after it began; the robot then drives
+    0.45 m behind the robot's centre, the reverse stops 5 cm after it began; the robot then drives
     forward past escape_reset_dist (0.1 m) instead of reversing again, which a planner without
     that memory does there (the 2 cm shuttle of NLB run_000, stuck for 511 s)."""
     cm, pose, _ = narrow_corridor_facing_away()
