@@ -95,10 +95,15 @@ class Resets:
     theta: float
 
 
+def turned_past_reset(anchor: Pose, pose: Pose, resets: Resets) -> bool:
+    """Heading more than resets.theta rad from ``anchor``'s."""
+    return abs(wrap_angle(pose[2] - anchor[2])) > resets.theta
+
+
 def past_escape_reset(anchor: Pose, pose: Pose, resets: Resets) -> bool:
     """Farther than resets.dist m or resets.theta rad from ``anchor`` (escape mode ends)."""
     return (math.hypot(pose[0] - anchor[0], pose[1] - anchor[1]) > resets.dist
-            or abs(wrap_angle(pose[2] - anchor[2])) > resets.theta)
+            or turned_past_reset(anchor, pose, resets))
 
 
 def reverse_committed(state: PlannerState, pose: Pose, resets: Resets) -> bool:
@@ -144,8 +149,8 @@ def next_state(state: PlannerState, seen: Observed, resets: Resets) -> PlannerSt
         state = PlannerState(Mode.ESCAPING, seen.pose)
     if reverse_committed(state, seen.pose, resets):
         return PlannerState(Mode.REVERSE_BLOCKED, seen.pose)
-    if (state.mode is Mode.REVERSE_BLOCKED
-            and abs(wrap_angle(seen.pose[2] - state.anchor[2])) <= resets.theta):
+    if state.mode is Mode.REVERSE_BLOCKED and not turned_past_reset(state.anchor, seen.pose,
+                                                                    resets):
         return state
     if not state.escaping or past_escape_reset(state.anchor, seen.pose, resets):
         return PlannerState()
