@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Run (or resume) one of the project's committed data-collection campaigns.
 #
-#   tools/run_campaign.sh NAME [--jobs K] [--runs N]
+#   tools/run_campaign.sh NAME [--jobs K] [--runs N] [--part fit|judge]
 #
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
-#       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | robots | robots_rep3 |
+#       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | fidelity_seed_study_2 |
+#       robots | robots_rep3 |
 #       robots_more | robots_configs2 | robots_rep4 | robots_res025 | robots_res100 |
 #       karto_seed_study | karto_robots
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
@@ -21,6 +22,12 @@
 #              campaign whose settings the robots campaign and own-realistic use. Since
 #              2026-12-05 every seed-study building with a plan (44): the buildings of its
 #              parts.yaml, the 17 the compute level was fitted on and the 27 that judge it.
+#   fidelity_seed_study_2 (issue #41, 2026-12-06): fidelity_seed_study's buildings, parts and
+#              settings on the collection chain since aec4858 (the older campaigns predate its
+#              navigation change, data/campaigns/README.md); same base seed, so a run the change
+#              does not reach repeats its fidelity_seed_study record. `--part fit` collects the
+#              fitted-on buildings only (the fitted setting is checked on them before any judged
+#              run is collected), `--part judge` the others.
 #   karto_seed_study (2026-12-05): the fidelity campaign's buildings (its parts.yaml) explored by
 #              the same chain with Karto as slam_toolbox's async node in real time
 #              (config/fidelity/seed_study_karto.yaml), 3 runs each, breadth-first.
@@ -53,13 +60,14 @@
 # finished runs are never redone, so the command can be repeated in every working period.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-NAME="${1:?usage: tools/run_campaign.sh NAME [--jobs K] [--runs N]}"; shift
-JOBS=2; RUNS=5
-case "$NAME" in fidelity_sizes*|fidelity_seed_study|karto_seed_study) RUNS=3 ;; esac   # issue #16: >= 3 runs per building
+NAME="${1:?usage: tools/run_campaign.sh NAME [--jobs K] [--runs N] [--part fit|judge]}"; shift
+JOBS=2; RUNS=5; PART=""
+case "$NAME" in fidelity_sizes*|fidelity_seed_study*|karto_seed_study) RUNS=3 ;; esac   # issue #16: >= 3 runs per building
 while [ $# -gt 0 ]; do
   case "$1" in
     --jobs) JOBS="$2"; shift 2 ;;
     --runs) RUNS="$2"; shift 2 ;;
+    --part) PART="$2"; shift 2 ;;
     *) echo "run_campaign: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -86,7 +94,8 @@ case "$NAME" in
   fidelity_fixed_60) SETTINGS="$ROOT/config/fidelity/fixed_60.yaml"; WITH_SHIPPED=0 ;;
   fidelity_sizes) SETTINGS="$ROOT/config/fidelity/sizes.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_sizes_r2) SETTINGS="$ROOT/config/fidelity/sizes_rebuild2.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
-  fidelity_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  fidelity_seed_study|fidelity_seed_study_2) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"
+          WITH_SHIPPED=0; WITH_LARGE=1 ;;
   karto_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
   karto_robots) SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design.yaml" --runs 4) ;;
@@ -103,7 +112,15 @@ case "$NAME" in
   robots_res025|robots_res100) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"
           WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_${NAME#robots_}.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots)" >&2; exit 2 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots)" >&2; exit 2 ;;
+esac
+case "$PART" in
+  "") ;;
+  fit|judge) case "$NAME" in fidelity_seed_study*|karto_seed_study) ;;
+               *) echo "run_campaign: --part only applies to the campaigns with parts.yaml" >&2
+                  exit 2 ;;
+             esac ;;
+  *) echo "run_campaign: --part must be fit or judge, got '$PART'" >&2; exit 2 ;;
 esac
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
@@ -115,11 +132,11 @@ WORLDS_DIR="$ROOT/out/thesis_worlds"
 BUILDINGS="$THESIS_BUILDINGS"
 [ "$WITH_LARGE" = 1 ] && BUILDINGS="$THESIS_BUILDINGS $LARGE_BUILDINGS"
 case "$NAME" in
-  fidelity_seed_study|karto_seed_study)   # the fidelity campaign's parts: fitted-on, then judged
+  fidelity_seed_study*|karto_seed_study)   # the fidelity campaign's parts: fitted-on, then judged
     BUILDINGS="$(python -c 'import sys, yaml
 parts = yaml.safe_load(open(sys.argv[1]))["parts"]
-print(" ".join(w for part in parts.values() for w in part))' \
-      "$ROOT/data/campaigns/fidelity_seed_study/parts.yaml")" ;;
+print(" ".join(w for name, part in parts.items() if sys.argv[2] in ("", name) for w in part))' \
+      "$ROOT/data/campaigns/fidelity_seed_study/parts.yaml" "$PART")" ;;
   robots_more) BUILDINGS="$MORE_ROBOT_BUILDINGS" ;;
   robots*|karto_robots) BUILDINGS="$ROBOT_BUILDINGS" ;;
 esac
