@@ -21,7 +21,7 @@ def compose(a, b) -> np.ndarray:
     x = a[..., 0] + c * b[..., 0] - s * b[..., 1]
     y = a[..., 1] + s * b[..., 0] + c * b[..., 1]
     th = wrap_angle(a[..., 2] + b[..., 2])
-    return np.stack([x, y, th], axis=-1)
+    return _pose_of(x, y, th)
 
 
 def inverse(a) -> np.ndarray:
@@ -30,7 +30,14 @@ def inverse(a) -> np.ndarray:
     c, s = np.cos(a[..., 2]), np.sin(a[..., 2])
     x = -c * a[..., 0] - s * a[..., 1]
     y = s * a[..., 0] - c * a[..., 1]
-    return np.stack([x, y, wrap_angle(-a[..., 2])], axis=-1)
+    return _pose_of(x, y, wrap_angle(-a[..., 2]))
+
+
+def _pose_of(x, y, th) -> np.ndarray:
+    """Stack components into pose(s) (..., 3); one pose without np.stack's overhead."""
+    if np.ndim(x) == 0:
+        return np.array([x, y, th], dtype=float)
+    return np.stack([x, y, th], axis=-1)
 
 
 def ominus(b, a) -> np.ndarray:
