@@ -308,8 +308,7 @@ class Explorer:
         if (self.goal is not None and self.goal.look_around) or grid is self._retry_map:
             return True
         self._retry_map = None
-        self.blacklist = [p for p in self.blacklist
-                          if not any(p is q for q in self.forgettable)]
+        self.blacklist = [p for p in self.blacklist if all(p is not q for q in self.forgettable)]
         self.forgettable = []
         self.random_next = False
         return False
@@ -319,7 +318,9 @@ class Explorer:
         return self._near(frontier.goal, self.blacklist)
 
     def _near(self, point: np.ndarray, points: list[np.ndarray]) -> bool:
-        return any(np.hypot(*(point - p)) <= self.cfg.blacklist_radius for p in points)
+        """Is ``point`` (x, y m) within blacklist_radius of one of ``points``?"""
+        offsets = np.asarray(point, float) - np.asarray(points, float).reshape(-1, 2)
+        return bool((np.hypot(offsets[:, 0], offsets[:, 1]) <= self.cfg.blacklist_radius).any())
 
     def _stop(self, t: float, reason: str) -> None:
         if self.goal is not None:
