@@ -9,6 +9,9 @@ included; a 20 s episode first fills the tree's cache, unmeasured) and their rat
 the seed-study worlds (imported from ../shared/data into out/thesis_worlds once) or shipped
 worlds. Targets: >= 8 sim s per CPU s on every building of the campaign, >= 20 below 1,000 m2
 of free area (the episode record's ``free_area_m2``); each row says whether it meets its target.
+``still s`` is the longest time the robot stood while the explorer still ran (the record's
+``stuck.longest_still_s``): a row with hundreds of seconds there timed a robot that stood, not
+one that explored, and is to be measured again with another ``--seed``.
 
     python bench/bench_episode_speed.py                              # this tree, five buildings
     python bench/bench_episode_speed.py --all --max-sim-time 1200    # the campaign's 17 buildings
@@ -51,6 +54,7 @@ with tempfile.TemporaryDirectory() as out:
     rec = run_episode(RunSpec(world, name, 0, seed, out), settings)
 print(json.dumps({"sim_s": rec["sim_duration_s"], "distance_m": rec["distance_m"],
                   "trans_mean": rec["metric"]["trans_mean"],
+                  "still_s": (rec.get("stuck") or {}).get("longest_still_s", 0.0),
                   "free_area_m2": rec["free_area_m2"]}))
 """
 
@@ -109,7 +113,7 @@ def main(argv: Sequence[str]) -> int:
     print(f"tree {tree}, {args.max_sim_time:.0f} sim s, seed {args.seed}")
     run_building(tree, args.buildings[0], 20.0, args.seed)      # compiles the numba cache
     print(f"{'building':<40}{'free m2':>8}{'sim s':>7}{'CPU s':>8}{'sim/CPU':>9}{'target':>8}"
-          f"{'':>6}{'dist m':>8}{'trans':>8}")
+          f"{'':>6}{'dist m':>8}{'trans':>8}{'still s':>9}")
     failed = 0
     for world in args.buildings:
         r = run_building(tree, world, args.max_sim_time, args.seed)
@@ -118,7 +122,7 @@ def main(argv: Sequence[str]) -> int:
         failed += verdict == "FAIL"
         print(f"{world:<40}{r['free_area_m2']:>8.0f}{r['sim_s']:>7.0f}{r['cpu_s']:>8.1f}"
               f"{ratio:>9.2f}{'>= ' + format(target, '.0f'):>8}{verdict:>6}"
-              f"{r['distance_m']:>8.0f}{r['trans_mean']:>8.4f}", flush=True)
+              f"{r['distance_m']:>8.0f}{r['trans_mean']:>8.4f}{r['still_s']:>9.0f}", flush=True)
     print(f"{len(args.buildings) - failed} of {len(args.buildings)} buildings meet their target")
     return 0
 
