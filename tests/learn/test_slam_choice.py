@@ -51,8 +51,14 @@ def test_environment_folder_first_then_the_shipped_models(tiny_models, tmp_path,
     monkeypatch.setattr(slam_choice, "SHIPPED_MODELS", shipped)
     monkeypatch.delenv("SLAM_PREDICT_MODELS", raising=False)
     assert search_dirs() == [shipped]
-    with pytest.raises(InputError, match=f"no model of karto's error in {shipped}"):
+    with pytest.raises(InputError, match=f"no model of karto's error in {shipped}") as caught:
         find_model("karto", PLAN_KIND)
+    assert "the package ships none for karto, docs/karto.md says why" in str(caught.value)
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    with pytest.raises(InputError) as caught:
+        find_model("karto", PLAN_KIND, models_dir=empty)
+    assert "ships none" not in str(caught.value)       # the user's own folder alone
     monkeypatch.setenv("SLAM_PREDICT_MODELS", str(own))
     assert search_dirs() == [own, shipped]
     assert search_dirs(tmp_path) == [tmp_path]

@@ -36,8 +36,6 @@ TRAIN_HINTS = {
 }
 
 
-
-
 def search_dirs(models_dir: os.PathLike | str | None = None) -> list[Path]:
     """The model folders' parents searched, in order: ``models_dir`` alone when given, else
     ``$SLAM_PREDICT_MODELS`` (when set) and the package's ``models/``."""
@@ -75,8 +73,10 @@ def find_model(slam: str, kind: str, name: str = "best",
     where = " or ".join(str(d) for d in dirs)
     what = "robot-aware model" if kind == ROBOT_KIND else "model"
     for_setting = f" for the {setting} setting" if setting and kind == PLAN_KIND else ""
+    shipped = (f"; the package ships none for {slam}, docs/karto.md says why"
+               if slam != DEFAULT_SLAM and SHIPPED_MODELS in dirs else "")
     raise InputError(f"no {what} of {slam}'s error{for_setting} in {where} (a card names "
-                     f"its algorithm in 'slam', {DEFAULT_SLAM} when absent); "
+                     f"its algorithm in 'slam', {DEFAULT_SLAM} when absent{shipped}); "
                      + train_hint(slam, kind))
 
 
