@@ -53,7 +53,7 @@ def test_environment_folder_first_then_the_shipped_models(tiny_models, tmp_path,
     assert search_dirs() == [shipped]
     with pytest.raises(InputError, match=f"no model of karto's error in {shipped}") as caught:
         find_model("karto", PLAN_KIND)
-    assert "the package ships none for karto, docs/karto.md says why" in str(caught.value)
+    assert "the package ships none for karto: docs/karto.md" in str(caught.value)
     empty = tmp_path / "empty"
     empty.mkdir()
     with pytest.raises(InputError) as caught:

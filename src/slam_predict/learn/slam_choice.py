@@ -73,7 +73,7 @@ def find_model(slam: str, kind: str, name: str = "best",
     where = " or ".join(str(d) for d in dirs)
     what = "robot-aware model" if kind == ROBOT_KIND else "model"
     for_setting = f" for the {setting} setting" if setting and kind == PLAN_KIND else ""
-    shipped = (f"; the package ships none for {slam}, docs/karto.md says why"
+    shipped = (f"; the package ships none for {slam}: docs/{slam}.md"
                if slam != DEFAULT_SLAM and SHIPPED_MODELS in dirs else "")
     raise InputError(f"no {what} of {slam}'s error{for_setting} in {where} (a card names "
                      f"its algorithm in 'slam', {DEFAULT_SLAM} when absent{shipped}); "
