@@ -27,7 +27,8 @@
 #              navigation change, data/campaigns/README.md); same base seed, so a run the change
 #              does not reach repeats its fidelity_seed_study record. `--part fit` collects the
 #              fitted-on buildings only (the fitted setting is checked on them before any judged
-#              run is collected), `--part judge` the others.
+#              run is collected), `--part judge` the others; judged runs (and a run of both
+#              parts) are refused until the fit part has all its runs.
 #   karto_seed_study (2026-12-05): the fidelity campaign's buildings (its parts.yaml) explored by
 #              the same chain with Karto as slam_toolbox's async node in real time
 #              (config/fidelity/seed_study_karto.yaml), 3 runs each, breadth-first.
@@ -122,6 +123,20 @@ case "$PART" in
              esac ;;
   *) echo "run_campaign: --part must be fit or judge, got '$PART'" >&2; exit 2 ;;
 esac
+if [ "$NAME" = fidelity_seed_study_2 ] && [ "$PART" != fit ]; then
+  # the declared order: the fitted setting is checked on the whole fit part before any judged run
+  PARTS_YAML="$ROOT/data/campaigns/fidelity_seed_study/parts.yaml"
+  FIT_DONE=0; FIT_WANTED=0
+  for b in $(sed -n '/^  fit:/,/^  judge:/s/^    - //p' "$PARTS_YAML"); do
+    FIT_WANTED=$((FIT_WANTED + RUNS))
+    n=$( (find "$ROOT/data/campaigns/$NAME/$b" -name run.json 2>/dev/null || true) | wc -l)
+    FIT_DONE=$((FIT_DONE + (n < RUNS ? n : RUNS)))
+  done
+  if [ "$FIT_DONE" -lt "$FIT_WANTED" ]; then
+    echo "run_campaign: $NAME: the fit part has $FIT_DONE of its $FIT_WANTED runs; collect it first (--part fit)" >&2
+    exit 2
+  fi
+fi
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
   echo "run_campaign: $DATA_DIR/thesis/environments.csv not found (set SLAM_PREDICT_DATA)" >&2; exit 2
