@@ -1,6 +1,8 @@
 """Stop flag and signals: a batch stops at the next control step, runs are executed lazily."""
 import os
 import signal
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -101,3 +103,35 @@ def test_a_batch_outside_the_main_thread_runs_without_handlers(tmp_path):
     worker.start()
     worker.join(30)
     assert results == [2]
+
+
+def test_a_worker_started_after_the_stop_signal_gets_it_too(monkeypatch):
+    """The pool starts workers as runs are submitted: one that starts while the signal is being
+    handled is passed the signal by the next wait of the batch loop, the others not twice."""
+    killed, pids = [], [11]
+    monkeypatch.setattr("slam_predict.collect.batch.os.kill",
+                        lambda pid, signum: killed.append((pid, signum)))
+    executor = _Executor(2, None)
+    monkeypatch.setattr(executor, "_worker_pids", lambda: list(pids))
+    try:
+        executor.forward_signal(signal.SIGTERM)
+        pids.append(12)
+        executor.forward_to_late_workers(signal.SIGTERM)
+        executor.forward_to_late_workers(signal.SIGTERM)
+    finally:
+        executor.close()
+    assert killed == [(11, signal.SIGTERM), (12, signal.SIGTERM)]
+
+
+def test_a_stop_received_before_the_worker_initializer_is_kept():
+    """A forked worker handles a forwarded signal with the batch's handler until init_worker
+    runs; init_worker must not forget it."""
+    code = ("import os, signal\n"
+            "from slam_predict.collect import interrupt\n"
+            "interrupt.request_stop(signal.SIGTERM)\n"
+            "interrupt.init_worker(os.getppid())\n"
+            "print(interrupt.stop_signal())\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == str(int(signal.SIGTERM))

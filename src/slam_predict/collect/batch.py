@@ -91,6 +91,7 @@ class _Executor:
         self.client = None
         self.pool = None
         self.slots = max(1, int(jobs))
+        self.signalled: set[int] = set()   # local workers a stop signal was passed on to
         if scheduler:
             from dask.distributed import Client
             self.client = scheduler if not isinstance(scheduler, str) else Client(scheduler)
@@ -106,8 +107,19 @@ class _Executor:
     def forward_signal(self, signum: int) -> None:
         """Pass a stop signal on to the local worker processes."""
         for pid in self._worker_pids():
-            with contextlib.suppress(ProcessLookupError, PermissionError):
-                os.kill(pid, signum)
+            self._kill(pid, signum)
+
+    def forward_to_late_workers(self, signum: int) -> None:
+        """Pass a stop signal on to the workers started after it was forwarded (the pool
+        starts them as runs are submitted, so one may start while the signal is handled)."""
+        for pid in self._worker_pids():
+            if pid not in self.signalled:
+                self._kill(pid, signum)
+
+    def _kill(self, pid: int, signum: int) -> None:
+        self.signalled.add(pid)
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.kill(pid, signum)
 
     def _worker_pids(self) -> list[int]:
         processes = getattr(self.pool, "_processes", None) or {}
@@ -150,6 +162,7 @@ class _Executor:
             if not running:
                 return
             if interrupt.stop_signal() is not None:
+                self.forward_to_late_workers(interrupt.stop_signal())
                 stop_deadline = stop_deadline or time.monotonic() + STOP_WAIT_S
                 if time.monotonic() > stop_deadline:
                     self._abandon(running)

@@ -89,8 +89,11 @@ def signal_handlers(forward: Callable[[int], None] | None = None) -> Iterator[No
 
 
 def init_worker(parent_pid: int) -> None:
-    """Worker-process initializer: stop handlers, death with the parent, parent-pid check."""
-    reset()
+    """Worker-process initializer: stop handlers, death with the parent, parent-pid check.
+
+    A stop already requested is kept: a worker forked from the batch process runs the batch's
+    handler until this function replaces it, so a signal forwarded in between has set the flag
+    (clearing it here let that worker run a whole episode after the stop)."""
     _State.parent_pid = int(parent_pid)
     if sys.platform.startswith("linux"):
         try:
