@@ -123,11 +123,17 @@ case "$PART" in
              esac ;;
   *) echo "run_campaign: --part must be fit or judge, got '$PART'" >&2; exit 2 ;;
 esac
+PARTS_YAML="$ROOT/data/campaigns/fidelity_seed_study/parts.yaml"
+part_buildings() {   # the buildings of one declared part of PARTS_YAML ("": every part)
+  python3 -c 'import sys, yaml
+parts = yaml.safe_load(open(sys.argv[1]))["parts"]
+print(" ".join(w for name, part in parts.items() if sys.argv[2] in ("", name) for w in part))' \
+    "$PARTS_YAML" "$1"
+}
 if [ "$NAME" = fidelity_seed_study_2 ] && [ "$PART" != fit ]; then
   # the declared order: the fitted setting is checked on the whole fit part before any judged run
-  PARTS_YAML="$ROOT/data/campaigns/fidelity_seed_study/parts.yaml"
   FIT_DONE=0; FIT_WANTED=0
-  for b in $(sed -n '/^  fit:/,/^  judge:/s/^    - //p' "$PARTS_YAML"); do
+  for b in $(part_buildings fit); do
     FIT_WANTED=$((FIT_WANTED + RUNS))
     n=$( (find "$ROOT/data/campaigns/$NAME/$b" -name run.json 2>/dev/null || true) | wc -l)
     FIT_DONE=$((FIT_DONE + (n < RUNS ? n : RUNS)))
@@ -148,10 +154,7 @@ BUILDINGS="$THESIS_BUILDINGS"
 [ "$WITH_LARGE" = 1 ] && BUILDINGS="$THESIS_BUILDINGS $LARGE_BUILDINGS"
 case "$NAME" in
   fidelity_seed_study*|karto_seed_study)   # the fidelity campaign's parts: fitted-on, then judged
-    BUILDINGS="$(python -c 'import sys, yaml
-parts = yaml.safe_load(open(sys.argv[1]))["parts"]
-print(" ".join(w for name, part in parts.items() if sys.argv[2] in ("", name) for w in part))' \
-      "$ROOT/data/campaigns/fidelity_seed_study/parts.yaml" "$PART")" ;;
+    BUILDINGS="$(part_buildings "$PART")" ;;
   robots_more) BUILDINGS="$MORE_ROBOT_BUILDINGS" ;;
   robots*|karto_robots) BUILDINGS="$ROBOT_BUILDINGS" ;;
 esac
