@@ -21,7 +21,11 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-FULL_COVERAGE = 0.95
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "src"))
+
+from slam_predict.collect.fidelity_parts import FULL_COVERAGE, ended_stuck  # noqa: E402
+
 SAME_KEYS = ("distance_m", "rotation_rad", "coverage", "sim_duration_s")
 
 
@@ -43,8 +47,8 @@ def repeated(old: dict, new: dict) -> bool:
 
 
 def exceptional(record: dict) -> bool:
-    """Ended stuck or below FULL_COVERAGE."""
-    return record["coverage"] < FULL_COVERAGE or bool((record.get("stuck") or {}).get("stuck"))
+    """Ended stuck or below FULL_COVERAGE (the rule of ``slam-predict fidelity``)."""
+    return record["coverage"] < FULL_COVERAGE or ended_stuck(record)
 
 
 def fmt(value: float | None, digits: int) -> str:

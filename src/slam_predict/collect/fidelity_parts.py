@@ -65,6 +65,12 @@ def part_comparison(comparison: Comparison, name: str, worlds: Sequence[str]) ->
     return Comparison(f"{comparison.name}: {name}", rows, per_run)
 
 
+def ended_stuck(record: Mapping) -> bool:
+    """The run's robot was stuck: it ended ``stuck`` (before 2026-12-05) or its record says
+    ``stuck``."""
+    return record.get("stop_reason") == "stuck" or bool((record.get("stuck") or {}).get("stuck"))
+
+
 def run_ends(folders: Sequence[Path], worlds: Sequence[str]) -> dict[str, list[str]]:
     """Every finished run of ``worlds`` in the campaign ``folders`` whose robot was stuck (the
     run ended ``stuck``, as before 2026-12-05, or its record says ``stuck``) or that ended below
@@ -80,8 +86,7 @@ def run_ends(folders: Sequence[Path], worlds: Sequence[str]) -> dict[str, list[s
                 coverage = float(record.get("coverage", 1.0))
                 line = (f"{world} run {record.get('run_index', '?')} "
                         f"({record.get('stop_reason')}, coverage {coverage:.3f})")
-                if record.get("stop_reason") == "stuck" or (record.get("stuck") or {}).get(
-                        "stuck"):
+                if ended_stuck(record):
                     out["stuck"].append(line)
                 if coverage < FULL_COVERAGE:
                     out["low coverage"].append(line)
