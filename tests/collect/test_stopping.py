@@ -1,9 +1,10 @@
 """The snapshot MSE stop rule against a direct full-image computation; the stuck detector and
 the order of the limits that end a run."""
 import numpy as np
+import pytest
 
 from slam_predict.collect.stopping import (
-    STUCK_DISTANCE_M,
+    STUCK_RADIUS_M,
     SnapshotMSE,
     StopConfig,
     StuckDetector,
@@ -56,16 +57,43 @@ def test_small_buildings_use_short_interval_and_cap():
     assert stops == [False, False, True] and rule.reason == "max_snapshots"
 
 
-def test_stuck_detector_counts_from_the_last_move_of_more_than_stuck_distance():
+def test_stuck_detector_counts_from_the_last_exit_from_its_circle():
     stuck = StuckDetector()
     assert stuck.still_for(7.0) == 7.0                 # nothing seen yet: since t0
     stuck.add(1.0, 0.0, 0.0)
-    stuck.add(2.0, STUCK_DISTANCE_M * 0.99, 0.0)       # less than the distance: no progress
+    stuck.add(2.0, STUCK_RADIUS_M * 0.99, 0.0)         # inside the circle: no progress
     assert stuck.still_for(5.0) == 4.0
-    stuck.add(3.0, 0.0, STUCK_DISTANCE_M * 1.01)       # measured from the anchor, not the last
+    stuck.add(3.0, 0.0, STUCK_RADIUS_M * 1.01)         # measured from the centre, not the last
     assert stuck.still_for(5.0) == 2.0
-    stuck.add(4.0, 0.0, 0.0)                            # back more than the distance
+    stuck.add(4.0, 0.0, 0.0)                            # back out of the new circle
     assert stuck.still_for(5.0) == 1.0
+
+
+def shuttle_positions(amplitude_m: float, seconds: int) -> list[tuple[float, float, float]]:
+    """(t s, x m, y m) at 10 Hz of a robot driving 0.1 m/s back and forth over ``amplitude_m``,
+    the brute-force picture of the shuttle the rule must see (docs/notes/exploration.md)."""
+    out, x, direction = [], 0.0, 1.0
+    for step in range(seconds * 10 + 1):
+        out.append((step / 10.0, x, 0.0))
+        x += direction * 0.01
+        if x >= amplitude_m or x <= 0.0:
+            direction = -direction
+    return out
+
+
+def test_a_robot_shuttling_within_the_circle_is_stuck_however_far_it_drives():
+    """lab_intel's shuttle (0.25-0.5 m every 4 s, for good): 30 m driven in 300 s, still stuck;
+    the 0.1 m circle used before reset on every swing and never saw it."""
+    cfg = StopConfig(stuck_timeout_s=300.0)
+    detector = StuckDetector()
+    for t, x, y in shuttle_positions(0.5, 301):
+        detector.add(t, x, y)
+    assert detector.record(cfg) == {"longest_still_s": pytest.approx(301.0), "stuck": True,
+                                    "radius_m": STUCK_RADIUS_M}
+    driving = StuckDetector()                            # the same speed along a corridor
+    for step in range(3011):
+        driving.add(step / 10.0, step * 0.01, 0.0)
+    assert driving.record(cfg)["longest_still_s"] < 11.0
 
 
 def test_stop_reason_order_and_limits():
@@ -84,11 +112,13 @@ def test_a_stuck_robot_is_recorded_not_stopped():
     idle = StuckDetector()
     for t in range(0, 41):                              # standing still 0..40 s
         idle.add(float(t), 0.0, 0.0, exploring=t <= 25)  # the explorer stopped at 25 s
-    assert idle.record(cfg) == {"longest_still_s": 25.0, "stuck": False}
+    assert idle.record(cfg) == {"longest_still_s": 25.0, "stuck": False,
+                                "radius_m": STUCK_RADIUS_M}
     stuck = StuckDetector()
     stuck.add(0.0, 0.0, 0.0)
-    stuck.add(10.0, 1.0, 0.0)                           # moved: still from 10 s on
+    stuck.add(10.0, 2.0, 0.0)                           # moved: still from 10 s on
     for t in range(11, 42):
-        stuck.add(float(t), 1.0, 0.0)
-    assert stuck.record(cfg) == {"longest_still_s": 31.0, "stuck": True}
+        stuck.add(float(t), 2.0, 0.0)
+    assert stuck.record(cfg) == {"longest_still_s": 31.0, "stuck": True,
+                                 "radius_m": STUCK_RADIUS_M}
     assert stop_reason(cfg, SnapshotMSE(cfg, 60.0), 41.0, 0.0) is None   # the run goes on

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from slam_predict.collect.episode import full_extent_grid
-from slam_predict.collect.stopping import SnapshotMSE, StopConfig, grid_to_snapshot
+from slam_predict.collect.stopping import STUCK_RADIUS_M, SnapshotMSE, StopConfig, grid_to_snapshot
 from slam_predict.ros.orchestrator import MonitorSettings, RunMonitor, Sample, Unavailable
 from slam_predict.slam import OccupancyGrid
 
@@ -134,7 +134,7 @@ def test_stuck_is_recorded_only_while_exploring_and_does_not_stop_the_run():
     assert m.reason == "max_sim_time" and end == pytest.approx(100.0)
     assert m.explorer_end == {"t": 5.0, "reason": "Exploration stopped."}
     assert m.stuck.record(stop) == {"longest_still_s": pytest.approx(5.0, abs=0.11),
-                                    "stuck": False}
+                                    "stuck": False, "radius_m": STUCK_RADIUS_M}
 
 
 def test_moving_robot_is_not_stuck_and_wall_limit():

@@ -7,9 +7,10 @@ the run stops when the mean squared error between two consecutive snapshots is b
 ``mse_threshold``, or after ``max_snapshots`` snapshots.
 
 The limits that also end a run (:func:`stop_reason`, in this order after the MSE rule):
-``max_sim_time_s`` of sim time, then ``max_wall_time_s`` of wall time. A robot that makes no
-``STUCK_DISTANCE_M`` of ground-truth progress for ``stuck_timeout_s`` while the explorer still
-runs is recorded as stuck (:class:`StuckDetector`: run.json ``stuck``), but the run goes on
+``max_sim_time_s`` of sim time, then ``max_wall_time_s`` of wall time. A robot whose ground-truth
+position stays within ``STUCK_RADIUS_M`` of one point for ``stuck_timeout_s`` while the explorer
+still runs is recorded as stuck (:class:`StuckDetector`: run.json ``stuck``): standing still, and
+also shuttling back and forth without getting anywhere. The run goes on
 until the MSE rule ends it, as the seed study's orchestrator, which has no stuck rule, would
 (a stuck robot leaves the map unchanged, so the next snapshot ends the run). The in-process
 episode and the ROS path's orchestrator both apply these two functions.
@@ -25,7 +26,12 @@ import numpy as np
 from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range, check_ranges
 from slam_predict.formats.mapserver import UNKNOWN, occupancy_to_image
 
-STUCK_DISTANCE_M = 0.1   # m of ground-truth progress that resets the stuck clock
+# m: leaving a circle of this radius around the point where the robot's stuck clock started
+# resets the clock. 1 m, not the 0.1 m used before 2026-12-07 (records without ``radius_m``): a
+# robot that shuttles 0.25-0.5 m for good, REVERSE_BLOCKED forward and a blind escape back, kept
+# resetting a 0.1 m clock (docs/notes/exploration.md, 2026-12-06). Not fitted; any progress of an
+# exploring robot leaves 1 m in far less than ``stuck_timeout_s``.
+STUCK_RADIUS_M = 1.0
 TIME_EPS = 1e-6          # s: sim times are compared with this tolerance
 
 
@@ -116,8 +122,9 @@ class SnapshotMSE:
 
 
 class StuckDetector:
-    """Sim time since the robot last moved ``STUCK_DISTANCE_M`` (ground truth, m), and the
-    longest such time while the explorer was running."""
+    """Sim time since the robot last left the circle of ``STUCK_RADIUS_M`` (ground truth, m)
+    around the point where the clock started, and the longest such time while the explorer was
+    running."""
 
     def __init__(self, t0: float = 0.0):
         self._anchor: tuple | None = None
@@ -130,18 +137,19 @@ class StuckDetector:
         if exploring:
             self.longest_s = max(self.longest_s, self.still_for(t))
         if self._anchor is None or math.hypot(x - self._anchor[0],
-                                              y - self._anchor[1]) > STUCK_DISTANCE_M:
+                                              y - self._anchor[1]) > STUCK_RADIUS_M:
             self._anchor, self._anchor_t = (float(x), float(y)), float(t)
 
     def still_for(self, t: float) -> float:
-        """Sim time (s) at ``t`` since the robot last moved ``STUCK_DISTANCE_M``."""
+        """Sim time (s) at ``t`` since the robot last left its ``STUCK_RADIUS_M`` circle."""
         return t - self._anchor_t
 
     def record(self, stop: StopConfig) -> dict:
-        """run.json's ``stuck``: the longest still time while exploring (s) and whether it
-        reached ``stuck_timeout_s``."""
+        """run.json's ``stuck``: the longest time within the circle while exploring (s), whether
+        it reached ``stuck_timeout_s``, and the circle's radius (m)."""
         return {"longest_still_s": round(self.longest_s, 3),
-                "stuck": bool(self.longest_s + TIME_EPS >= stop.stuck_timeout_s)}
+                "stuck": bool(self.longest_s + TIME_EPS >= stop.stuck_timeout_s),
+                "radius_m": STUCK_RADIUS_M}
 
 
 def stop_reason(stop: StopConfig, rule: SnapshotMSE, elapsed_s: float,

@@ -17,8 +17,9 @@ the same module (:mod:`slam_predict.collect.stopping`: :class:`SnapshotMSE`,
 * the SLAM map (the latest /map) is snapshotted over the full xmin..xmax extent every
   ``interval`` s (:class:`~slam_predict.collect.stopping.SnapshotMSE`); the run stops on MSE
   convergence or after ``max_snapshots``, at ``max_sim_time_s`` or after ``max_wall_time_s``
-  of wall time; a robot without 0.1 m of ground-truth progress for ``stuck_timeout_s`` while
-  the explorer is still running is recorded as stuck (run.json ``stuck``), not stopped;
+  of wall time; a robot whose ground-truth position stays within ``STUCK_RADIUS_M`` (1 m) of
+  one point for ``stuck_timeout_s`` while the explorer still runs is recorded as stuck
+  (run.json ``stuck``), not stopped;
 * stalls are counted as in Stage: a stall starts at a sample where odometry advanced while the
   ground truth did not move at all (the simulator refused the move).
 
