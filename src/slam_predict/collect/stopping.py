@@ -27,10 +27,10 @@ from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range, che
 from slam_predict.formats.mapserver import UNKNOWN, occupancy_to_image
 
 # m: leaving a circle of this radius around the point where the robot's stuck clock started
-# resets the clock. 1 m, not the 0.1 m used before 2026-12-07 (records without ``radius_m``): a
-# robot that shuttles 0.25-0.5 m for good, REVERSE_BLOCKED forward and a blind escape back, kept
-# resetting a 0.1 m clock (docs/notes/exploration.md, 2026-12-06). Not fitted; any progress of an
-# exploring robot leaves 1 m in far less than ``stuck_timeout_s``.
+# resets the clock. Records without ``radius_m`` used 0.1 m, which a robot shuttling 0.25-0.5 m
+# for good (REVERSE_BLOCKED forward, a blind escape back) kept resetting (docs/notes/exploration.md,
+# 2026-12-06). Not fitted; any progress of an exploring robot leaves 1 m in far less than
+# ``stuck_timeout_s``.
 STUCK_RADIUS_M = 1.0
 TIME_EPS = 1e-6          # s: sim times are compared with this tolerance
 
