@@ -39,19 +39,29 @@ def test_widest_ratio_against_a_plain_search(tables):  # noqa: F811
 
 
 def test_run_ends_lists_stuck_and_incomplete_runs(tmp_path):
+    """Stuck at the end: a run stopped 'stuck' (before 2026-12-05), a record without
+    ``stuck_at_end`` that says ``stuck``, or one whose ``stuck_at_end`` says so; a robot stuck
+    for a while that got out is listed apart."""
     for world, index, reason, cov, stuck in [
             ("a", 0, "map_converged", 0.99, False), ("a", 1, "stuck", 0.99, None),
             ("a", 2, "map_converged", 0.99, True),
+            ("a", 3, "map_converged", 0.99, (True, True)),
+            ("a", 4, "map_converged", 0.99, (True, False)),
             ("b", 0, "map_converged", FULL_COVERAGE - 0.01, False), ("c", 0, "stuck", 0.5, None)]:
         folder = tmp_path / world / f"run_{index:03d}"
         folder.mkdir(parents=True)
         record = {"run_index": index, "stop_reason": reason, "coverage": cov}
-        if stuck is not None:
+        if isinstance(stuck, tuple):
+            record["stuck"] = {"longest_still_s": 400.0, "stuck": stuck[0],
+                               "stuck_at_end": stuck[1], "radius_m": 1.0}
+        elif stuck is not None:
             record["stuck"] = {"longest_still_s": 400.0 if stuck else 3.0, "stuck": stuck}
         (folder / "run.json").write_text(json.dumps(record))
     ends = run_ends([tmp_path], ["a", "b"])
     assert ends["stuck"] == ["a run 1 (stuck, coverage 0.990)",
-                             "a run 2 (map_converged, coverage 0.990)"]
+                             "a run 2 (map_converged, coverage 0.990)",
+                             "a run 3 (map_converged, coverage 0.990)"]
+    assert ends["stuck for a while, got out"] == ["a run 4 (map_converged, coverage 0.990)"]
     assert ends["low coverage"] == ["b run 0 (map_converged, coverage 0.940)"]
 
 

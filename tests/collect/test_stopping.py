@@ -89,11 +89,27 @@ def test_a_robot_shuttling_within_the_circle_is_stuck_however_far_it_drives():
     for t, x, y in shuttle_positions(0.5, 301):
         detector.add(t, x, y)
     assert detector.record(cfg) == {"longest_still_s": pytest.approx(301.0), "stuck": True,
-                                    "radius_m": STUCK_RADIUS_M}
+                                    "stuck_at_end": True, "radius_m": STUCK_RADIUS_M}
     driving = StuckDetector()                            # the same speed along a corridor
     for step in range(3011):
         driving.add(step / 10.0, step * 0.01, 0.0)
     assert driving.record(cfg)["longest_still_s"] < 11.0
+
+
+def test_a_robot_that_gets_out_was_stuck_but_did_not_end_stuck():
+    """NLB run 0 of the judged part: 349 s within 1 m, then on for another hour."""
+    cfg = StopConfig(stuck_timeout_s=300.0)
+    detector = StuckDetector()
+    for t, x, y in shuttle_positions(0.5, 350):
+        detector.add(t, x, y)
+    for step in range(1, 601):                           # then along a corridor for 60 s
+        detector.add(350.0 + step / 10.0, 0.5 + step * 0.05, 0.0)
+    record = detector.record(cfg)
+    assert record["stuck"] and not record["stuck_at_end"]
+    ended = StuckDetector()                              # the explorer ended, the robot stands
+    for t in range(0, 400):
+        ended.add(float(t), 0.0, 0.0, exploring=t < 100)
+    assert ended.record(cfg)["stuck_at_end"] is False
 
 
 def test_stop_reason_order_and_limits():
@@ -113,12 +129,12 @@ def test_a_stuck_robot_is_recorded_not_stopped():
     for t in range(0, 41):                              # standing still 0..40 s
         idle.add(float(t), 0.0, 0.0, exploring=t <= 25)  # the explorer stopped at 25 s
     assert idle.record(cfg) == {"longest_still_s": 25.0, "stuck": False,
-                                "radius_m": STUCK_RADIUS_M}
+                                "stuck_at_end": False, "radius_m": STUCK_RADIUS_M}
     stuck = StuckDetector()
     stuck.add(0.0, 0.0, 0.0)
     stuck.add(10.0, 2.0, 0.0)                           # moved: still from 10 s on
     for t in range(11, 42):
         stuck.add(float(t), 2.0, 0.0)
     assert stuck.record(cfg) == {"longest_still_s": 31.0, "stuck": True,
-                                 "radius_m": STUCK_RADIUS_M}
+                                 "stuck_at_end": True, "radius_m": STUCK_RADIUS_M}
     assert stop_reason(cfg, SnapshotMSE(cfg, 60.0), 41.0, 0.0) is None   # the run goes on

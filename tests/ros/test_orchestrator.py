@@ -134,7 +134,8 @@ def test_stuck_is_recorded_only_while_exploring_and_does_not_stop_the_run():
     assert m.reason == "max_sim_time" and end == pytest.approx(100.0)
     assert m.explorer_end == {"t": 5.0, "reason": "Exploration stopped."}
     assert m.stuck.record(stop) == {"longest_still_s": pytest.approx(5.0, abs=0.11),
-                                    "stuck": False, "radius_m": STUCK_RADIUS_M}
+                                    "stuck": False, "stuck_at_end": False,
+                                    "radius_m": STUCK_RADIUS_M}
 
 
 def test_moving_robot_is_not_stuck_and_wall_limit():

@@ -5,8 +5,9 @@ navigator ← explorer) is stepped at ``interval_sim`` (10 Hz). At every step th
 pose, the odometry pose and the SLAM pose (map→odom ∘ odom→base_link, not only at processed
 scans) are recorded. The stop rule (:mod:`slam_predict.collect.stopping`) snapshots the SLAM map
 over its full xmin..xmax extent; when no frontier is left the robot idles and the MSE rule still
-decides, as in the thesis. A stuck robot, the sim-time cap and the wall-clock cap also end a
-run; the reason is recorded. The record is written into a temporary folder renamed at the end.
+decides, as in the thesis. The sim-time cap and the wall-clock cap also end a run (the reason
+is recorded); a stuck robot is recorded (run.json ``stuck``), not stopped. The record is
+written into a temporary folder renamed at the end.
 """
 from __future__ import annotations
 

@@ -11,7 +11,7 @@ A parts file (YAML) names the campaign's building subsets before the judged part
 Each part is compared with the seed study on its own (:func:`part_comparison`) against the
 chain's bars (:data:`CHAIN_BARS`: ε_t, ε_r and path median ratios, ε_t Spearman, the size trend
 and the widest per-building ε_t and path ratio), and its run ends are checked
-(:func:`run_end_lines`: no run ends ``stuck``, every run covers ≥ :data:`FULL_COVERAGE` of the
+(:func:`run_ends`: no run ends with its robot stuck, every run covers ≥ :data:`FULL_COVERAGE` of the
 reachable floor).
 """
 from __future__ import annotations
@@ -66,16 +66,28 @@ def part_comparison(comparison: Comparison, name: str, worlds: Sequence[str]) ->
 
 
 def ended_stuck(record: Mapping) -> bool:
-    """The run's robot was stuck: it ended ``stuck`` (before 2026-12-05) or its record says
-    ``stuck``."""
-    return record.get("stop_reason") == "stuck" or bool((record.get("stuck") or {}).get("stuck"))
+    """The run ended with its robot stuck: it stopped ``stuck`` (before 2026-12-05), or its
+    record says ``stuck_at_end``, or, in records without that key (before 2026-12-06), that
+    the robot was ``stuck`` at some time."""
+    stuck = record.get("stuck") or {}
+    return record.get("stop_reason") == "stuck" or bool(stuck.get("stuck_at_end",
+                                                                  stuck.get("stuck")))
+
+
+def got_out(record: Mapping) -> bool:
+    """The robot was stuck for ``stuck_timeout_s`` at some time but not when the run ended
+    (records since 2026-12-06 only)."""
+    stuck = record.get("stuck") or {}
+    return bool(stuck.get("stuck")) and stuck.get("stuck_at_end") is False
 
 
 def run_ends(folders: Sequence[Path], worlds: Sequence[str]) -> dict[str, list[str]]:
-    """Every finished run of ``worlds`` in the campaign ``folders`` whose robot was stuck (the
-    run ended ``stuck``, as before 2026-12-05, or its record says ``stuck``) or that ended below
-    :data:`FULL_COVERAGE`, as 'world run k (reason, coverage c)' lines by kind."""
-    out: dict[str, list[str]] = {"stuck": [], "low coverage": []}
+    """Every finished run of ``worlds`` in the campaign ``folders`` that ended with its robot
+    stuck (:func:`ended_stuck`), that was stuck for a while and got out (:func:`got_out`), or
+    that ended below :data:`FULL_COVERAGE`, as 'world run k (reason, coverage c)' lines by
+    kind."""
+    out: dict[str, list[str]] = {"stuck": [], "stuck for a while, got out": [],
+                                 "low coverage": []}
     wanted = set(worlds)
     for folder in folders:
         store = RunStore(folder)
@@ -88,6 +100,8 @@ def run_ends(folders: Sequence[Path], worlds: Sequence[str]) -> dict[str, list[s
                         f"({record.get('stop_reason')}, coverage {coverage:.3f})")
                 if ended_stuck(record):
                     out["stuck"].append(line)
+                if got_out(record):
+                    out["stuck for a while, got out"].append(line)
                 if coverage < FULL_COVERAGE:
                     out["low coverage"].append(line)
     return out

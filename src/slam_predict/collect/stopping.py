@@ -123,19 +123,20 @@ class SnapshotMSE:
 
 class StuckDetector:
     """Sim time since the robot last left the circle of ``STUCK_RADIUS_M`` (ground truth, m)
-    around the point where the clock started, and the longest such time while the explorer was
-    running."""
+    around the point where the clock started, the longest such time while the explorer was
+    running, and that time at the last position given (0 once the explorer has ended)."""
 
     def __init__(self, t0: float = 0.0):
         self._anchor: tuple | None = None
         self._anchor_t = float(t0)
         self.longest_s = 0.0
+        self.at_end_s = 0.0
 
     def add(self, t: float, x: float, y: float, exploring: bool = True) -> None:
         """The ground-truth position (m) at sim time ``t`` (s); times must not decrease.
         ``exploring``: the explorer still runs (only then does standing still count)."""
-        if exploring:
-            self.longest_s = max(self.longest_s, self.still_for(t))
+        self.at_end_s = self.still_for(t) if exploring else 0.0
+        self.longest_s = max(self.longest_s, self.at_end_s)
         if self._anchor is None or math.hypot(x - self._anchor[0],
                                               y - self._anchor[1]) > STUCK_RADIUS_M:
             self._anchor, self._anchor_t = (float(x), float(y)), float(t)
@@ -146,9 +147,11 @@ class StuckDetector:
 
     def record(self, stop: StopConfig) -> dict:
         """run.json's ``stuck``: the longest time within the circle while exploring (s), whether
-        it reached ``stuck_timeout_s``, and the circle's radius (m)."""
+        it reached ``stuck_timeout_s`` (``stuck``: at some time; ``stuck_at_end``: still so when
+        the run ended, the robot never got out), and the circle's radius (m)."""
         return {"longest_still_s": round(self.longest_s, 3),
                 "stuck": bool(self.longest_s + TIME_EPS >= stop.stuck_timeout_s),
+                "stuck_at_end": bool(self.at_end_s + TIME_EPS >= stop.stuck_timeout_s),
                 "radius_m": STUCK_RADIUS_M}
 
 
