@@ -28,10 +28,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
+from slam_predict.collect.fidelity_parts import FULL_COVERAGE  # noqa: E402
 from slam_predict.formats.tum import read_tum  # noqa: E402
 from slam_predict.geometry import compose  # noqa: E402
-
-FULL_COVERAGE = 0.95   # a run below it did not explore the building
 
 
 def online_error(run: Path) -> tuple[np.ndarray, np.ndarray]:

@@ -3,10 +3,12 @@
 
 For each such run (``WORLD/run_NNN/`` with run.json, map.pgm/map.yaml, slam.tum and
 ground_truth.tum: the run folder as collected, not only the committed run.json): coverage,
-stop reason, the stuck record (longest time without 0.1 m of progress), how the explorer
-ended, path, and the online SLAM pose error (largest, and at the end: slam.tum put on the true
-start, `bench_pose_jumps.online_error`). With ``--plot PNG``, one panel per run: the final SLAM
-map with the online trajectory, its end marked. docs/fidelity.md "Runs that end stuck or short".
+stop reason, whether it ended stuck (``slam-predict fidelity``'s rule,
+``fidelity_parts.ended_stuck``) and the stuck record's longest time within its circle, how
+the explorer ended, path, and the online SLAM pose error (largest, and at the end: slam.tum
+put on the true start, `bench_pose_jumps.online_error`). With ``--plot PNG``, one panel per
+run: the final SLAM map with the online trajectory, its end marked. docs/fidelity.md "Runs that
+end stuck or short".
 
     python bench/bench_run_exceptions.py data/campaigns/fidelity_seed_study [--plot PNG]
 """
@@ -24,17 +26,18 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "bench"))
 
-from bench_pose_jumps import FULL_COVERAGE, online_error  # noqa: E402
+from bench_pose_jumps import online_error  # noqa: E402
 
+from slam_predict.collect.fidelity_parts import FULL_COVERAGE, ended_stuck  # noqa: E402
 from slam_predict.formats.tum import read_tum  # noqa: E402
 
 
 def exception_runs(campaign: Path) -> list[Path]:
-    """Run folders whose run.json is below FULL_COVERAGE or records the robot stuck."""
+    """Run folders whose run.json is below FULL_COVERAGE or ended with the robot stuck."""
     out = []
     for path in sorted(campaign.glob("*/run_*/run.json")):
         record = json.loads(path.read_text())
-        if record["coverage"] < FULL_COVERAGE or (record.get("stuck") or {}).get("stuck"):
+        if record["coverage"] < FULL_COVERAGE or ended_stuck(record):
             out.append(path.parent)
     return out
 
@@ -48,7 +51,7 @@ def row(run: Path) -> dict:
             "stop": record["stop_reason"], "sim_s": record["sim_duration_s"],
             "path_m": record["distance_m"],
             "still_s": (record.get("stuck") or {}).get("longest_still_s", math.nan),
-            "stuck": bool((record.get("stuck") or {}).get("stuck")),
+            "stuck": ended_stuck(record),
             "explorer": f"{end['reason']} at {end['t']:.0f} s" if end else "running",
             "max_error_m": float(error.max()), "max_error_s": float(t[int(np.argmax(error))]),
             "end_error_m": float(error[-1])}
@@ -87,8 +90,8 @@ def main(argv=None) -> int:
         print(f"{run.parent.name}/{run.name}: its trajectories and map are not in this folder "
               "(collected elsewhere; re-run its seed to see them)")
     rows = [row(run) for run in runs]
-    print("| building | run | coverage | stuck (longest still, s) | explorer | sim s | path m | "
-          "online pose error: max (at s) / end, m |")
+    print("| building | run | coverage | ended stuck (longest within the circle, s) | explorer "
+          "| sim s | path m | online pose error: max (at s) / end, m |")
     print("|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['world']} | {r['run']} | {r['coverage']:.3f} | "
