@@ -120,3 +120,30 @@ def test_roomy_unknown_equals_the_morphological_definition(width):
         assert (roomy_unknown(unknown, width) == reference_roomy_unknown(unknown, width)).all()
     sliver = grazed_wall_grid().data == -1
     assert (roomy_unknown(sliver, width) == reference_roomy_unknown(sliver, width)).all()
+
+
+def reference_frontier_mask(data: np.ndarray, width: int) -> np.ndarray:
+    """The definition with whole-array numpy: free cells with a 4-neighbour in the
+    morphological roomy unknown (neighbours beyond the array do not count)."""
+    unknown = data == -1
+    roomy = reference_roomy_unknown(unknown, width) if width > 1 else unknown
+    near = np.zeros_like(roomy)
+    near[1:, :] |= roomy[:-1, :]
+    near[:-1, :] |= roomy[1:, :]
+    near[:, 1:] |= roomy[:, :-1]
+    near[:, :-1] |= roomy[:, 1:]
+    return (data == 0) & near
+
+
+@pytest.mark.parametrize("width", [0, 1, 2, 5, 6])
+def test_frontier_mask_equals_the_definition_on_random_grids(width):
+    """Random grids of free, unknown and occupied cells with unknown blocks, some touching the
+    border, and a non-contiguous slice of one (as the known box is)."""
+    rng = np.random.default_rng(100 + width)
+    for _ in range(20):
+        data = rng.choice(np.array([-1, 0, 100], np.int8), size=(41, 67), p=[0.4, 0.45, 0.15])
+        r, c = rng.integers(0, 30, 2)
+        data[r:r + 12, c:c + 20] = -1
+        assert (frontier_mask(data, width) == reference_frontier_mask(data, width)).all()
+        part = data[3:37, 5:60]
+        assert (frontier_mask(part, width) == reference_frontier_mask(part, width)).all()

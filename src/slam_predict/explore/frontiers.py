@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from slam_predict.explore import kernels as frontier_kernels
 from slam_predict.nav import kernels
 from slam_predict.nav.layered import changed_box
 
@@ -47,34 +48,17 @@ class Frontier:
 def frontier_mask(data: np.ndarray, min_unknown_width: int = 0) -> np.ndarray:
     """Free cells with at least one unknown 4-neighbour (bool, same shape); with
     ``min_unknown_width`` (cells) > 1, only unknown cells joined to an unknown square of that
-    side count (:func:`roomy_unknown`)."""
-    unknown = roomy_unknown(data == -1, min_unknown_width)
-    near = np.zeros_like(unknown)
-    near[1:, :] |= unknown[:-1, :]
-    near[:-1, :] |= unknown[1:, :]
-    near[:, 1:] |= unknown[:, :-1]
-    near[:, :-1] |= unknown[:, 1:]
-    return (data == 0) & near
+    side count (:func:`roomy_unknown`). One numba pass
+    (:func:`slam_predict.explore.kernels.frontier_cells`)."""
+    return frontier_kernels.frontier_cells(np.ascontiguousarray(data, dtype=np.int8),
+                                           int(min_unknown_width))
 
 
 def roomy_unknown(unknown: np.ndarray, width: int) -> np.ndarray:
     """The cells of ``unknown`` (bool) 4-connected, through ``unknown`` cells, to a
     ``width`` × ``width`` square of unknown cells; cells beyond the array count as unknown.
-    ``width`` <= 1 returns ``unknown`` itself."""
-    if width <= 1:
-        return unknown
-    # binary erosion by a square of ones (outside = 1), as a separable minimum filter
-    core = ndimage.minimum_filter(unknown.view(np.uint8), size=width, mode="constant",
-                                  cval=1).view(bool)
-    if not core.any():
-        return core
-    # propagation from the squares through unknown cells: the 4-connected unknown components
-    # that hold a square cell
-    labels, _ = ndimage.label(unknown)
-    keep = np.zeros(labels.max() + 1, bool)
-    keep[labels[core]] = True
-    keep[0] = False
-    return keep[labels]
+    ``width`` <= 1 returns a copy of ``unknown``."""
+    return frontier_kernels.roomy_unknown(np.ascontiguousarray(unknown, dtype=bool), int(width))
 
 
 def known_box(data: np.ndarray, grow: int = 1):

@@ -1,0 +1,113 @@
+"""numba kernels of the frontier search: the frontier cells of an occupancy grid in one pass.
+
+Grids are occupancy values (int8: -1 unknown, 0 free, > 0 occupied), indexed ``[row, col]``.
+:func:`roomy_unknown` and :func:`frontier_cells` compute what
+:func:`slam_predict.explore.frontiers.frontier_mask` defines (its docstring), cell for cell, with
+prefix sums for the square erosion and a flood fill for the propagation instead of scipy's
+filter and two labelings. ``warmup()`` compiles them (listed in :mod:`slam_predict.warmup`).
+"""
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+
+@numba.njit(cache=True)
+def _square_cores(unknown: np.ndarray, width: int) -> np.ndarray:
+    """Cells whose ``width`` × ``width`` window (rows and columns from ``i - width // 2``,
+    scipy's window for a filter of that size) holds no known cell; cells beyond the array
+    count as unknown. Row prefix sums of known cells, then column prefix sums of the rows'
+    verdicts (uint8 [h, w]: 1 = a core cell)."""
+    h, w = unknown.shape
+    lo = width // 2
+    row_known = np.zeros((h, w), np.uint8)          # a known cell in the row window
+    prefix = np.zeros(w + 1, np.int32)
+    for r in range(h):
+        for c in range(w):
+            prefix[c + 1] = prefix[c] + (0 if unknown[r, c] else 1)
+        for c in range(w):
+            a = max(c - lo, 0)
+            b = min(c - lo + width, w)
+            if a < b and prefix[b] > prefix[a]:
+                row_known[r, c] = 1
+    column = np.zeros((h + 1, w), np.int32)          # column prefix sums of row_known
+    for r in range(h):
+        for c in range(w):
+            column[r + 1, c] = column[r, c] + row_known[r, c]
+    core = np.zeros((h, w), np.uint8)
+    for r in range(h):
+        a = max(r - lo, 0)
+        b = min(r - lo + width, h)
+        if a >= b:
+            for c in range(w):
+                core[r, c] = 1
+            continue
+        for c in range(w):
+            if column[b, c] == column[a, c]:
+                core[r, c] = 1
+    return core
+
+
+@numba.njit(cache=True)
+def roomy_unknown(unknown: np.ndarray, width: int) -> np.ndarray:
+    """The cells of ``unknown`` (bool [h, w]) 4-connected, through unknown cells, to a
+    ``width`` × ``width`` square of unknown cells (cells beyond the array count as unknown);
+    ``width`` <= 1: ``unknown`` itself."""
+    h, w = unknown.shape
+    if width <= 1:
+        return unknown.copy()
+    core = _square_cores(unknown, width)
+    roomy = np.zeros((h, w), np.bool_)
+    stack_r = np.empty(h * w, np.int32)
+    stack_c = np.empty(h * w, np.int32)
+    for r in range(h):
+        for c in range(w):
+            if core[r, c] == 0 or roomy[r, c]:
+                continue
+            roomy[r, c] = True                       # a square's cell: flood from it
+            stack_r[0], stack_c[0] = r, c
+            top = 1
+            while top > 0:
+                top -= 1
+                rr, cc = stack_r[top], stack_c[top]
+                if rr > 0 and unknown[rr - 1, cc] and not roomy[rr - 1, cc]:
+                    roomy[rr - 1, cc] = True
+                    stack_r[top], stack_c[top] = rr - 1, cc
+                    top += 1
+                if rr + 1 < h and unknown[rr + 1, cc] and not roomy[rr + 1, cc]:
+                    roomy[rr + 1, cc] = True
+                    stack_r[top], stack_c[top] = rr + 1, cc
+                    top += 1
+                if cc > 0 and unknown[rr, cc - 1] and not roomy[rr, cc - 1]:
+                    roomy[rr, cc - 1] = True
+                    stack_r[top], stack_c[top] = rr, cc - 1
+                    top += 1
+                if cc + 1 < w and unknown[rr, cc + 1] and not roomy[rr, cc + 1]:
+                    roomy[rr, cc + 1] = True
+                    stack_r[top], stack_c[top] = rr, cc + 1
+                    top += 1
+    return roomy
+
+
+@numba.njit(cache=True)
+def frontier_cells(data: np.ndarray, width: int) -> np.ndarray:
+    """Free cells (0) of ``data`` (int8 [h, w]) with a 4-neighbour in :func:`roomy_unknown` of
+    its unknown cells (-1); neighbours beyond the array do not count."""
+    h, w = data.shape
+    roomy = roomy_unknown(data == -1, width)
+    out = np.zeros((h, w), np.bool_)
+    for r in range(h):
+        for c in range(w):
+            if data[r, c] == 0 and ((r > 0 and roomy[r - 1, c]) or (r + 1 < h and roomy[r + 1, c])
+                                    or (c > 0 and roomy[r, c - 1])
+                                    or (c + 1 < w and roomy[r, c + 1])):
+                out[r, c] = True
+    return out
+
+
+def warmup() -> None:
+    """Compile the kernels on a tiny grid."""
+    grid = np.full((8, 8), -1, np.int8)
+    grid[2:6, 2:6] = 0
+    frontier_cells(grid, 3)
+    frontier_cells(grid, 0)
