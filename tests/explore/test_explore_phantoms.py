@@ -147,3 +147,29 @@ def test_frontier_mask_equals_the_definition_on_random_grids(width):
         assert (frontier_mask(data, width) == reference_frontier_mask(data, width)).all()
         part = data[3:37, 5:60]
         assert (frontier_mask(part, width) == reference_frontier_mask(part, width)).all()
+
+
+def reference_clusters(mask: np.ndarray) -> list[np.ndarray]:
+    """scipy's 8-connected labelling: each label's (row, col) cells in raster order, by label."""
+    from scipy import ndimage
+    labels, count = ndimage.label(mask, structure=np.ones((3, 3), bool))
+    rows, cols = np.nonzero(labels)
+    return [np.stack([rows[labels[rows, cols] == k], cols[labels[rows, cols] == k]], axis=1)
+            for k in range(1, count + 1)]
+
+
+def test_clusters_are_scipy_labels_in_their_order():
+    """Random masks, sparse to dense, and a frontier mask: the same components, numbered in
+    scipy's order, with the same cells in the same order."""
+    from slam_predict.explore.kernels import clusters_in_raster_order
+    rng = np.random.default_rng(7)
+    masks = [rng.random((45, 70)) < p for p in (0.02, 0.1, 0.3, 0.6, 0.9)]
+    masks.append(frontier_mask(grazed_wall_grid().data, 0))
+    masks.append(np.zeros((5, 5), bool))
+    for mask in masks:
+        rows, cols, starts = clusters_in_raster_order(mask)
+        ours = [np.stack([rows[a:b], cols[a:b]], axis=1) for a, b in zip(starts[:-1],
+                                                                          starts[1:], strict=True)]
+        theirs = reference_clusters(mask)
+        assert len(ours) == len(theirs)
+        assert all((o == t).all() for o, t in zip(ours, theirs, strict=True))

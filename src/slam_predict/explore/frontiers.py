@@ -27,8 +27,6 @@ from slam_predict.explore import kernels as frontier_kernels
 from slam_predict.nav import kernels
 from slam_predict.nav.layered import changed_box
 
-EIGHT = np.ones((3, 3), bool)
-
 
 @dataclass
 class Frontier:
@@ -104,25 +102,19 @@ def frontier_clusters(grid, min_frontier_size: float,
         return []
     r0, r1, c0, c1 = box
     mask = frontier_mask(data[r0:r1, c0:c1], width)
-    labels, count = ndimage.label(mask, structure=EIGHT)
-    if count == 0:
-        return []
+    # 8-connected clusters in ndimage.label's order, cells in raster order within each
+    rows, cols, starts = frontier_kernels.clusters_in_raster_order(mask)
     ox, oy = float(grid.origin[0]), float(grid.origin[1])
-    rows, cols = np.nonzero(labels)
-    ids = labels[rows, cols]
-    order = np.argsort(ids, kind="stable")
-    rows, cols, ids = rows[order], cols[order], ids[order]
-    splits = np.nonzero(np.diff(ids))[0] + 1
     xs = ox + (cols + c0 + 0.5) * res
     ys = oy + (rows + r0 + 0.5) * res
     out: list[Cluster] = []
-    for part in np.split(np.arange(len(ids)), splits):
-        if len(part) * res < min_frontier_size:
+    for a, b in zip(starts[:-1], starts[1:], strict=True):
+        if (b - a) * res < min_frontier_size:
             continue
-        cells = np.stack([xs[part], ys[part]], axis=1)
+        cells = np.stack([xs[a:b], ys[a:b]], axis=1)
         centroid = cells.mean(axis=0)
         goal = cells[int(np.argmin(np.hypot(*(cells - centroid).T)))]
-        out.append(Cluster(cells, len(part), centroid, goal))
+        out.append(Cluster(cells, int(b - a), centroid, goal))
     return out
 
 

@@ -1,4 +1,5 @@
-"""numba kernels of the frontier search: the frontier cells of an occupancy grid in one pass.
+"""numba kernels of the frontier search: the frontier cells of an occupancy grid and their
+clusters.
 
 Grids are occupancy values (int8: -1 unknown, 0 free, > 0 occupied), indexed ``[row, col]``.
 :func:`roomy_unknown` and :func:`frontier_cells` compute what
@@ -105,9 +106,57 @@ def frontier_cells(data: np.ndarray, width: int) -> np.ndarray:
     return out
 
 
+@numba.njit(cache=True)
+def clusters_in_raster_order(mask: np.ndarray):
+    """The 8-connected components of ``mask`` (bool [h, w]) numbered by their first cell in
+    raster order, as scipy's ``ndimage.label`` numbers them: (rows, cols) of every cell
+    (int64), grouped by component and in raster order within one, and ``starts`` (int64
+    [count + 1]): component k's cells are ``starts[k]:starts[k + 1]``."""
+    h, w = mask.shape
+    labels = np.zeros((h, w), np.int32)
+    stack_r = np.empty(h * w, np.int32)
+    stack_c = np.empty(h * w, np.int32)
+    count = 0
+    for r in range(h):
+        for c in range(w):
+            if not mask[r, c] or labels[r, c] != 0:
+                continue
+            count += 1
+            labels[r, c] = count
+            stack_r[0], stack_c[0] = r, c
+            top = 1
+            while top > 0:
+                top -= 1
+                rr, cc = stack_r[top], stack_c[top]
+                for nr in range(max(rr - 1, 0), min(rr + 2, h)):
+                    for nc in range(max(cc - 1, 0), min(cc + 2, w)):
+                        if mask[nr, nc] and labels[nr, nc] == 0:
+                            labels[nr, nc] = count
+                            stack_r[top], stack_c[top] = nr, nc
+                            top += 1
+    starts = np.zeros(count + 1, np.int64)
+    for r in range(h):
+        for c in range(w):
+            if labels[r, c] != 0:
+                starts[labels[r, c]] += 1
+    for k in range(count):
+        starts[k + 1] += starts[k]
+    fill = starts[:-1].copy()
+    rows = np.empty(starts[count], np.int64)
+    cols = np.empty(starts[count], np.int64)
+    for r in range(h):
+        for c in range(w):
+            k = labels[r, c] - 1
+            if k >= 0:
+                rows[fill[k]] = r
+                cols[fill[k]] = c
+                fill[k] += 1
+    return rows, cols, starts
+
+
 def warmup() -> None:
     """Compile the kernels on a tiny grid."""
     grid = np.full((8, 8), -1, np.int8)
     grid[2:6, 2:6] = 0
-    frontier_cells(grid, 3)
+    clusters_in_raster_order(frontier_cells(grid, 3))
     frontier_cells(grid, 0)
