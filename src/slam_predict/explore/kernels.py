@@ -53,7 +53,7 @@ def _square_cores(unknown: np.ndarray, width: int) -> np.ndarray:
 def roomy_unknown(unknown: np.ndarray, width: int) -> np.ndarray:
     """The cells of ``unknown`` (bool [h, w]) 4-connected, through unknown cells, to a
     ``width`` × ``width`` square of unknown cells (cells beyond the array count as unknown);
-    ``width`` <= 1: ``unknown`` itself."""
+    ``width`` <= 1: a copy of ``unknown``."""
     h, w = unknown.shape
     if width <= 1:
         return unknown.copy()
