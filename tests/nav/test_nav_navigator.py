@@ -1,6 +1,7 @@
 """The move_base state machine: outcomes, texts, retries, patience, preemption, limits."""
 from __future__ import annotations
 
+import dataclasses
 import math
 from types import SimpleNamespace
 
@@ -142,6 +143,56 @@ def test_oscillation_timeout(cfg):
     _, t, _ = drive(nav, np.array([1.0, 1.0, 0.0]), 0.0, 20.0, move=False)
     assert record.status == GoalStatus.ABORTED and record.text == TEXT_OSCILLATING
     assert 6.0 <= t <= 8.0
+
+
+def back_up_config(cfg, timeout=3.0):
+    """``cfg`` with the oscillation trigger on and a back-up as its only recovery."""
+    from slam_predict.nav.config import RecoveryBehaviorConfig
+
+    back_up = RecoveryBehaviorConfig("back_up", "slam_predict/BackUpRecovery", backup_dist=0.3,
+                                     backup_speed=0.15, time_allowance=5.0)
+    return dataclasses.replace(cfg, oscillation_timeout=timeout,
+                               oscillation_recovery_behaviors=(back_up,))
+
+
+def test_oscillation_backs_up_then_aborts(cfg):
+    """A robot that cannot move: after oscillation_timeout the back-up commands escape
+    (negative v, no turn) for its time allowance, then after another timeout the goal is
+    ABORTED as move_base's oscillation; the PLANNING/CONTROLLING recoveries stay the list's."""
+    nav = Navigator(back_up_config(cfg))
+    nav.set_map(room_grid())
+    record = nav.send_goal((6.0, 4.0, 0.0), 0.0)
+    _, t, cmds = drive(nav, np.array([1.0, 1.0, 0.0]), 0.0, 30.0, move=False)
+    assert record.status == GoalStatus.ABORTED and record.text == TEXT_OSCILLATING
+    assert record.recoveries == ["back_up"]
+    backing = cmds[cmds[:, 1] < 0]
+    assert len(backing) > 0 and np.all(backing[:, 2] == 0.0)
+    assert backing[:, 0].min() > 3.0 and np.isclose(backing[:, 1].min(), -0.15)
+    assert 3.0 + 5.0 + 3.0 <= t <= 3.0 + 5.0 + 3.0 + 2.5     # timeout, allowance, timeout
+
+
+def test_back_up_recovery_ends_after_its_distance_or_its_time():
+    """BackUpRecovery: straight back at backup_speed until the odometry is backup_dist from
+    the start (a moving robot), or until time_allowance (a stalled one)."""
+    from slam_predict.nav.config import RecoveryBehaviorConfig
+    from slam_predict.nav.recovery import BackUpRecovery
+
+    behavior = RecoveryBehaviorConfig("back_up", "slam_predict/BackUpRecovery",
+                                      backup_dist=0.3, backup_speed=0.15, time_allowance=5.0)
+    backer = BackUpRecovery()
+    pose, t = np.array([2.0, 1.0, math.pi / 2]), 10.0
+    backer.start(behavior, pose, t)
+    while True:
+        done, v = backer.step(pose, t)
+        if done:
+            break
+        assert v == -0.15
+        pose = pose + np.array([0.0, v * 0.1, 0.0])
+        t += 0.1
+    assert 0.3 <= 1.0 - pose[1] < 0.3 + 0.015 and t < 10.0 + 0.3 / 0.15 + 0.15
+    backer.start(behavior, pose, t)
+    stalled = [backer.step(pose, t + k * 0.1) for k in range(60)]
+    assert [done for done, _ in stalled].index(True) == 50
 
 
 def test_make_plan_and_clear_costmaps_services(cfg):

@@ -41,7 +41,8 @@ from slam_predict.errors import InputError
 
 GLOBAL_PLANNERS = ("navfn/NavfnROS", "global_planner/GlobalPlanner")
 LOCAL_PLANNERS = ("base_local_planner/TrajectoryPlannerROS",)
-RECOVERY_TYPES = ("clear_costmap_recovery/ClearCostmapRecovery", "rotate_recovery/RotateRecovery")
+RECOVERY_TYPES = ("clear_costmap_recovery/ClearCostmapRecovery", "rotate_recovery/RotateRecovery",
+                  "slam_predict/BackUpRecovery")
 
 
 @dataclass
@@ -237,7 +238,9 @@ class TrajectoryPlannerConfig:
 
 @dataclass
 class RecoveryBehaviorConfig:
-    """One entry of move_base's ``recovery_behaviors`` list, with its own parameters."""
+    """One entry of move_base's ``recovery_behaviors`` list, with its own parameters.
+    ``backup_dist`` (m), ``backup_speed`` (m/s) and ``time_allowance`` (s) are those of the
+    ``slam_predict/BackUpRecovery`` type (an extension, after Nav2's BackUp behaviour)."""
 
     name: str = "conservative_reset"
     type: str = "clear_costmap_recovery/ClearCostmapRecovery"
@@ -245,7 +248,16 @@ class RecoveryBehaviorConfig:
     layer_names: tuple[str, ...] = ("obstacles",)
     affected_maps: str = "both"
     invert_area_to_clear: bool = False
-    RANGES: ClassVar[dict[str, Range]] = {"reset_distance": NON_NEGATIVE}
+    backup_dist: float = 0.5
+    backup_speed: float = 0.15
+    time_allowance: float = 10.0
+    RANGES: ClassVar[dict[str, Range]] = {"reset_distance": NON_NEGATIVE,
+                                          "backup_dist": NON_NEGATIVE,
+                                          "backup_speed": POSITIVE,
+                                          "time_allowance": POSITIVE}
+    # added after campaigns were collected: at these values they keep those configs' hashes
+    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"backup_dist": 0.5, "backup_speed": 0.15,
+                                              "time_allowance": 10.0}
 
     def __post_init__(self) -> None:
         if self.type not in RECOVERY_TYPES:
@@ -289,6 +301,7 @@ class MoveBaseConfig:
     smooth_cmd_vel: bool = True
     recovery_behaviors: tuple[RecoveryBehaviorConfig, ...] = field(
         default_factory=_default_recoveries)
+    oscillation_recovery_behaviors: tuple[RecoveryBehaviorConfig, ...] | None = None
     global_costmap: CostmapConfig = field(default_factory=CostmapConfig)
     local_costmap: CostmapConfig = field(default_factory=_local_defaults)
     NavfnROS: NavfnConfig = field(default_factory=NavfnConfig)
@@ -299,6 +312,7 @@ class MoveBaseConfig:
         "controller_patience": NON_NEGATIVE, "planner_patience": NON_NEGATIVE,
         "max_planning_retries": Range(-1.0), "oscillation_timeout": NON_NEGATIVE,
         "oscillation_distance": NON_NEGATIVE, "conservative_reset_dist": NON_NEGATIVE}
+    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"oscillation_recovery_behaviors": None}
 
     def __post_init__(self) -> None:
         if self.base_global_planner not in GLOBAL_PLANNERS:

@@ -108,6 +108,7 @@ class Navigator:
         footprint = self.local_costmap.footprint
         self.controller = LocalPlanner(tp, footprint, cfg.sim_period, cfg.local_costmap.resolution)
         self.rotator = recovery.RotateRecovery(tp, footprint)
+        self.backer = recovery.BackUpRecovery()
         self.goal: GoalRecord | None = None
         self.history: list[GoalRecord] = []
         self.plan: Plan | None = None
@@ -177,6 +178,7 @@ class Navigator:
         self.run_planner = False
         self.new_plan: Plan | None = None
         self.rotating = False
+        self.backing_up = False
         self.planning_retries = 0
         self._next_plan_t = -math.inf
         self.oscillation_pose = None
@@ -194,6 +196,8 @@ class Navigator:
             return self._publish(t, (0.0, 0.0))
         if self.rotating:
             return self._publish(t, self._rotate_cycle(t, odom_pose))
+        if self.backing_up:
+            return self._publish(t, self._back_up_cycle(t, odom_pose))
         self._run_planner(t, pose_map)
         cmd = self._execute_cycle(t, odom_pose, pose_map, map_T_odom, vel)
         return self._publish(t, cmd)
@@ -288,6 +292,10 @@ class Navigator:
                 self.rotator.start(float(odom_pose[2]))
                 self.rotating = True
                 return self._rotate_cycle(t, odom_pose)
+            if behavior.type == recovery.BACK_UP:
+                self.backer.start(behavior, odom_pose, t)
+                self.backing_up = True
+                return self._back_up_cycle(t, odom_pose)
             recovery.clear_costmaps(behavior, self.global_costmap, self.local_costmap,
                                     pose_map, odom_pose)
             self._after_recovery(t)
@@ -298,6 +306,9 @@ class Navigator:
 
     def _recoveries(self):
         behaviors = self.cfg.recovery_behaviors
+        if (self.recovery_trigger == Trigger.OSCILLATION
+                and self.cfg.oscillation_recovery_behaviors is not None):
+            behaviors = self.cfg.oscillation_recovery_behaviors
         if not self.cfg.clearing_rotation_allowed:
             behaviors = tuple(b for b in behaviors if b.type != recovery.ROTATE)
         return behaviors
@@ -316,6 +327,14 @@ class Navigator:
             self._after_recovery(t)
             return (0.0, 0.0)
         return (0.0, w)
+
+    def _back_up_cycle(self, t: float, odom_pose) -> tuple[float, float]:
+        done, v = self.backer.step(odom_pose, t)
+        if done:
+            self.backing_up = False
+            self._after_recovery(t)
+            return (0.0, 0.0)
+        return (v, 0.0)
 
     # ----------------------------------------------------------------------------- output
     def _publish(self, t: float, cmd: tuple[float, float]) -> tuple[float, float]:

@@ -1,5 +1,6 @@
-"""move_base recovery behaviours: ClearCostmapRecovery (instant) and RotateRecovery (a 360°
-in-place turn lasting several control cycles)."""
+"""move_base recovery behaviours: ClearCostmapRecovery (instant), RotateRecovery (a 360°
+in-place turn lasting several control cycles) and, an extension, BackUpRecovery (a straight
+reverse, after Nav2's BackUp behaviour)."""
 from __future__ import annotations
 
 import math
@@ -11,6 +12,7 @@ from slam_predict.nav.rollout import footprint_cost
 
 CLEAR = "clear_costmap_recovery/ClearCostmapRecovery"
 ROTATE = "rotate_recovery/RotateRecovery"
+BACK_UP = "slam_predict/BackUpRecovery"
 
 
 def clear_costmaps(behavior: RecoveryBehaviorConfig, global_costmap, local_costmap,
@@ -73,3 +75,32 @@ class RotateRecovery:
         vel = math.sqrt(2.0 * self.cfg.acc_lim_theta * left)
         vel = min(max(vel, self.cfg.min_in_place_vel_theta), self.cfg.max_vel_theta)
         return False, vel
+
+
+class BackUpRecovery:
+    """Drive straight back at ``backup_speed`` (m/s) until the odometry has moved
+    ``backup_dist`` (m) from where it started or ``time_allowance`` (s) has passed. Like
+    base_local_planner's escape it is blind (the seed study's robot has no laser behind it;
+    Nav2's BackUp checks its costmap instead): a wall behind stalls the robot until the time
+    is up."""
+
+    def __init__(self):
+        self.start_xy: tuple[float, float] | None = None
+        self.start_t = 0.0
+        self.behavior = None
+
+    def start(self, behavior, pose, t: float) -> None:
+        """Begin backing up from odometry ``pose`` at sim time ``t`` (s)."""
+        self.behavior = behavior
+        self.start_xy = (float(pose[0]), float(pose[1]))
+        self.start_t = float(t)
+
+    def step(self, pose, t: float) -> tuple[bool, float]:
+        """(finished, v command m/s) at odometry ``pose`` and sim time ``t``."""
+        if self.start_xy is None:
+            return True, 0.0
+        moved = math.hypot(float(pose[0]) - self.start_xy[0], float(pose[1]) - self.start_xy[1])
+        if moved >= self.behavior.backup_dist or t - self.start_t >= self.behavior.time_allowance:
+            self.start_xy = None
+            return True, 0.0
+        return False, -self.behavior.backup_speed
