@@ -123,3 +123,37 @@ def test_fitted_settings_are_declared_checked_and_change_no_hash(tmp_path):
         bad.write_text(f"extends: {CONFIG / 'collect.yaml'}\nfitted:\n  {key}: chosen by eye\n")
         with pytest.raises(InputError, match="names no setting"):
             load_settings(bad)
+
+
+def test_nav_overrides_set_move_base_keys_and_only_the_nav_hash_changes():
+    """seed_study_back_up.yaml: seed_study.yaml with the oscillation trigger and a back-up."""
+    base = load_settings(CONFIG / "fidelity" / "seed_study.yaml")
+    mended = load_settings(CONFIG / "fidelity" / "seed_study_back_up.yaml")
+    assert mended.nav.oscillation_timeout == 60.0 and base.nav.oscillation_timeout == 0.0
+    (back_up,) = mended.nav.oscillation_recovery_behaviors
+    assert (back_up.type, back_up.backup_dist, back_up.backup_speed) == (
+        "slam_predict/BackUpRecovery", 0.5, 0.15)
+    assert mended.nav.recovery_behaviors == base.nav.recovery_behaviors
+    differ = {k for k, v in mended.hashes().items() if base.hashes()[k] != v}
+    assert differ == {"nav"}
+    assert mended.fitted == base.fitted
+
+
+def test_the_ros_path_gets_the_overridden_navigation_folder():
+    """The move_base node loads the folder component_configs names: the same config."""
+    from slam_predict.nav.config import load_nav_config
+    from slam_predict.ros.batch_runner import component_configs
+
+    path = CONFIG / "fidelity" / "seed_study_back_up.yaml"
+    folder = component_configs(path)["nav_config_dir"]
+    assert load_nav_config(folder) == load_settings(path).nav
+    plain = component_configs(CONFIG / "fidelity" / "seed_study.yaml")["nav_config_dir"]
+    assert Path(plain) == CONFIG.resolve()
+
+
+@pytest.mark.parametrize("key", ["TrajectoryPlannerROS", "local_costmap", "oscilation_timeout"])
+def test_nav_overrides_of_a_section_or_an_unknown_key_are_one_line_errors(tmp_path, key):
+    settings = tmp_path / "s.yaml"
+    settings.write_text(f"extends: {CONFIG / 'collect.yaml'}\nnav_overrides:\n  {key}: 1.0\n")
+    with pytest.raises(InputError, match=f"nav_overrides: '{key}'"):
+        load_settings(settings)

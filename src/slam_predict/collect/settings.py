@@ -3,7 +3,9 @@
 A settings file may ``extends: other.yaml`` (its keys override the other file's; the file paths
 of each file are relative to the file that names them) and may carry ``sim_overrides``: a partial
 ``sim`` section merged over the robot file's, e.g. ``{odom: {model: fixed}, laser: {range_max:
-60.0}}`` — how the fidelity campaign's variants (config/fidelity/) are written.
+60.0}}`` — how the fidelity campaign's variants (config/fidelity/) are written — and
+``nav_overrides``: move_base.yaml keys (top level, not the costmap or planner sections) set over
+the navigation folder's.
 
 The SLAM back-end is ``slam: {type: NAME, params: FILE or {…}}``: any name of
 :func:`slam_predict.slam.available`, its parameters as a YAML file (relative to the settings
@@ -87,6 +89,7 @@ class CollectFiles:
     bag: bool = False
     sensor_logs: bool = False
     sim_overrides: dict[str, Any] = field(default_factory=dict)
+    nav_overrides: dict[str, Any] = field(default_factory=dict)
     slam_compute: ComputeDelayConfig = field(default_factory=ComputeDelayConfig)
     fitted: dict[str, Any] = field(default_factory=dict)
 
@@ -143,7 +146,8 @@ def load_settings(path: os.PathLike | str | None = None,
         sim = load_config(SimConfig, robot_file, "sim")
     settings = CollectSettings(
         sim=sim, slam=load_slam(files.slam, path),
-        nav=load_nav_config(Path(files.navigation)),
+        nav=load_nav_config(Path(files.navigation), checked_nav_overrides(files.nav_overrides,
+                                                                          path)),
         explore=load_config(ExploreConfig, Path(files.explore)),
         stop=files.stop, metric=files.metric, bag=files.bag, source=str(path),
         sensor_logs=files.sensor_logs, compute=files.slam_compute,
@@ -153,6 +157,21 @@ def load_settings(path: os.PathLike | str | None = None,
     from slam_predict.robot_file import load_robot, robot_path
 
     return with_robot(settings, load_robot(robot, force=force_robot), robot_path(robot))
+
+
+def checked_nav_overrides(overrides: dict[str, Any], path: Path) -> dict[str, Any]:
+    """``nav_overrides`` when every key is a top-level move_base parameter (not one of the
+    costmap or planner sections, which have files of their own); InputError otherwise."""
+    from slam_predict.nav.config import MoveBaseConfig
+
+    defaults = MoveBaseConfig()
+    allowed = {f.name for f in dataclasses.fields(MoveBaseConfig)
+               if not dataclasses.is_dataclass(getattr(defaults, f.name))}
+    for key in overrides:
+        if key not in allowed:
+            raise InputError(f"nav_overrides: '{key}' is not a move_base.yaml parameter "
+                             "(costmap and planner sections are not overridable here)", path)
+    return dict(overrides)
 
 
 def checked_fitted(fitted: dict[str, Any], path: Path) -> dict[str, str]:
@@ -281,45 +300,6 @@ def read_settings_tree(path: Path, seen: set[Path] | None = None) -> dict[str, A
     if not parent_path.is_file():
         raise InputError(f"'extends' names a missing file {parent_path}", path)
     return merge_trees(read_settings_tree(parent_path, seen), tree)
-
-
-def merged_robot_file(settings_path: Path, tree: dict[str, Any]) -> Path:
-    """A robot YAML with ``sim_overrides`` applied, for nodes that read one file (ROS path);
-    written atomically under ~/.cache/slam_predict/settings/, named by its content hash."""
-    import yaml
-
-    robot = load_yaml(tree["robot"])
-    robot["sim"] = merge_trees(robot.get("sim", {}) or {}, tree["sim_overrides"])
-    text = f"# {tree['robot']} + sim_overrides of {settings_path}\n" + yaml.safe_dump(robot)
-    return _cached_file("robot", text)
-
-
-def slam_params_file(settings_path: Path, tree: dict[str, Any]) -> Path:
-    """The SLAM node's parameter YAML for a settings tree: the ``slam.params`` file, or, for
-    inline or default parameters, a file with them and ``type`` written like
-    :func:`merged_robot_file`."""
-    import yaml
-
-    section = tree["slam"]
-    if isinstance(section.get("params"), str):
-        return Path(section["params"])
-    values = {"type": section.get("type", "gmapping"), **(section.get("params") or {})}
-    text = f"# slam parameters of {settings_path}\n" + yaml.safe_dump(values)
-    return _cached_file("slam", text)
-
-
-def _cached_file(prefix: str, text: str) -> Path:
-    """``text`` written atomically under ~/.cache/slam_predict/settings/, named by its hash."""
-    import hashlib
-
-    from slam_predict.atomic import write_text
-
-    digest = hashlib.sha256(text.encode()).hexdigest()[:12]
-    out = Path.home() / ".cache" / "slam_predict" / "settings" / f"{prefix}_{digest}.yaml"
-    if not out.is_file():
-        out.parent.mkdir(parents=True, exist_ok=True)
-        write_text(out, text)
-    return out
 
 
 def merge_trees(base: dict[str, Any], override: dict[str, Any]) -> dict[str, Any]:

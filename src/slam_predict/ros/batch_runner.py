@@ -89,12 +89,12 @@ def find_worlds(path: str) -> dict[str, str]:
 def component_configs(settings_path=None) -> dict[str, str]:
     """The node config files a collect.yaml names (absolute), as single_run.launch args, so
     the nodes run with the configs whose hashes the record states. ``sim_overrides`` are
-    merged into a robot file written beside the settings' cache (the node reads one file)."""
-    from slam_predict.collect.settings import (
-        DEFAULT_SETTINGS,
-        CollectFiles,
+    merged into a robot file written beside the settings' cache (the node reads one file),
+    ``nav_overrides`` into a copy of the navigation folder."""
+    from slam_predict.collect.settings import DEFAULT_SETTINGS, CollectFiles, read_settings_tree
+    from slam_predict.collect.settings_files import (
+        merged_nav_folder,
         merged_robot_file,
-        read_settings_tree,
         slam_params_file,
     )
     from slam_predict.config import from_dict
@@ -105,12 +105,15 @@ def component_configs(settings_path=None) -> dict[str, str]:
     robot = tree["robot"]
     if tree.get("sim_overrides"):
         robot = str(merged_robot_file(path, tree))
+    navigation = tree["navigation"]
+    if tree.get("nav_overrides"):
+        navigation = str(merged_nav_folder(tree))
     slam_type = tree["slam"]["type"]
     karto = {"karto_mode": karto_mode(path)} if slam_type == "karto" else {}
     return {"settings": str(path), "robot_config": robot,
             "gmapping_config": str(slam_params_file(path, tree)),
             "slam_type": slam_type, **karto,
-            "nav_config_dir": str(Path(tree["navigation"]).resolve()),
+            "nav_config_dir": str(Path(navigation).resolve()),
             "explore_config": tree["explore"]}
 
 

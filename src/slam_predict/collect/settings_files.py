@@ -1,0 +1,76 @@
+"""Files for the ROS path's nodes, which read configuration files rather than a settings tree:
+a settings file's ``sim_overrides``, inline SLAM parameters and ``nav_overrides`` written out
+under ~/.cache/slam_predict/settings/, each named by the hash of its content."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from slam_predict.collect.settings import merge_trees
+from slam_predict.config import load_yaml
+
+
+def merged_robot_file(settings_path: Path, tree: dict[str, Any]) -> Path:
+    """A robot YAML with ``sim_overrides`` applied, for nodes that read one file (ROS path);
+    written atomically under ~/.cache/slam_predict/settings/, named by its content hash."""
+    import yaml
+
+    robot = load_yaml(tree["robot"])
+    robot["sim"] = merge_trees(robot.get("sim", {}) or {}, tree["sim_overrides"])
+    text = f"# {tree['robot']} + sim_overrides of {settings_path}\n" + yaml.safe_dump(robot)
+    return _cached_file("robot", text)
+
+
+def slam_params_file(settings_path: Path, tree: dict[str, Any]) -> Path:
+    """The SLAM node's parameter YAML for a settings tree: the ``slam.params`` file, or, for
+    inline or default parameters, a file with them and ``type`` written like
+    :func:`merged_robot_file`."""
+    import yaml
+
+    section = tree["slam"]
+    if isinstance(section.get("params"), str):
+        return Path(section["params"])
+    values = {"type": section.get("type", "gmapping"), **(section.get("params") or {})}
+    text = f"# slam parameters of {settings_path}\n" + yaml.safe_dump(values)
+    return _cached_file("slam", text)
+
+
+def _cached_file(prefix: str, text: str) -> Path:
+    """``text`` written atomically under ~/.cache/slam_predict/settings/, named by its hash."""
+    import hashlib
+
+    from slam_predict.atomic import write_text
+
+    digest = hashlib.sha256(text.encode()).hexdigest()[:12]
+    out = Path.home() / ".cache" / "slam_predict" / "settings" / f"{prefix}_{digest}.yaml"
+    if not out.is_file():
+        out.parent.mkdir(parents=True, exist_ok=True)
+        write_text(out, text)
+    return out
+
+
+def merged_nav_folder(tree: dict[str, Any]) -> Path:
+    """The navigation folder with ``nav_overrides`` set in its move_base.yaml, for the ROS
+    path's move_base launch (which loads the folder's files); under ~/.cache/slam_predict/
+    settings/, named by content hash, the other files copied as they are."""
+    import shutil
+
+    import yaml
+
+    from slam_predict.nav.config import NAV_FILES
+
+    source = Path(tree["navigation"])
+    move_base = {**(load_yaml(source / "move_base.yaml") or {}), **tree["nav_overrides"]}
+    text = f"# {source / 'move_base.yaml'} + nav_overrides\n" + yaml.safe_dump(move_base)
+    merged = _cached_file("move_base", text)
+    folder = merged.parent / merged.stem
+    if not folder.is_dir():
+        staging = folder.with_name(folder.name + ".tmp")
+        shutil.rmtree(staging, ignore_errors=True)
+        staging.mkdir(parents=True)
+        for name in NAV_FILES[1:]:
+            if (source / name).is_file():
+                shutil.copyfile(source / name, staging / name)
+        shutil.copyfile(merged, staging / "move_base.yaml")
+        staging.rename(folder)
+    return folder
