@@ -130,6 +130,7 @@ def test_nav_overrides_set_move_base_keys_and_only_the_nav_hash_changes():
     base = load_settings(CONFIG / "fidelity" / "seed_study.yaml")
     mended = load_settings(CONFIG / "fidelity" / "seed_study_back_up.yaml")
     assert mended.nav.oscillation_timeout == 60.0 and base.nav.oscillation_timeout == 0.0
+    assert mended.nav.oscillation_across_goals and not base.nav.oscillation_across_goals
     (back_up,) = mended.nav.oscillation_recovery_behaviors
     assert (back_up.type, back_up.backup_dist, back_up.backup_speed) == (
         "slam_predict/BackUpRecovery", 0.5, 0.15)

@@ -171,6 +171,24 @@ def test_oscillation_backs_up_then_aborts(cfg):
     assert 3.0 + 5.0 + 3.0 <= t <= 3.0 + 5.0 + 3.0 + 2.5     # timeout, allowance, timeout
 
 
+@pytest.mark.parametrize("across", [False, True])
+def test_oscillation_across_goals_backs_up_a_robot_whose_goals_all_fail(cfg, across):
+    """Goals that fail at planning end within seconds and each new goal restarts move_base's
+    oscillation timer, so a robot no plan leaves never backs up; with oscillation_across_goals
+    the timer runs on over the goals and the back-up comes in PLANNING."""
+    nav = Navigator(dataclasses.replace(back_up_config(cfg), oscillation_across_goals=across))
+    nav.set_map(room_grid())
+    t, records, pose = 0.0, [], np.array([1.0, 1.0, 0.0])
+    while t < 12.0:
+        records.append(nav.send_goal((50.0, 5.0, 0.0), t))
+        _, t, _ = drive(nav, pose, t, 5.0, move=False)
+    backed = [r for r in records if "back_up" in r.recoveries]
+    assert records[0].status == GoalStatus.ABORTED and records[0].t_end < 1.5
+    assert bool(backed) == across
+    if across:
+        assert backed[0].t_sent > 3.0 - 1.5
+
+
 def test_back_up_recovery_ends_after_its_distance_or_its_time():
     """BackUpRecovery: straight back at backup_speed until the odometry is backup_dist from
     the start (a moving robot), or until time_allowance (a stalled one)."""

@@ -302,6 +302,7 @@ class MoveBaseConfig:
     recovery_behaviors: tuple[RecoveryBehaviorConfig, ...] = field(
         default_factory=_default_recoveries)
     oscillation_recovery_behaviors: tuple[RecoveryBehaviorConfig, ...] | None = None
+    oscillation_across_goals: bool = False
     global_costmap: CostmapConfig = field(default_factory=CostmapConfig)
     local_costmap: CostmapConfig = field(default_factory=_local_defaults)
     NavfnROS: NavfnConfig = field(default_factory=NavfnConfig)
@@ -312,7 +313,8 @@ class MoveBaseConfig:
         "controller_patience": NON_NEGATIVE, "planner_patience": NON_NEGATIVE,
         "max_planning_retries": Range(-1.0), "oscillation_timeout": NON_NEGATIVE,
         "oscillation_distance": NON_NEGATIVE, "conservative_reset_dist": NON_NEGATIVE}
-    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"oscillation_recovery_behaviors": None}
+    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"oscillation_recovery_behaviors": None,
+                                              "oscillation_across_goals": False}
 
     def __post_init__(self) -> None:
         if self.base_global_planner not in GLOBAL_PLANNERS:

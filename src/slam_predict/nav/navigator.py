@@ -115,6 +115,7 @@ class Navigator:
         self.last_cmd: tuple[float, float] = (0.0, 0.0)
         self._last_cmd_t: float | None = None
         self._next_id = 1
+        self.oscillation_pose = None
         self._reset_state()
 
     # ------------------------------------------------------------------------------ inputs
@@ -150,9 +151,12 @@ class Navigator:
         self._next_id += 1
         self.goal = record
         self.history.append(record)
+        across = self.cfg.oscillation_across_goals and self.oscillation_pose is not None
         self._reset_state()
         self.run_planner = True
-        self.last_valid_plan = self.last_valid_control = self.last_oscillation_reset = t
+        self.last_valid_plan = self.last_valid_control = t
+        if not across:
+            self.last_oscillation_reset = t
         self.planning_retries = 0
         return record
 
@@ -181,7 +185,8 @@ class Navigator:
         self.backing_up = False
         self.planning_retries = 0
         self._next_plan_t = -math.inf
-        self.oscillation_pose = None
+        if not self.cfg.oscillation_across_goals:
+            self.oscillation_pose = None
 
     # ------------------------------------------------------------------------------- cycle
     def step(self, t: float, odom_pose, map_T_odom, velocity) -> tuple[float, float]:
@@ -244,6 +249,10 @@ class Navigator:
             self.oscillation_pose = pose_map.copy()
             if self.recovery_trigger == Trigger.OSCILLATION:
                 self.recovery_index = 0
+        if (cfg.oscillation_across_goals and self.state == State.PLANNING
+                and self._oscillating(t)):
+            self.run_planner = False
+            self._start_oscillation_recovery()
         if self.new_plan is not None:
             self.plan, self.new_plan = self.new_plan, None
             self.controller.set_plan(self.plan.poses)
@@ -261,10 +270,10 @@ class Navigator:
         if self.controller.is_goal_reached(pose_map, vel):
             self._finish(GoalStatus.SUCCEEDED, TEXT_REACHED, t)
             return (0.0, 0.0)
-        if (cfg.oscillation_timeout > 0
-                and self.last_oscillation_reset + cfg.oscillation_timeout < t):
-            self.state = State.CLEARING
-            self.recovery_trigger = Trigger.OSCILLATION
+        if self._oscillating(t):
+            self._start_oscillation_recovery()
+            if cfg.oscillation_across_goals:   # no CONTROLLING trigger to take its place
+                return (0.0, 0.0)
         cmd = self.controller.compute_velocity_commands(
             self.local_costmap.costmap, odom_pose, vel, inverse(map_T_odom))
         if cmd is not None:
@@ -281,6 +290,20 @@ class Navigator:
             self.state = State.PLANNING
             self.run_planner = True
         return (0.0, 0.0)
+
+    def _oscillating(self, t: float) -> bool:
+        """move_base's oscillation condition: no move of oscillation_distance for
+        oscillation_timeout s (0: off)."""
+        timeout = self.cfg.oscillation_timeout
+        return timeout > 0 and self.last_oscillation_reset + timeout < t
+
+    def _start_oscillation_recovery(self) -> None:
+        """CLEARING for the oscillation trigger; with oscillation_across_goals its own list
+        starts at its first behaviour (the recoveries of another trigger ran before)."""
+        if self.cfg.oscillation_across_goals and self.recovery_trigger != Trigger.OSCILLATION:
+            self.recovery_index = 0
+        self.state = State.CLEARING
+        self.recovery_trigger = Trigger.OSCILLATION
 
     def _clear(self, t, odom_pose, pose_map) -> tuple[float, float]:
         behaviors = self._recoveries()
@@ -314,7 +337,8 @@ class Navigator:
         return behaviors
 
     def _after_recovery(self, t: float) -> None:
-        self.last_oscillation_reset = t
+        if not self.cfg.oscillation_across_goals or self.recovery_trigger == Trigger.OSCILLATION:
+            self.last_oscillation_reset = t
         self.last_valid_plan = t
         self.planning_retries = 0
         self.state = State.PLANNING
