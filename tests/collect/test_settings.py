@@ -158,3 +158,26 @@ def test_nav_overrides_of_a_section_or_an_unknown_key_are_one_line_errors(tmp_pa
     settings.write_text(f"extends: {CONFIG / 'collect.yaml'}\nnav_overrides:\n  {key}: 1.0\n")
     with pytest.raises(InputError, match=f"nav_overrides: '{key}'"):
         load_settings(settings)
+
+
+def test_two_jobs_making_the_same_navigation_folder_both_get_it(tmp_path, monkeypatch):
+    """Parallel collect jobs on the ROS path: a job that finds the folder made by another
+    between its check and its rename keeps that folder and drops its own staging copy."""
+    from slam_predict.collect import settings_files
+    from slam_predict.collect.settings import read_settings_tree
+
+    monkeypatch.setattr(Path, "home", lambda: tmp_path)
+    tree = read_settings_tree(CONFIG / "fidelity" / "seed_study_back_up.yaml")
+    first = settings_files.merged_nav_folder(tree)
+    real_is_dir = Path.is_dir
+    calls = []
+
+    def not_yet(path):   # the second job's first look: the folder is not there yet
+        if path == first and not calls:
+            calls.append(path)
+            return False
+        return real_is_dir(path)
+
+    monkeypatch.setattr(Path, "is_dir", not_yet)
+    assert settings_files.merged_nav_folder(tree) == first and calls
+    assert sorted(p.name for p in first.parent.iterdir() if p.is_dir()) == [first.name]

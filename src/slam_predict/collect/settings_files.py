@@ -54,6 +54,7 @@ def merged_nav_folder(tree: dict[str, Any]) -> Path:
     path's move_base launch (which loads the folder's files); under ~/.cache/slam_predict/
     settings/, named by content hash, the other files copied as they are."""
     import shutil
+    import tempfile
 
     import yaml
 
@@ -65,12 +66,16 @@ def merged_nav_folder(tree: dict[str, Any]) -> Path:
     merged = _cached_file("move_base", text)
     folder = merged.parent / merged.stem
     if not folder.is_dir():
-        staging = folder.with_name(folder.name + ".tmp")
-        shutil.rmtree(staging, ignore_errors=True)
-        staging.mkdir(parents=True)
+        # a staging folder of this process's own: parallel jobs may build the same folder
+        staging = Path(tempfile.mkdtemp(prefix=folder.name + ".", dir=folder.parent))
         for name in NAV_FILES[1:]:
             if (source / name).is_file():
                 shutil.copyfile(source / name, staging / name)
         shutil.copyfile(merged, staging / "move_base.yaml")
-        staging.rename(folder)
+        try:
+            staging.rename(folder)
+        except OSError:
+            if not folder.is_dir():
+                raise
+            shutil.rmtree(staging, ignore_errors=True)   # another job made the same folder
     return folder
