@@ -1,0 +1,92 @@
+"""The floor a run's laser swept, from the ground truth: exploration coverage without the map.
+
+:func:`slam_predict.explore.coverage.coverage` counts the reachable cells that fall on known
+cells of the final SLAM map, placed with the map frame on the start pose. When the SLAM estimate
+has drifted by metres, parts the robot did see lie beside where the map puts them, and that
+count mixes the map's error into the exploration's. Here a cell is *seen* when a beam of a scan
+the SLAM back-end processed, cast from the robot's true pose in the World's bitmap, crossed it
+before reaching an occupied cell or the back-end's usable range (GMapping's ``maxUrange``:
+farther beam ends add no free cells to its map). The Stage laser is exact, so these are the
+beams the back-end was given.
+"""
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from slam_predict.geometry import compose
+
+
+@numba.njit(cache=True, nogil=True)
+def mark_beams(seen, occ, x_left, y_top, res, px, py, yaw, cos_a, sin_a, reach_m):
+    """Set ``seen`` (bool, the bitmap's shape) on every free cell that the beams (bearings with
+    cosines/sines ``cos_a``/``sin_a`` in the laser frame) from world (px, py, yaw) cross
+    before they enter an occupied cell or leave the bitmap, within ``reach_m`` (m).
+    Amanatides–Woo cell walk, as :func:`slam_predict.sim.raycast.cast_scan`."""
+    rows, cols = occ.shape
+    gx = (px - x_left) / res
+    gy = (y_top - py) / res
+    t_max = reach_m / res
+    cy, sy = math.cos(yaw), math.sin(yaw)
+    for i in range(cos_a.shape[0]):
+        dgx = cy * cos_a[i] - sy * sin_a[i]
+        dgy = -(sy * cos_a[i] + cy * sin_a[i])
+        col, row = int(math.floor(gx)), int(math.floor(gy))
+        step_c, delta_c, next_c = _axis(dgx, gx, col)
+        step_r, delta_r, next_r = _axis(dgy, gy, row)
+        t = 0.0
+        while 0 <= row < rows and 0 <= col < cols and not occ[row, col] and t < t_max:
+            seen[row, col] = True
+            if next_c < next_r:
+                t = next_c
+                col += step_c
+                next_c += delta_c
+            else:
+                t = next_r
+                row += step_r
+                next_r += delta_r
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _axis(direction, position, cell):
+    """Cell step, ray length per cell and ray length to the next cell boundary along one axis
+    (inf when the ray is parallel to it)."""
+    if direction > 0.0:
+        return 1, 1.0 / direction, (cell + 1.0 - position) / direction
+    if direction < 0.0:
+        return -1, -1.0 / direction, (position - cell) / -direction
+    return 0, math.inf, math.inf
+
+
+def seen_mask(world, robot_poses: np.ndarray, laser_pose, angles: np.ndarray,
+              reach_m: float) -> np.ndarray:
+    """Bool mask over the World's bitmap of the free cells the laser swept from the robot's
+    true poses ``robot_poses`` (n, 3; world frame) with the laser at ``laser_pose`` (x, y, yaw
+    on the robot) and beams at ``angles`` (rad), each beam up to ``reach_m`` (m)."""
+    from slam_predict.sim.raycast import GridFrame
+
+    frame = GridFrame.of_world(world)
+    occ = np.ascontiguousarray(world.occupied, dtype=bool)
+    seen = np.zeros(occ.shape, dtype=bool)
+    angles = np.asarray(angles, dtype=float)
+    cos_a, sin_a = np.cos(angles), np.sin(angles)
+    lasers = compose(np.asarray(robot_poses, float).reshape(-1, 3), np.asarray(laser_pose, float))
+    for x, y, yaw in lasers:
+        mark_beams(seen, occ, frame.x_left, frame.y_top, frame.resolution, float(x), float(y),
+                   float(yaw), cos_a, sin_a, float(reach_m))
+    return seen
+
+
+def seen_share(reachable: np.ndarray, seen: np.ndarray) -> float:
+    """Share (0–1) of the ``reachable`` cells that are ``seen``."""
+    total = int(reachable.sum())
+    return float((reachable & seen).sum() / total) if total else 0.0
+
+
+def poses_at(times: np.ndarray, track_times: np.ndarray, track: np.ndarray) -> np.ndarray:
+    """Poses (n, 3) of a trajectory (``track_times`` ascending, ``track`` (m, 3)) at ``times``:
+    the latest pose at or before each time (the ground truth is logged with every scan)."""
+    index = np.searchsorted(track_times, np.asarray(times) + 1e-9, side="right") - 1
+    return track[np.clip(index, 0, len(track) - 1)]
