@@ -245,3 +245,41 @@ def test_robot_pinned_against_a_wall_is_not_aborted(cfg):
     assert record.plan_length is not None and record.plan_length < 3.5
     pose, t, _ = drive(nav, pose, t, 60.0)
     assert record.status == GoalStatus.SUCCEEDED
+
+
+def test_back_up_recovery_with_simulate_ahead_stops_before_a_wall_behind():
+    """simulate_ahead_time > 0 (Nav2's BackUp check): the robot backs towards a LETHAL wall
+    behind it and stops while its footprint is still clear of it; with a clear path it backs
+    the whole distance, and blind (0) it drives on into the wall until its time is up."""
+    from slam_predict.nav.config import RecoveryBehaviorConfig
+    from slam_predict.nav.recovery import BackUpRecovery
+
+    res, half = 0.02, 0.2
+    footprint = np.array([[half, half], [half, -half], [-half, -half], [-half, half]])
+    costs = np.zeros((150, 150), np.uint8)
+    costmap = SimpleNamespace(costs=costs, origin=(0.0, 0.0), resolution=res)
+
+    def back_up(wall_x: float | None, horizon: float) -> float:
+        costs[:] = 0
+        if wall_x is not None:
+            costs[:, : int(wall_x / res)] = 254
+        behavior = RecoveryBehaviorConfig("back_up", "slam_predict/BackUpRecovery",
+                                          backup_dist=0.5, backup_speed=0.15,
+                                          time_allowance=10.0, simulate_ahead_time=horizon)
+        backer = BackUpRecovery(footprint)
+        pose, t = np.array([1.5, 1.5, 0.0]), 0.0
+        backer.start(behavior, pose, t)
+        while True:
+            done, v = backer.step(pose, t, costmap)
+            if done:
+                return 1.5 - pose[0]
+            if wall_x is None or pose[0] - half + v * 0.1 > wall_x:   # the simulator's refusal
+                pose = pose + np.array([v * 0.1, 0.0, 0.0])
+            t += 0.1
+
+    assert back_up(None, 2.0) == pytest.approx(0.5, abs=0.016)
+    wall = 1.5 - half - 0.45                    # the footprint's back 0.45 m from the wall
+    # it stops once the wall is within its look-ahead (2 s × 0.15 m/s = 0.3 m), give or take
+    # a step and a costmap cell
+    assert back_up(wall, 2.0) == pytest.approx(0.45 - 0.3, abs=0.015 + res)
+    assert back_up(wall, 0.0) == pytest.approx(0.45, abs=0.016)   # blind: against the wall

@@ -239,8 +239,9 @@ class TrajectoryPlannerConfig:
 @dataclass
 class RecoveryBehaviorConfig:
     """One entry of move_base's ``recovery_behaviors`` list, with its own parameters.
-    ``backup_dist`` (m), ``backup_speed`` (m/s) and ``time_allowance`` (s) are those of the
-    ``slam_predict/BackUpRecovery`` type (an extension, after Nav2's BackUp behaviour)."""
+    ``backup_dist`` (m), ``backup_speed`` (m/s), ``time_allowance`` (s) and
+    ``simulate_ahead_time`` (s; 0: blind) are those of the ``slam_predict/BackUpRecovery`` type
+    (an extension, after Nav2's BackUp behaviour)."""
 
     name: str = "conservative_reset"
     type: str = "clear_costmap_recovery/ClearCostmapRecovery"
@@ -251,13 +252,16 @@ class RecoveryBehaviorConfig:
     backup_dist: float = 0.5
     backup_speed: float = 0.15
     time_allowance: float = 10.0
+    simulate_ahead_time: float = 0.0
     RANGES: ClassVar[dict[str, Range]] = {"reset_distance": NON_NEGATIVE,
                                           "backup_dist": NON_NEGATIVE,
                                           "backup_speed": POSITIVE,
-                                          "time_allowance": POSITIVE}
+                                          "time_allowance": POSITIVE,
+                                          "simulate_ahead_time": NON_NEGATIVE}
     # added after campaigns were collected: at these values they keep those configs' hashes
     HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"backup_dist": 0.5, "backup_speed": 0.15,
-                                              "time_allowance": 10.0}
+                                              "time_allowance": 10.0,
+                                              "simulate_ahead_time": 0.0}
 
     def __post_init__(self) -> None:
         if self.type not in RECOVERY_TYPES:

@@ -108,7 +108,7 @@ class Navigator:
         footprint = self.local_costmap.footprint
         self.controller = LocalPlanner(tp, footprint, cfg.sim_period, cfg.local_costmap.resolution)
         self.rotator = recovery.RotateRecovery(tp, footprint)
-        self.backer = recovery.BackUpRecovery()
+        self.backer = recovery.BackUpRecovery(footprint)
         self.goal: GoalRecord | None = None
         self.history: list[GoalRecord] = []
         self.plan: Plan | None = None
@@ -353,7 +353,7 @@ class Navigator:
         return (0.0, w)
 
     def _back_up_cycle(self, t: float, odom_pose) -> tuple[float, float]:
-        done, v = self.backer.step(odom_pose, t)
+        done, v = self.backer.step(odom_pose, t, self.local_costmap.costmap)
         if done:
             self.backing_up = False
             self._after_recovery(t)

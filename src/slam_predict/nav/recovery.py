@@ -79,12 +79,21 @@ class RotateRecovery:
 
 class BackUpRecovery:
     """Drive straight back at ``backup_speed`` (m/s) until the odometry has moved
-    ``backup_dist`` (m) from where it started or ``time_allowance`` (s) has passed. Like
-    base_local_planner's escape it is blind (the seed study's robot has no laser behind it;
-    Nav2's BackUp checks its costmap instead): a wall behind stalls the robot until the time
-    is up."""
+    ``backup_dist`` (m) from where it started or ``time_allowance`` (s) has passed.
 
-    def __init__(self):
+    With ``simulate_ahead_time`` 0 it is blind, like base_local_planner's escape (the seed
+    study's robot has no laser behind it): a wall behind stalls the robot until the time is up,
+    while Stage's odometry goes on. With ``simulate_ahead_time`` > 0 it checks its path first,
+    as Nav2's BackUp does: every cycle the footprint at the poses of the next
+    ``simulate_ahead_time`` s (at :attr:`cycle_frequency`, no farther than the distance left)
+    is tested in the local costmap, and the behaviour ends at once when one touches a LETHAL or
+    unknown cell. Unlike Nav2 the robot's current pose is not tested: a robot whose front
+    touches a wall may still back away from it."""
+
+    cycle_frequency = 10.0   # Hz: Nav2's behaviour server default, the simulated steps
+
+    def __init__(self, footprint=None):
+        self.footprint = footprint
         self.start_xy: tuple[float, float] | None = None
         self.start_t = 0.0
         self.behavior = None
@@ -95,12 +104,32 @@ class BackUpRecovery:
         self.start_xy = (float(pose[0]), float(pose[1]))
         self.start_t = float(t)
 
-    def step(self, pose, t: float) -> tuple[bool, float]:
-        """(finished, v command m/s) at odometry ``pose`` and sim time ``t``."""
+    def step(self, pose, t: float, costmap: Costmap | None = None) -> tuple[bool, float]:
+        """(finished, v command m/s) at odometry ``pose`` and sim time ``t``; ``costmap``: the
+        local costmap (odometry frame) for the check of ``simulate_ahead_time``."""
         if self.start_xy is None:
             return True, 0.0
         moved = math.hypot(float(pose[0]) - self.start_xy[0], float(pose[1]) - self.start_xy[1])
-        if moved >= self.behavior.backup_dist or t - self.start_t >= self.behavior.time_allowance:
+        behavior = self.behavior
+        if (moved >= behavior.backup_dist or t - self.start_t >= behavior.time_allowance
+                or not self._path_free(pose, behavior.backup_dist - moved, costmap)):
             self.start_xy = None
             return True, 0.0
-        return False, -self.behavior.backup_speed
+        return False, -behavior.backup_speed
+
+    def _path_free(self, pose, left: float, costmap: Costmap | None) -> bool:
+        """Nav2 BackUp's isCollisionFree: the footprint clear of LETHAL and unknown cells at
+        each simulated pose behind ``pose`` (m left to drive ``left``)."""
+        horizon = self.behavior.simulate_ahead_time
+        if horizon <= 0 or costmap is None or self.footprint is None:
+            return True
+        x, y, yaw = (float(v) for v in pose[:3])
+        for k in range(1, int(self.cycle_frequency * horizon)):
+            back = self.behavior.backup_speed * k / self.cycle_frequency
+            if left - back <= 0:
+                break
+            if footprint_cost(costmap.costs, costmap.origin[0], costmap.origin[1],
+                              costmap.resolution, x - back * math.cos(yaw),
+                              y - back * math.sin(yaw), yaw, self.footprint) < 0:
+                return False
+        return True
