@@ -259,10 +259,12 @@ def test_back_up_recovery_with_simulate_ahead_stops_before_a_wall_behind():
     costs = np.zeros((150, 150), np.uint8)
     costmap = SimpleNamespace(costs=costs, origin=(0.0, 0.0), resolution=res)
 
-    def back_up(wall_x: float | None, horizon: float) -> float:
+    def back_up(wall_x: float | None, horizon: float, side_wall: bool = False) -> float:
         costs[:] = 0
         if wall_x is not None:
             costs[:, : int(wall_x / res)] = 254
+        if side_wall:                  # a wall along the robot's left side, touching it
+            costs[int(round((1.5 + half) / res)) - 1:, :] = 254
         behavior = RecoveryBehaviorConfig("back_up", "slam_predict/BackUpRecovery",
                                           backup_dist=0.5, backup_speed=0.15,
                                           time_allowance=10.0, simulate_ahead_time=horizon)
@@ -278,8 +280,28 @@ def test_back_up_recovery_with_simulate_ahead_stops_before_a_wall_behind():
             t += 0.1
 
     assert back_up(None, 2.0) == pytest.approx(0.5, abs=0.016)
+    assert back_up(None, 2.0, side_wall=True) == pytest.approx(0.5, abs=0.016)
     wall = 1.5 - half - 0.45                    # the footprint's back 0.45 m from the wall
     # it stops once the wall is within its look-ahead (2 s × 0.15 m/s = 0.3 m), give or take
     # a step and a costmap cell
     assert back_up(wall, 2.0) == pytest.approx(0.45 - 0.3, abs=0.015 + res)
     assert back_up(wall, 0.0) == pytest.approx(0.45, abs=0.016)   # blind: against the wall
+
+
+def test_rear_edges_are_the_edges_facing_backwards():
+    from slam_predict.nav.recovery import rear_edges
+
+    square = np.array([[0.2, 0.2], [0.2, -0.2], [-0.2, -0.2], [-0.2, 0.2]])   # clockwise
+    for polygon in (square, square[::-1]):
+        edges = rear_edges(polygon)
+        assert len(edges) == 1 and np.allclose(edges[0][:, 0], -0.2)
+    arrow = np.array([[0.3, 0.0], [-0.2, 0.2], [-0.1, 0.0], [-0.2, -0.2]])      # notched tail
+    assert len(rear_edges(arrow)) == 2
+
+
+def test_shortened_edge():
+    from slam_predict.nav.recovery import shortened
+
+    got = shortened(np.array([[-0.2, -0.2], [-0.2, 0.2]]), 0.05)
+    assert np.allclose(got, [[-0.2, -0.15], [-0.2, 0.15]])
+    assert np.allclose(shortened(np.array([[0.0, 0.0], [0.0, 0.06]]), 0.05), [[0, 0.03]] * 2)

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from slam_predict.geometry import wrap_angle
 from slam_predict.nav.config import RecoveryBehaviorConfig, TrajectoryPlannerConfig
 from slam_predict.nav.costmap import Costmap
@@ -87,13 +89,17 @@ class BackUpRecovery:
     as Nav2's BackUp does: every cycle the footprint at the poses of the next
     ``simulate_ahead_time`` s (at :attr:`cycle_frequency`, no farther than the distance left)
     is tested in the local costmap, and the behaviour ends at once when one touches a LETHAL or
-    unknown cell. Unlike Nav2 the robot's current pose is not tested: a robot whose front
-    touches a wall may still back away from it."""
+    unknown cell. Unlike Nav2 only the footprint's edges that face backwards are tested, less
+    :attr:`edge_margin_cells` costmap cells at each end, and not at the current pose: a robot
+    whose front or side touches a wall in the costmap may still back away from it or along
+    it."""
 
     cycle_frequency = 10.0   # Hz: Nav2's behaviour server default, the simulated steps
+    edge_margin_cells = 2    # cells left out at each end of a rear edge: a wall beside the
+    #                          robot that its side touches in the costmap is not behind it
 
     def __init__(self, footprint=None):
-        self.footprint = footprint
+        self.rear_edges = [] if footprint is None else rear_edges(footprint)
         self.start_xy: tuple[float, float] | None = None
         self.start_t = 0.0
         self.behavior = None
@@ -121,15 +127,44 @@ class BackUpRecovery:
         """Nav2 BackUp's isCollisionFree: the footprint clear of LETHAL and unknown cells at
         each simulated pose behind ``pose`` (m left to drive ``left``)."""
         horizon = self.behavior.simulate_ahead_time
-        if horizon <= 0 or costmap is None or self.footprint is None:
+        if horizon <= 0 or costmap is None or not self.rear_edges:
             return True
         x, y, yaw = (float(v) for v in pose[:3])
+        margin = self.edge_margin_cells * costmap.resolution
+        edges = [shortened(edge, margin) for edge in self.rear_edges]
         for k in range(1, int(self.cycle_frequency * horizon)):
             back = self.behavior.backup_speed * k / self.cycle_frequency
             if left - back <= 0:
                 break
-            if footprint_cost(costmap.costs, costmap.origin[0], costmap.origin[1],
-                              costmap.resolution, x - back * math.cos(yaw),
-                              y - back * math.sin(yaw), yaw, self.footprint) < 0:
+            bx, by = x - back * math.cos(yaw), y - back * math.sin(yaw)
+            if any(footprint_cost(costmap.costs, costmap.origin[0], costmap.origin[1],
+                                  costmap.resolution, bx, by, yaw, edge) < 0
+                   for edge in edges):
                 return False
         return True
+
+
+def shortened(edge: np.ndarray, margin: float) -> np.ndarray:
+    """The segment ``edge`` (2, 2) less ``margin`` (m) at each end (its midpoint when it is
+    shorter than twice that)."""
+    a, b = edge
+    length = float(np.hypot(*(b - a)))
+    if length <= 2 * margin:
+        middle = (a + b) / 2
+        return np.ascontiguousarray(np.stack([middle, middle]))
+    step = (b - a) / length * margin
+    return np.ascontiguousarray(np.stack([a + step, b - step]))
+
+
+def rear_edges(footprint) -> list[np.ndarray]:
+    """The edges (2, 2) of the footprint polygon (k, 2; robot frame, x forward) whose outward
+    normal points backwards: what a straight reverse drives into."""
+    points = np.asarray(footprint, dtype=float)
+    area2 = float(np.sum(points[:, 0] * np.roll(points[:, 1], -1)
+                         - np.roll(points[:, 0], -1) * points[:, 1]))
+    edges = []
+    for a, b in zip(points, np.roll(points, -1, axis=0), strict=True):
+        normal_x = (b[1] - a[1]) if area2 > 0 else (a[1] - b[1])   # outward normal's x
+        if normal_x < -1e-12:
+            edges.append(np.ascontiguousarray(np.stack([a, b])))
+    return edges
