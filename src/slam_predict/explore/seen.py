@@ -17,6 +17,7 @@ import numba
 import numpy as np
 
 from slam_predict.geometry import compose
+from slam_predict.sim.raycast import axis_walk, next_cell
 
 
 @numba.njit(cache=True, nogil=True)
@@ -24,7 +25,7 @@ def mark_beams(seen, occ, x_left, y_top, res, px, py, yaw, cos_a, sin_a, reach_m
     """Set ``seen`` (bool, the bitmap's shape) on every free cell that the beams (bearings with
     cosines/sines ``cos_a``/``sin_a`` in the laser frame) from world (px, py, yaw) cross
     before they enter an occupied cell or leave the bitmap, within ``reach_m`` (m).
-    Amanatides–Woo cell walk, as :func:`slam_predict.sim.raycast.cast_scan`."""
+    The Amanatides–Woo cell walk of :func:`slam_predict.sim.raycast.cast_scan`."""
     rows, cols = occ.shape
     gx = (px - x_left) / res
     gy = (y_top - py) / res
@@ -34,30 +35,13 @@ def mark_beams(seen, occ, x_left, y_top, res, px, py, yaw, cos_a, sin_a, reach_m
         dgx = cy * cos_a[i] - sy * sin_a[i]
         dgy = -(sy * cos_a[i] + cy * sin_a[i])
         col, row = int(math.floor(gx)), int(math.floor(gy))
-        step_c, delta_c, next_c = _axis(dgx, gx, col)
-        step_r, delta_r, next_r = _axis(dgy, gy, row)
+        step_c, delta_c, next_c = axis_walk(dgx, gx, col, 0.0)
+        step_r, delta_r, next_r = axis_walk(dgy, gy, row, 0.0)
         t = 0.0
         while 0 <= row < rows and 0 <= col < cols and not occ[row, col] and t < t_max:
             seen[row, col] = True
-            if next_c < next_r:
-                t = next_c
-                col += step_c
-                next_c += delta_c
-            else:
-                t = next_r
-                row += step_r
-                next_r += delta_r
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
-def _axis(direction, position, cell):
-    """Cell step, ray length per cell and ray length to the next cell boundary along one axis
-    (inf when the ray is parallel to it)."""
-    if direction > 0.0:
-        return 1, 1.0 / direction, (cell + 1.0 - position) / direction
-    if direction < 0.0:
-        return -1, -1.0 / direction, (position - cell) / -direction
-    return 0, math.inf, math.inf
+            t, col, row, next_c, next_r = next_cell(col, row, step_c, step_r, delta_c, delta_r,
+                                                    next_c, next_r)
 
 
 def seen_mask(world, robot_poses: np.ndarray, laser_pose, angles: np.ndarray,

@@ -68,7 +68,7 @@ def cached_jump_table(occ: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def _axis_walk(direction, position, cell, t0):
+def axis_walk(direction, position, cell, t0):
     """Cell walk along one axis from ``position`` (cells, inside ``cell``) at ray parameter t0:
     the cell step (−1, 0, 1), the ray length per cell and the ray parameter at the next cell
     boundary (inf for both when the ray is parallel to that boundary)."""
@@ -79,6 +79,15 @@ def _axis_walk(direction, position, cell, t0):
         delta = -1.0 / direction
         return -1, delta, t0 + (position - cell) * delta
     return 0, math.inf, math.inf
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def next_cell(col, row, step_c, step_r, delta_c, delta_r, next_c, next_r):
+    """One step of the cell walk, into the neighbour whose boundary the ray crosses first:
+    (ray parameter at that boundary, col, row, next_c, next_r)."""
+    if next_c < next_r:
+        return next_c, col + step_c, row, next_c + delta_c, next_r
+    return next_r, col, row + step_r, next_c, next_r + delta_r
 
 
 @numba.njit(cache=True, nogil=True)
@@ -98,19 +107,13 @@ def _ray_cells(occ, jump, gx, gy, dgx, dgy, t_max):
         row = int(math.floor(py))
         if row < 0 or row >= rows or col < 0 or col >= cols or occ[row, col]:
             return t0
-        step_c, delta_c, next_c = _axis_walk(dgx, px, col, t0)
-        step_r, delta_r, next_r = _axis_walk(dgy, py, row, t0)
+        step_c, delta_c, next_c = axis_walk(dgx, px, col, t0)
+        step_r, delta_r, next_r = axis_walk(dgy, py, row, t0)
         t = t0
         leap = jump[row, col]
         while leap < _MIN_LEAP:
-            if next_c < next_r:
-                t = next_c
-                col += step_c
-                next_c += delta_c
-            else:
-                t = next_r
-                row += step_r
-                next_r += delta_r
+            t, col, row, next_c, next_r = next_cell(col, row, step_c, step_r, delta_c, delta_r,
+                                                    next_c, next_r)
             if t >= t_max:
                 return t_max
             if row < 0 or row >= rows or col < 0 or col >= cols or occ[row, col]:
