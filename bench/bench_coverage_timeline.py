@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from pathlib import Path
 from types import SimpleNamespace
@@ -57,14 +56,6 @@ def path_by_time(ground_truth: Path) -> tuple[np.ndarray, np.ndarray]:
     return times, np.concatenate([[0.0], np.cumsum(steps)])
 
 
-def usable_range(settings, laser) -> float:
-    """m: how far a beam adds free cells to the SLAM map (the laser's range, capped by
-    GMapping's ``maxUrange`` or Karto's ``max_laser_range``)."""
-    params = settings.slam.params
-    cap = getattr(params, "maxUrange", getattr(params, "max_laser_range", math.inf))
-    return min(float(laser.range_max), float(cap))
-
-
 def laser_of(record: dict):
     """The run's laser (run.json ``sensor``) as a :class:`slam_predict.sensor.LaserConfig`."""
     from slam_predict.sensor import LaserConfig
@@ -78,13 +69,13 @@ def swept_curve(run: Path, record: dict, world, settings, reach: np.ndarray,
     """Times (every ``step_s`` s to the run's end) and the share of the reachable floor the
     laser had swept by then (``explore.seen``), from the scans the SLAM back-end processed,
     with the laser of run.json's ``sensor``."""
-    from slam_predict.explore.seen import poses_at, seen_mask, seen_share
+    from slam_predict.explore.seen import poses_at, seen_mask, seen_share, usable_range
 
     scan_times, _ = read_tum(run / "slam_scans.tum")
     truth_times, truth = read_tum(run / "ground_truth.tum")
     poses = poses_at(scan_times, truth_times, truth)
     laser = laser_of(record)
-    angles, reach_m = laser.angles(), usable_range(settings, laser)
+    angles, reach_m = laser.angles(), usable_range(settings.slam.params, laser.range_max)
     times = np.arange(step_s, record["sim_duration_s"] + step_s / 2, step_s)
     seen = np.zeros(world.occupied.shape, bool)
     shares, start = [], 0
@@ -170,13 +161,13 @@ def floor_picture(run: Path) -> np.ndarray:
 
 def _swept_mask(run: Path, record: dict, world, settings) -> np.ndarray:
     """The whole run's laser-swept floor (bool mask over the plan)."""
-    from slam_predict.explore.seen import poses_at, seen_mask
+    from slam_predict.explore.seen import poses_at, seen_mask, usable_range
 
     scan_times, _ = read_tum(run / "slam_scans.tum")
     truth_times, truth = read_tum(run / "ground_truth.tum")
     laser = laser_of(record)
     return seen_mask(world, poses_at(scan_times, truth_times, truth), laser.pose,
-                     laser.angles(), usable_range(settings, laser))
+                     laser.angles(), usable_range(settings.slam.params, laser.range_max))
 
 
 def thesis_paths(csv_path: Path | None) -> dict[str, float]:

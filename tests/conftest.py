@@ -59,7 +59,8 @@ def run_record_keys() -> frozenset:
         "settings_file", "odometry_model", "ranger_model", "odometry_error", "stop_reason",
         "explorer_end",
         "sim_duration_s", "wall_time_s", "distance_m", "rotation_rad", "coverage", "stalls",
-        "free_area_m2", "snapshots", "metric", "timing", "sensor", "slam", "stuck"})
+        "free_area_m2", "snapshots", "metric", "timing", "sensor", "slam", "stuck",
+        "coverage_swept"})
 
 
 @pytest.fixture(scope="session")

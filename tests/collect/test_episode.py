@@ -80,6 +80,7 @@ def test_office_500_episode_converges_with_high_coverage(tmp_path):
     record = run_episode(spec)
     assert record["stop_reason"] == "map_converged"
     assert record["coverage"] >= 0.9
+    assert record["coverage_swept"] >= 0.9
     reloaded, _ = load_record(Path(spec.out_dir))
     assert reloaded["stop_reason"] == "map_converged"
 

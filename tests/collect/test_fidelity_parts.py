@@ -51,6 +51,8 @@ def test_run_ends_lists_stuck_and_incomplete_runs(tmp_path):
         folder = tmp_path / world / f"run_{index:03d}"
         folder.mkdir(parents=True)
         record = {"run_index": index, "stop_reason": reason, "coverage": cov}
+        if world == "b":
+            record["coverage_swept"] = 0.992
         if isinstance(stuck, tuple):
             record["stuck"] = {"longest_still_s": 400.0, "stuck": stuck[0],
                                "stuck_at_end": stuck[1], "radius_m": 1.0}
@@ -62,7 +64,7 @@ def test_run_ends_lists_stuck_and_incomplete_runs(tmp_path):
                              "a run 2 (map_converged, coverage 0.990)",
                              "a run 3 (map_converged, coverage 0.990)"]
     assert ends["stuck for a while, got out"] == ["a run 4 (map_converged, coverage 0.990)"]
-    assert ends["low coverage"] == ["b run 0 (map_converged, coverage 0.940)"]
+    assert ends["low coverage"] == ["b run 0 (map_converged, coverage 0.940, floor swept 0.992)"]
 
 
 @pytest.mark.parametrize("text, problem", [

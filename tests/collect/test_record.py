@@ -30,9 +30,10 @@ def test_build_record_fields(run_record_keys):
     info = rec.RunInfo("square", "", 2, 7, odometry_error={"model": "x"})
     stuck = {"longest_still_s": 12.5, "stuck": False}
     end = rec.RunEnd("map_converged", {"t": 30.0, "reason": "no_frontiers"}, 40.0, 1.5, 3, 0.9,
-                     stuck)
+                     stuck, 0.97)
     record = rec.build_record(info, settings, {"sim": "abc"}, end, traj, rule, 12.0, {"sim": 2})
     assert set(record) == run_record_keys and record["stuck"] == stuck
+    assert record["coverage_swept"] == 0.97
     assert record["distance_m"] == pytest.approx(0.02 * 399)
     assert record["rotation_rad"] == pytest.approx(3 * math.pi / 2)
     assert record["snapshots"] == [{"t": 60.0, "mse": None}, {"t": 120.0, "mse": 3.5}]

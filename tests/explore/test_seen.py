@@ -78,3 +78,42 @@ def test_poses_at_takes_the_latest_pose_at_or_before():
     track = np.arange(9.0).reshape(3, 3)
     got = poses_at(np.array([0.1, 0.25, 0.3, 5.0, 0.0]), times, track)
     assert np.array_equal(got, track[[0, 1, 2, 2, 0]])
+
+
+def test_sweep_poses_keeps_a_pose_per_quarter_metre_or_quarter_radian():
+    from slam_predict.explore.seen import sweep_poses
+
+    creep = np.column_stack([np.arange(0, 1.0, 0.01), np.zeros(100), np.zeros(100)])
+    kept = sweep_poses(creep)
+    assert np.allclose(kept[:, 0], [0.0, 0.25, 0.5, 0.75])
+    turn = np.column_stack([np.zeros(50), np.zeros(50), np.linspace(0, 1.0, 50)])
+    assert len(sweep_poses(turn)) == 4
+    assert len(sweep_poses(np.empty((0, 3)))) == 0
+
+
+def test_usable_range_caps_the_laser_by_the_slam_back_end():
+    from types import SimpleNamespace
+
+    from slam_predict.explore.seen import usable_range
+
+    assert usable_range(SimpleNamespace(maxUrange=30.0), 80.0) == 30.0
+    assert usable_range(SimpleNamespace(max_laser_range=20.0), 10.0) == 10.0
+    assert usable_range(SimpleNamespace(), 80.0) == 80.0
+
+
+def test_swept_coverage_of_a_tour_of_the_rooms_is_complete():
+    """A robot that stands on every metre of the floor sweeps all of it; one that stays at its
+    start in the corridor does not."""
+    from slam_predict.explore.seen import swept_coverage
+    from slam_predict.sensor import LaserConfig
+
+    world = rooms_world(rooms_x=3, rooms_y=2, room_m=3.0, res=0.1)
+    reach = reachable_free(world, 0.2)
+    laser = LaserConfig(fov=2 * np.pi * 359 / 360, samples=720, range_max=30.0)
+    rows, cols = np.nonzero(reach)
+    lattice = (rows % 10 == 5) & (cols % 10 == 5)             # a pose every metre
+    spots = world.cell_to_world(np.stack([rows[lattice], cols[lattice]], axis=1))
+    tour = np.column_stack([spots, np.zeros(len(spots))])
+    assert swept_coverage(world, reach, tour, laser, 30.0) > 0.97
+    corridor = world.start_pose[None, :]
+    assert swept_coverage(world, reach, corridor, laser, 30.0) < 0.6

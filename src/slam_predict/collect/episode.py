@@ -129,6 +129,14 @@ def _finish_sensor_logs(sensors, folder: Path, loop, settings: CollectSettings) 
             settings.slam.type: to_dict(settings.slam.params)}
 
 
+def swept(world, reach, truth_poses, laser, settings: CollectSettings) -> float:
+    """run.json's ``coverage_swept`` (:func:`slam_predict.explore.seen.swept_coverage`)."""
+    from slam_predict.explore.seen import swept_coverage, usable_range
+
+    return swept_coverage(world, reach, truth_poses, laser,
+                          usable_range(settings.slam.params, laser.range_max))
+
+
 def run_episode(spec, settings: CollectSettings | None = None,
                 extra: dict | None = None) -> dict:
     """Run one exploration (a :class:`~slam_predict.collect.batch.RunSpec`); returns run.json
@@ -164,7 +172,8 @@ def run_episode(spec, settings: CollectSettings | None = None,
                            sensor=to_dict(loop.sim.sensor))
         end = rec.RunEnd(reason, explorer_end, loop.t, wall, loop.log.stalls,
                          coverage(world, grid, reach, loop.world_T_map),
-                         recorder.stuck.record(settings.stop))
+                         recorder.stuck.record(settings.stop),
+                         swept(world, reach, traj.ground_truth, loop.sim.sensor.laser, settings))
         record = rec.build_record(info, settings, settings.hashes(), end, traj, rule,
                                   world.free_area_m2, loop.timing,
                                   None if loop.delay is None else loop.delay.stats)

@@ -84,8 +84,9 @@ def got_out(record: Mapping) -> bool:
 def run_ends(folders: Sequence[Path], worlds: Sequence[str]) -> dict[str, list[str]]:
     """Every finished run of ``worlds`` in the campaign ``folders`` that ended with its robot
     stuck (:func:`ended_stuck`), that was stuck for a while and got out (:func:`got_out`), or
-    that ended below :data:`FULL_COVERAGE`, as 'world run k (reason, coverage c)' lines by
-    kind."""
+    that ended below :data:`FULL_COVERAGE`, as 'world run k (reason, coverage c[, floor swept
+    s])' lines by kind (the swept share, records since 2026-12-07: a run that swept its floor
+    but whose drifted map lies beside the plan has a high one)."""
     out: dict[str, list[str]] = {"stuck": [], "stuck for a while, got out": [],
                                  "low coverage": []}
     wanted = set(worlds)
@@ -96,8 +97,10 @@ def run_ends(folders: Sequence[Path], worlds: Sequence[str]) -> dict[str, list[s
                 continue
             for record in store.records(world):
                 coverage = float(record.get("coverage", 1.0))
+                swept = record.get("coverage_swept")
                 line = (f"{world} run {record.get('run_index', '?')} "
-                        f"({record.get('stop_reason')}, coverage {coverage:.3f})")
+                        f"({record.get('stop_reason')}, coverage {coverage:.3f}"
+                        + ("" if swept is None else f", floor swept {swept:.3f}") + ")")
                 if ended_stuck(record):
                     out["stuck"].append(line)
                 if got_out(record):

@@ -71,8 +71,9 @@ class RunInfo:
 @dataclass
 class RunEnd:
     """How a run ended: stop reason, the explorer's end ({t, reason} or None), sim and wall
-    duration (s), stall count, coverage (0-1, None without a world) and the stuck record
-    (:meth:`~slam_predict.collect.stopping.StuckDetector.record`, None when not watched)."""
+    duration (s), stall count, coverage (0-1, None without a world), the stuck record
+    (:meth:`~slam_predict.collect.stopping.StuckDetector.record`, None when not watched) and
+    the floor the laser swept (0-1, :func:`slam_predict.explore.seen.swept_coverage`)."""
 
     stop_reason: str | None
     explorer_end: dict[str, Any] | None
@@ -81,6 +82,7 @@ class RunEnd:
     stalls: int
     coverage: float | None
     stuck: dict[str, Any] | None = None
+    coverage_swept: float | None = None
 
 
 @functools.lru_cache(maxsize=1)
@@ -147,6 +149,7 @@ def build_record(info: RunInfo, settings, hashes: dict[str, str], end: RunEnd,
         "distance_m": path_length(traj.ground_truth),
         "rotation_rad": path_rotation(traj.ground_truth),
         "coverage": end.coverage, "stalls": int(end.stalls), "free_area_m2": free_area_m2,
+        **({"coverage_swept": end.coverage_swept} if end.coverage_swept is not None else {}),
         **({"stuck": end.stuck} if end.stuck is not None else {}),
         "snapshots": [{"t": t, "mse": m}
                       for t, m in zip(rule.times, [None] + rule.mses, strict=False)],

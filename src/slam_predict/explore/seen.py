@@ -3,11 +3,15 @@
 :func:`slam_predict.explore.coverage.coverage` counts the reachable cells that fall on known
 cells of the final SLAM map, placed with the map frame on the start pose. When the SLAM estimate
 has drifted by metres, parts the robot did see lie beside where the map puts them, and that
-count mixes the map's error into the exploration's. Here a cell is *seen* when a beam of a scan
-the SLAM back-end processed, cast from the robot's true pose in the World's bitmap, crossed it
-before reaching an occupied cell or the back-end's usable range (GMapping's ``maxUrange``:
-farther beam ends add no free cells to its map). The Stage laser is exact, so these are the
-beams the back-end was given.
+count mixes the map's error into the exploration's. Here a cell is *swept* when a beam cast
+from a true laser pose in the World's bitmap crossed it before reaching an occupied cell or the
+SLAM back-end's usable range (GMapping's ``maxUrange``: farther beam ends add no free cells to
+its map). The Stage laser is exact, so these are the beams the robot got.
+
+Each run record holds :func:`swept_coverage` as ``coverage_swept``: the poses are the
+ground-truth trajectory's, one every :data:`SWEEP_STEP_M` of path or :data:`SWEEP_STEP_RAD` of
+turn (the ROS path's orchestrator observes them too); ``bench/bench_coverage_timeline.py``
+sweeps from the true poses of the scans the back-end processed instead.
 """
 from __future__ import annotations
 
@@ -74,3 +78,39 @@ def poses_at(times: np.ndarray, track_times: np.ndarray, track: np.ndarray) -> n
     the latest pose at or before each time (the ground truth is logged with every scan)."""
     index = np.searchsorted(track_times, np.asarray(times) + 1e-9, side="right") - 1
     return track[np.clip(index, 0, len(track) - 1)]
+
+
+SWEEP_STEP_M = 0.25      # m: a ground-truth pose is swept from once the robot moved this far
+SWEEP_STEP_RAD = 0.25    # rad: ... or turned this much since the last pose swept from
+
+
+def sweep_poses(poses: np.ndarray) -> np.ndarray:
+    """The poses (n, 3) of a trajectory to sweep from: the first, then each one that is
+    :data:`SWEEP_STEP_M` or :data:`SWEEP_STEP_RAD` from the last kept (a robot standing or
+    creeping adds nothing)."""
+    poses = np.asarray(poses, dtype=float).reshape(-1, 3)
+    if len(poses) == 0:
+        return poses
+    kept = [0]
+    for i in range(1, len(poses)):
+        last = poses[kept[-1]]
+        turn = abs(math.remainder(poses[i, 2] - last[2], 2 * math.pi))
+        if math.hypot(*(poses[i, :2] - last[:2])) >= SWEEP_STEP_M or turn >= SWEEP_STEP_RAD:
+            kept.append(i)
+    return poses[kept]
+
+
+def usable_range(slam_params, laser_range_max: float) -> float:
+    """m: how far a beam adds free cells to the SLAM map: the laser's range, capped by
+    GMapping's ``maxUrange`` or Karto's ``max_laser_range`` when ``slam_params`` has one."""
+    cap = getattr(slam_params, "maxUrange", getattr(slam_params, "max_laser_range", math.inf))
+    return min(float(laser_range_max), float(cap))
+
+
+def swept_coverage(world, reachable: np.ndarray, truth_poses: np.ndarray, laser,
+                   reach_m: float) -> float:
+    """Share (0–1) of the ``reachable`` floor that the laser (a
+    :class:`slam_predict.sensor.LaserConfig`) swept from the ground-truth trajectory
+    ``truth_poses`` (n, 3; world frame), each beam up to ``reach_m`` (m)."""
+    seen = seen_mask(world, sweep_poses(truth_poses), laser.pose, laser.angles(), reach_m)
+    return seen_share(reachable, seen)

@@ -39,6 +39,20 @@ def run_coverage(world, grid, settings: CollectSettings, traj: rec.Trajectories)
     return coverage(world, grid, reach, world_T_map(traj.ground_truth[0], traj.slam[0]))
 
 
+def run_swept(world, settings: CollectSettings, traj: rec.Trajectories,
+              sensor) -> float | None:
+    """Share of the reachable free area the laser swept from the true trajectory (None
+    without a world or trajectory)."""
+    if world is None or sensor is None or len(traj.t) == 0:
+        return None
+    from slam_predict.collect.episode import swept
+    from slam_predict.explore.coverage import reachable_free
+    from slam_predict.nav.costmap import inscribed_radius
+
+    reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
+    return swept(world, reach, traj.ground_truth, sensor.laser, settings)
+
+
 def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, world,
                  free_area_m2: float | None, wall_time_s: float,
                  timing: dict[str, float]) -> dict[str, Any]:
@@ -48,10 +62,12 @@ def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, 
     hashes["stop"] = config_hash(monitor.stop)  # the stop rule actually applied
     ros = {**info.ros, "samples": int(len(traj.t)), "samples_dropped": int(monitor.dropped),
            "first_sample_t": float(traj.t[0]) if len(traj.t) else None}
+    resolved = None if world is None else resolve_sensor(world, settings.sim)
     end = rec.RunEnd(monitor.reason, monitor.explorer_end, monitor.sim_duration_s, wall_time_s,
                      monitor.stalls, run_coverage(world, monitor.grid, settings, traj),
-                     monitor.stuck.record(monitor.stop))
-    sensor = None if world is None else to_dict(resolve_sensor(world, settings.sim))
+                     monitor.stuck.record(monitor.stop),
+                     run_swept(world, settings, traj, resolved))
+    sensor = None if resolved is None else to_dict(resolved)
     record = rec.build_record(dataclasses.replace(info, sensor=sensor), settings, hashes, end,
                               traj, monitor.rule, free_area_m2, timing)
     record["ros"] = ros
