@@ -99,6 +99,7 @@ def test_usable_range_caps_the_laser_by_the_slam_back_end():
     assert usable_range(SimpleNamespace(maxUrange=30.0), 80.0) == 30.0
     assert usable_range(SimpleNamespace(max_laser_range=20.0), 10.0) == 10.0
     assert usable_range(SimpleNamespace(), 80.0) == 80.0
+    assert usable_range(SimpleNamespace(maxUrange=None), 80.0) == 80.0
 
 
 def test_swept_coverage_of_a_tour_of_the_rooms_is_complete():

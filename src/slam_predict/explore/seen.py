@@ -102,9 +102,10 @@ def sweep_poses(poses: np.ndarray) -> np.ndarray:
 
 def usable_range(slam_params, laser_range_max: float) -> float:
     """m: how far a beam adds free cells to the SLAM map: the laser's range, capped by
-    GMapping's ``maxUrange`` or Karto's ``max_laser_range`` when ``slam_params`` has one."""
-    cap = getattr(slam_params, "maxUrange", getattr(slam_params, "max_laser_range", math.inf))
-    return min(float(laser_range_max), float(cap))
+    GMapping's ``maxUrange`` or Karto's ``max_laser_range`` when ``slam_params`` sets one (None:
+    the laser's range, as slam_gmapping takes it)."""
+    cap = getattr(slam_params, "maxUrange", getattr(slam_params, "max_laser_range", None))
+    return float(laser_range_max) if cap is None else min(float(laser_range_max), float(cap))
 
 
 def swept_coverage(world, reachable: np.ndarray, truth_poses: np.ndarray, laser,
