@@ -124,8 +124,8 @@ class BackUpRecovery:
         return False, -behavior.backup_speed
 
     def _path_free(self, pose, left: float, costmap: Costmap | None) -> bool:
-        """Nav2 BackUp's isCollisionFree: the footprint clear of LETHAL and unknown cells at
-        each simulated pose behind ``pose`` (m left to drive ``left``)."""
+        """Nav2 BackUp's isCollisionFree on the rear edges (class doc): clear of LETHAL and
+        unknown cells at each simulated pose behind ``pose`` (m left to drive ``left``)."""
         horizon = self.behavior.simulate_ahead_time
         if horizon <= 0 or costmap is None or not self.rear_edges:
             return True

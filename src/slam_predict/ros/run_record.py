@@ -9,9 +9,10 @@ one key ``ros`` describing the graph (node choices, ground-truth source, dropped
 Differences that follow from the ROS graph (documented in docs/ros.md): ``timing`` holds wall
 times of the run's phases (the nodes' internal timings are not observable); ``coverage`` uses
 the map frame's pose in the world estimated from the first sample (ground truth ⊕ SLAM⁻¹) and is
-``null`` without a world file (real robot); ``odometry_error`` is what the simulator node
-reports (``null`` for stageros or a real robot); ``sensor`` is the laser and odometry model
-of the world file with the robot file's overrides (``null`` without a world file).
+``null`` without a world file (real robot), ``coverage_swept`` is left out then;
+``odometry_error`` is what the simulator node reports (``null`` for stageros or a real robot);
+``sensor`` is the laser and odometry model of the world file with the robot file's overrides
+(``null`` without a world file).
 """
 from __future__ import annotations
 
@@ -28,29 +29,35 @@ from slam_predict.ros.orchestrator import RunMonitor
 from slam_predict.sim.simulator import resolve_sensor
 
 
-def run_coverage(world, grid, settings: CollectSettings, traj: rec.Trajectories) -> float | None:
-    """Share of the reachable free area known in the final map (None without world or map)."""
+def run_coverage(world, grid, reach, traj: rec.Trajectories) -> float | None:
+    """Share of the reachable free area ``reach`` known in the final map (None without world
+    or map)."""
     if world is None or grid is None or len(traj.t) == 0:
         return None
-    from slam_predict.explore.coverage import coverage, reachable_free
-    from slam_predict.nav.costmap import inscribed_radius
+    from slam_predict.explore.coverage import coverage
 
-    reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
     return coverage(world, grid, reach, world_T_map(traj.ground_truth[0], traj.slam[0]))
 
 
-def run_swept(world, settings: CollectSettings, traj: rec.Trajectories,
+def run_swept(world, reach, settings: CollectSettings, traj: rec.Trajectories,
               sensor) -> float | None:
-    """Share of the reachable free area the laser swept from the true trajectory (None
-    without a world or trajectory)."""
+    """Share of the reachable free area ``reach`` the laser swept from the true trajectory
+    (None without a world or trajectory)."""
     if world is None or sensor is None or len(traj.t) == 0:
         return None
     from slam_predict.collect.episode import swept
+
+    return swept(world, reach, traj.ground_truth, sensor.laser, settings)
+
+
+def reachable(world, settings: CollectSettings):
+    """The world's reachable free area (None without a world)."""
+    if world is None:
+        return None
     from slam_predict.explore.coverage import reachable_free
     from slam_predict.nav.costmap import inscribed_radius
 
-    reach = reachable_free(world, inscribed_radius(settings.nav.global_costmap))
-    return swept(world, reach, traj.ground_truth, sensor.laser, settings)
+    return reachable_free(world, inscribed_radius(settings.nav.global_costmap))
 
 
 def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, world,
@@ -63,10 +70,11 @@ def build_record(info: RunInfo, settings: CollectSettings, monitor: RunMonitor, 
     ros = {**info.ros, "samples": int(len(traj.t)), "samples_dropped": int(monitor.dropped),
            "first_sample_t": float(traj.t[0]) if len(traj.t) else None}
     resolved = None if world is None else resolve_sensor(world, settings.sim)
+    reach = reachable(world, settings)
     end = rec.RunEnd(monitor.reason, monitor.explorer_end, monitor.sim_duration_s, wall_time_s,
-                     monitor.stalls, run_coverage(world, monitor.grid, settings, traj),
+                     monitor.stalls, run_coverage(world, monitor.grid, reach, traj),
                      monitor.stuck.record(monitor.stop),
-                     run_swept(world, settings, traj, resolved))
+                     run_swept(world, reach, settings, traj, resolved))
     sensor = None if resolved is None else to_dict(resolved)
     record = rec.build_record(dataclasses.replace(info, sensor=sensor), settings, hashes, end,
                               traj, monitor.rule, free_area_m2, timing)
