@@ -152,12 +152,41 @@ def test_the_ros_path_gets_the_overridden_navigation_folder():
     assert Path(plain) == CONFIG.resolve()
 
 
-@pytest.mark.parametrize("key", ["TrajectoryPlannerROS", "local_costmap", "oscilation_timeout"])
+@pytest.mark.parametrize("key", ["local_costmap", "oscilation_timeout"])
 def test_nav_overrides_of_a_section_or_an_unknown_key_are_one_line_errors(tmp_path, key):
     settings = tmp_path / "s.yaml"
     settings.write_text(f"extends: {CONFIG / 'collect.yaml'}\nnav_overrides:\n  {key}: 1.0\n")
     with pytest.raises(InputError, match=f"nav_overrides: '{key}'"):
         load_settings(settings)
+
+
+@pytest.mark.parametrize("value", ["1.0", "{escape_alternat: true}"])
+def test_trajectory_planner_overrides_name_known_parameters(tmp_path, value):
+    settings = tmp_path / "s.yaml"
+    settings.write_text(f"extends: {CONFIG / 'collect.yaml'}\nnav_overrides:\n"
+                        f"  TrajectoryPlannerROS: {value}\n")
+    with pytest.raises(InputError, match="nav_overrides.TrajectoryPlannerROS: not a") as err:
+        load_settings(settings)
+    assert str(settings) in str(err.value) and "\n" not in str(err.value)
+
+
+def test_trajectory_planner_overrides_reach_both_paths_and_only_the_nav_hash(tmp_path):
+    """A TrajectoryPlannerROS key set in nav_overrides (one the planner file also sets, and one
+    it does not) reaches the in-process settings and the ROS path's navigation folder."""
+    from slam_predict.nav.config import load_nav_config
+    from slam_predict.ros.batch_runner import component_configs
+
+    path = tmp_path / "s.yaml"
+    path.write_text(f"extends: {CONFIG / 'collect.yaml'}\nnav_overrides:\n"
+                    "  TrajectoryPlannerROS: {escape_alternate: true, escape_vel: -0.2}\n")
+    base, settings = load_settings(CONFIG / "collect.yaml"), load_settings(path)
+    tp = settings.nav.TrajectoryPlannerROS
+    assert tp.escape_alternate and tp.escape_vel == -0.2
+    assert not base.nav.TrajectoryPlannerROS.escape_alternate
+    assert settings.nav.TrajectoryPlannerROS.max_vel_x == base.nav.TrajectoryPlannerROS.max_vel_x
+    assert {k for k, v in settings.hashes().items() if base.hashes()[k] != v} == {"nav"}
+    folder = component_configs(path)["nav_config_dir"]
+    assert load_nav_config(folder) == settings.nav
 
 
 def test_two_jobs_making_the_same_navigation_folder_both_get_it(tmp_path, monkeypatch):

@@ -4,8 +4,9 @@ A settings file may ``extends: other.yaml`` (its keys override the other file's;
 of each file are relative to the file that names them) and may carry ``sim_overrides``: a partial
 ``sim`` section merged over the robot file's, e.g. ``{odom: {model: fixed}, laser: {range_max:
 60.0}}`` — how the fidelity campaign's variants (config/fidelity/) are written — and
-``nav_overrides``: move_base.yaml keys (top level, not the costmap or planner sections) set over
-the navigation folder's.
+``nav_overrides``: move_base.yaml keys (top level) and a ``TrajectoryPlannerROS`` mapping of
+base_local_planner parameters set over the navigation folder's (not the costmaps or the global
+planners).
 
 The SLAM back-end is ``slam: {type: NAME, params: FILE or {…}}``: any name of
 :func:`slam_predict.slam.available`, its parameters as a YAML file (relative to the settings
@@ -159,18 +160,30 @@ def load_settings(path: os.PathLike | str | None = None,
     return with_robot(settings, load_robot(robot, force=force_robot), robot_path(robot))
 
 
+# Sections of the move_base tree whose own parameters ``nav_overrides`` may set (a mapping).
+OVERRIDABLE_NAV_SECTIONS = ("TrajectoryPlannerROS",)
+
+
 def checked_nav_overrides(overrides: dict[str, Any], path: Path) -> dict[str, Any]:
-    """``nav_overrides`` when every key is a top-level move_base parameter (not one of the
-    costmap or planner sections, which have files of their own); InputError otherwise."""
+    """``nav_overrides`` when every key is a top-level move_base parameter or a mapping of
+    TrajectoryPlannerROS parameters (the costmap and global planner sections have files of
+    their own); InputError otherwise."""
     from slam_predict.nav.config import MoveBaseConfig
 
     defaults = MoveBaseConfig()
     allowed = {f.name for f in dataclasses.fields(MoveBaseConfig)
                if not dataclasses.is_dataclass(getattr(defaults, f.name))}
-    for key in overrides:
-        if key not in allowed:
+    for key, value in overrides.items():
+        if key in OVERRIDABLE_NAV_SECTIONS:
+            names = {f.name for f in dataclasses.fields(getattr(defaults, key))}
+            unknown = sorted(set(value) - names) if isinstance(value, dict) else [str(value)]
+            if unknown:
+                raise InputError(f"nav_overrides.{key}: not a {key} parameter: "
+                                 f"{', '.join(unknown)}", path)
+        elif key not in allowed:
             raise InputError(f"nav_overrides: '{key}' is not a move_base.yaml parameter "
-                             "(costmap and planner sections are not overridable here)", path)
+                             "(costmap and global planner sections are not overridable here)",
+                             path)
     return dict(overrides)
 
 

@@ -50,28 +50,35 @@ def _cached_file(prefix: str, text: str) -> Path:
 
 
 def merged_nav_folder(tree: dict[str, Any]) -> Path:
-    """The navigation folder with ``nav_overrides`` set in its move_base.yaml, for the ROS
-    path's move_base launch (which loads the folder's files); under ~/.cache/slam_predict/
-    settings/, named by content hash, the other files copied as they are."""
+    """The navigation folder with ``nav_overrides`` set: move_base parameters in its
+    move_base.yaml, TrajectoryPlannerROS parameters in its base_local_planner.yaml (loaded after
+    move_base.yaml, so it would win), for the ROS path's move_base launch (which loads the
+    folder's files); under ~/.cache/slam_predict/settings/, named by content hash, the other
+    files copied as they are."""
     import shutil
     import tempfile
 
-    import yaml
-
+    from slam_predict.collect.settings import OVERRIDABLE_NAV_SECTIONS
     from slam_predict.nav.config import NAV_FILES
 
     source = Path(tree["navigation"])
-    move_base = {**(load_yaml(source / "move_base.yaml") or {}), **tree["nav_overrides"]}
-    text = f"# {source / 'move_base.yaml'} + nav_overrides\n" + yaml.safe_dump(move_base)
-    merged = _cached_file("move_base", text)
-    folder = merged.parent / merged.stem
+    overrides = tree["nav_overrides"]
+    sections = {k: v for k, v in overrides.items() if k in OVERRIDABLE_NAV_SECTIONS}
+    top = {k: v for k, v in overrides.items() if k not in sections}
+    merged = {"move_base.yaml": _merged_yaml(source / "move_base.yaml", top, "nav_overrides")}
+    if sections:
+        merged["base_local_planner.yaml"] = _merged_yaml(
+            source / "base_local_planner.yaml", sections, "nav_overrides' planner sections")
+    digest = _cached_file("move_base", "".join(p.read_text() for p in merged.values()))
+    folder = digest.parent / digest.stem
     if not folder.is_dir():
         # a staging folder of this process's own: parallel jobs may build the same folder
         staging = Path(tempfile.mkdtemp(prefix=folder.name + ".", dir=folder.parent))
-        for name in NAV_FILES[1:]:
-            if (source / name).is_file():
+        for name in NAV_FILES:
+            if name in merged:
+                shutil.copyfile(merged[name], staging / name)
+            elif (source / name).is_file():
                 shutil.copyfile(source / name, staging / name)
-        shutil.copyfile(merged, staging / "move_base.yaml")
         try:
             staging.rename(folder)
         except OSError:
@@ -79,3 +86,16 @@ def merged_nav_folder(tree: dict[str, Any]) -> Path:
                 raise
             shutil.rmtree(staging, ignore_errors=True)   # another job made the same folder
     return folder
+
+
+def _merged_yaml(path: Path, overrides: dict[str, Any], what: str) -> Path:
+    """``path``'s mapping with ``overrides`` set (mappings merged one level deep), cached."""
+    import yaml
+
+    data = dict(load_yaml(path) or {}) if path.is_file() else {}
+    for key, value in overrides.items():
+        if isinstance(value, dict) and isinstance(data.get(key), dict):
+            data[key] = {**data[key], **value}
+        else:
+            data[key] = value
+    return _cached_file(path.stem, f"# {path} + {what}\n" + yaml.safe_dump(data))

@@ -162,13 +162,16 @@ class TrajectoryPlannerConfig:
     ``escape_footprint_margin`` (m; an extension, 0 = base_local_planner): when nothing is
     legal and the straight escape would also collide, the planner backs up blind, as the
     original, only if no better move exists for the footprint shrunk by this margin (roughly the
-    robot's body): a backward arc at ``escape_vel`` that the shrunk footprint rolls out without
-    touching an obstacle is taken instead, or, when no backward arc is clear (backed into a
-    wall), such a forward arc at −``escape_vel``. And a cycle that starts with the footprint
-    already touching an obstacle the shrunk footprint clears scores its samples with the
-    shrunk footprint (the robot drives or turns away instead of backing up blind), and so are
-    the stop and the rotation in place at the goal. A move the shrunk footprint chose is kept
-    until escape_reset_dist / escape_reset_theta.
+    robot's body): a backward arc at ``escape_vel`` the shrunk footprint rolls out clear is
+    taken instead, or, when none is (backed into a wall), such a forward arc at −``escape_vel``.
+    A cycle that starts with the footprint touching an obstacle the shrunk one clears scores its
+    samples (and the stop and rotation at the goal) with the shrunk footprint. A move the shrunk
+    footprint chose is kept until escape_reset_dist / escape_reset_theta.
+    ``escape_alternate`` (an extension; off = base_local_planner): a blind escape (its straight
+    path collides in the costmap) that follows a blind escape with no legal command between
+    drives straight forward at −``escape_vel`` instead, and the next such one back again: Stage
+    refuses a move into a wall while its odometry integrates it, so upstream's repeated blind
+    escape holds a robot whose corner touches a wall behind it for good.
     """
 
     acc_lim_x: float = 2.5
@@ -194,6 +197,7 @@ class TrajectoryPlannerConfig:
     escape_reset_theta: float = math.pi / 2.0
     reverse_when_blocked: bool = False
     escape_footprint_margin: float = 0.0
+    escape_alternate: bool = False
     holonomic_robot: bool = False
     y_vels: tuple[float, ...] = (-0.3, -0.1, 0.1, 0.3)
     dwa: bool = False
@@ -220,6 +224,7 @@ class TrajectoryPlannerConfig:
         "escape_footprint_margin": NON_NEGATIVE, "heading_scoring_timestep": NON_NEGATIVE,
         "xy_goal_tolerance": NON_NEGATIVE, "yaw_goal_tolerance": NON_NEGATIVE,
         "trans_stopped_velocity": NON_NEGATIVE, "rot_stopped_velocity": NON_NEGATIVE}
+    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"escape_alternate": False}   # added later
 
     def __post_init__(self) -> None:
         if self.holonomic_robot:

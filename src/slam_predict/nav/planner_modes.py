@@ -160,6 +160,21 @@ def next_state(state: PlannerState, seen: Observed, resets: Resets) -> PlannerSt
 
 
 @dataclass(frozen=True)
+class BlindEscapes:
+    """Extension ``escape_alternate``: was the last escape blind (its straight path collides
+    in the costmap) with no legal command since, and does the current escape drive forward?"""
+
+    last_blind: bool = False
+    forward: bool = False
+
+    def begin(self, blind: bool) -> BlindEscapes:
+        """The memory when an escape begins: a blind one after a blind one turns round."""
+        if blind and self.last_blind:
+            return BlindEscapes(True, not self.forward)
+        return BlindEscapes(blind, False)
+
+
+@dataclass(frozen=True)
 class Oscillation:
     """base_local_planner's in-place rotation memory: a side is "stuck" once the robot turned
     one way in place and then the other without moving oscillation_reset_dist m from

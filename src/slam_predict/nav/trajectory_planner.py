@@ -27,6 +27,7 @@ from slam_predict.nav.config import TrajectoryPlannerConfig
 from slam_predict.nav.costmap import Costmap
 from slam_predict.nav.map_grid import DistanceGrids
 from slam_predict.nav.planner_modes import (
+    BlindEscapes,
     Chosen,
     Mode,
     Observed,
@@ -71,6 +72,7 @@ class TrajectoryPlanner:
         self.grids = DistanceGrids()
         self.state = PlannerState()
         self.oscillation = Oscillation()
+        self.blind = BlindEscapes()
 
     # --------------------------------------------------------------------------- the plan
     def update_plan(self, plan: np.ndarray) -> None:
@@ -155,6 +157,8 @@ class TrajectoryPlanner:
         self.compute_maps(costmap, pose)
         footprint = self.footprint_at(costmap, pose)
         best, chosen = self._create_trajectories(costmap, pose, vel, footprint)
+        if chosen not in (Chosen.BACK_UP, Chosen.NO_PATH):
+            self.blind = BlindEscapes()
         if chosen in (Chosen.BODY_SAFE, Chosen.KEPT_MOVE):
             footprint = self.body
         best.points = self.trajectory_points(costmap, pose, vel, best.xv, best.thetav, footprint)
@@ -293,9 +297,22 @@ class TrajectoryPlanner:
             safe = self._body_safe_escape(costmap, pose, vel)
             if safe is not None:
                 best, chosen = safe, Chosen.BODY_SAFE
+        if c.escape_alternate and chosen is Chosen.BACK_UP:
+            best = self._alternate(costmap, pose, vel, footprint, best)
         if best.cost == -1.0:
             best.cost = 1.0
         return best, chosen
+
+    def _alternate(self, costmap, pose, vel, footprint, back: Trajectory) -> Trajectory:
+        """``escape_alternate``: the straight escape back, or forward at −escape_vel when this
+        escape began blind right after a blind one (:class:`BlindEscapes`)."""
+        if not self.state.escaping:
+            self.blind = self.blind.begin(back.cost == -1.0)
+        if not self.blind.forward:
+            return back
+        vx = -self.cfg.escape_vel
+        costs, _ = self._score(costmap, pose, vel, np.array([[vx, 0.0]]), footprint)
+        return Trajectory(float(costs[0]) if costs[0] >= 0 else -1.0, vx, 0.0)
 
     def _kept_move(self, costmap, pose, vel) -> Trajectory | None:
         """KEEPING_MOVE: the kept body-safe move again while the body still rolls it out clear,
