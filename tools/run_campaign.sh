@@ -6,6 +6,7 @@
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
 #       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | fidelity_seed_study_2 |
 #       fidelity_seed_study_3 | fidelity_seed_study_4 | fidelity_seed_study_5 |
+#       fidelity_seed_study_6 |
 #       robots | robots_rep3 |
 #       robots_more | robots_configs2 | robots_rep4 | robots_res025 | robots_res100 |
 #       karto_seed_study | karto_robots
@@ -41,6 +42,10 @@
 #   fidelity_seed_study_5 (issue #41, 2026-12-07): the same chain with config/fidelity/seed_study_refit.yaml
 #              (fidelity_seed_study_4's settings, slam_gmapping's cpu_factor refitted on the fit
 #              part to 0.88); same parts rule (fit part first).
+#   fidelity_seed_study_6 (issue #41, 2026-12-07): config/fidelity/seed_study_refit_escape.yaml
+#              (fidelity_seed_study_5's settings with base_local_planner's blind escape
+#              alternating, escape_alternate); a run in which two blind escapes never follow each
+#              other repeats its fidelity_seed_study_5 record; same parts rule (fit part first).
 #   karto_seed_study (2026-12-05): the fidelity campaign's buildings (its parts.yaml) explored by
 #              the same chain with Karto as slam_toolbox's async node in real time
 #              (config/fidelity/seed_study_karto.yaml), 3 runs each, breadth-first.
@@ -113,6 +118,8 @@ case "$NAME" in
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study_5) SETTINGS="$ROOT/config/fidelity/seed_study_refit.yaml"
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  fidelity_seed_study_6) SETTINGS="$ROOT/config/fidelity/seed_study_refit_escape.yaml"
+          WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study|fidelity_seed_study_2) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
   karto_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
@@ -131,7 +138,7 @@ case "$NAME" in
   robots_res025|robots_res100) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"
           WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_${NAME#robots_}.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots)" >&2; exit 2 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots)" >&2; exit 2 ;;
 esac
 case "$PART" in
   "") ;;
@@ -148,7 +155,7 @@ parts = yaml.safe_load(open(sys.argv[1]))["parts"]
 print(" ".join(w for name, part in parts.items() if sys.argv[2] in ("", name) for w in part))' \
     "$PARTS_YAML" "$1"
 }
-if [[ "$NAME" =~ ^fidelity_seed_study_[2-5]$ ]] && [ "$PART" != fit ]; then
+if [[ "$NAME" =~ ^fidelity_seed_study_[2-6]$ ]] && [ "$PART" != fit ]; then
   # the declared order: the fitted setting is checked on the whole fit part before any judged run
   FIT_DONE=0; FIT_WANTED=0
   for b in $(part_buildings fit); do
