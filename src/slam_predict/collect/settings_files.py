@@ -35,14 +35,18 @@ def slam_params_file(settings_path: Path, tree: dict[str, Any]) -> Path:
     return _cached_file("slam", text)
 
 
-def _cached_file(prefix: str, text: str) -> Path:
-    """``text`` written atomically under ~/.cache/slam_predict/settings/, named by its hash."""
+def _digest(text: str) -> str:
+    """The 12 hex digits that name a cached file or folder by its content."""
     import hashlib
 
+    return hashlib.sha256(text.encode()).hexdigest()[:12]
+
+
+def _cached_file(prefix: str, text: str) -> Path:
+    """``text`` written atomically under ~/.cache/slam_predict/settings/, named by its hash."""
     from slam_predict.atomic import write_text
 
-    digest = hashlib.sha256(text.encode()).hexdigest()[:12]
-    out = Path.home() / ".cache" / "slam_predict" / "settings" / f"{prefix}_{digest}.yaml"
+    out = Path.home() / ".cache" / "slam_predict" / "settings" / f"{prefix}_{_digest(text)}.yaml"
     if not out.is_file():
         out.parent.mkdir(parents=True, exist_ok=True)
         write_text(out, text)
@@ -69,8 +73,8 @@ def merged_nav_folder(tree: dict[str, Any]) -> Path:
     if sections:
         merged["base_local_planner.yaml"] = _merged_yaml(
             source / "base_local_planner.yaml", sections, "nav_overrides' planner sections")
-    digest = _cached_file("move_base", "".join(p.read_text() for p in merged.values()))
-    folder = digest.parent / digest.stem
+    folder = merged["move_base.yaml"].parent / (
+        "move_base_" + _digest("".join(p.read_text() for p in merged.values())))
     if not folder.is_dir():
         # a staging folder of this process's own: parallel jobs may build the same folder
         staging = Path(tempfile.mkdtemp(prefix=folder.name + ".", dir=folder.parent))

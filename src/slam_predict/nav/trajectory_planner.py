@@ -157,7 +157,7 @@ class TrajectoryPlanner:
         self.compute_maps(costmap, pose)
         footprint = self.footprint_at(costmap, pose)
         best, chosen = self._create_trajectories(costmap, pose, vel, footprint)
-        if chosen not in (Chosen.BACK_UP, Chosen.NO_PATH):
+        if self.cfg.escape_alternate and chosen not in (Chosen.BACK_UP, Chosen.NO_PATH):
             self.blind = BlindEscapes()
         if chosen in (Chosen.BODY_SAFE, Chosen.KEPT_MOVE):
             footprint = self.body
