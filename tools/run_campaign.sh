@@ -46,6 +46,12 @@
 #              (fidelity_seed_study_5's settings with base_local_planner's blind escape
 #              alternating, escape_alternate); a run in which two blind escapes never follow each
 #              other repeats its fidelity_seed_study_5 record; same parts rule (fit part first).
+#   robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100 (issue #41,
+#              2026-12-07): robots, robots_rep3, ... collected again, same designs and seeds, on
+#              fidelity_seed_study_6's chain (config/robot_campaign/settings_refit_escape.yaml).
+#   karto_seed_study_2, karto_robots_2 (issues #40, #41, 2026-12-07): karto_seed_study and
+#              karto_robots on fidelity_seed_study_6's chain
+#              (config/fidelity/seed_study_refit_escape_karto.yaml).
 #   karto_seed_study (2026-12-05): the fidelity campaign's buildings (its parts.yaml) explored by
 #              the same chain with Karto as slam_toolbox's async node in real time
 #              (config/fidelity/seed_study_karto.yaml), 3 runs each, breadth-first.
@@ -78,14 +84,15 @@
 # finished runs are never redone, so the command can be repeated in every working period.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-NAME="${1:?usage: tools/run_campaign.sh NAME [--jobs K] [--runs N] [--part fit|judge]}"; shift
-JOBS=2; RUNS=5; PART=""
-case "$NAME" in fidelity_sizes*|fidelity_seed_study*|karto_seed_study) RUNS=3 ;; esac   # issue #16: >= 3 runs per building
+NAME="${1:?usage: tools/run_campaign.sh NAME [--jobs K] [--runs N] [--part fit|judge] [--dry-run]}"; shift
+JOBS=2; RUNS=5; PART=""; DRY_RUN=0
+case "$NAME" in fidelity_sizes*|fidelity_seed_study*|karto_seed_study*) RUNS=3 ;; esac   # issue #16: >= 3 runs per building
 while [ $# -gt 0 ]; do
   case "$1" in
     --jobs) JOBS="$2"; shift 2 ;;
     --runs) RUNS="$2"; shift 2 ;;
     --part) PART="$2"; shift 2 ;;
+    --dry-run) DRY_RUN=1; shift ;;
     *) echo "run_campaign: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -105,7 +112,16 @@ MORE_ROBOT_BUILDINGS="130604-Plan_updated UMTD_School_Floorplan_updated VarzeaPa
   executive-office-floor-plans-l-a622d60bb7a76a60_updated"
 DESIGN_ARGS=()
 WITH_LARGE=0
+ROBOT_SETTINGS="$ROOT/config/robot_campaign/settings.yaml"
+KARTO_SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"
+CAMPAIGN="$NAME"   # the *_2 campaigns: their first collection's design on fidelity_seed_study_6's chain
 case "$NAME" in
+  robots_2|robots_2_*) CAMPAIGN="robots${NAME#robots_2}"
+          ROBOT_SETTINGS="$ROOT/config/robot_campaign/settings_refit_escape.yaml" ;;
+  karto_seed_study_2|karto_robots_2) CAMPAIGN="${NAME%_2}"
+          KARTO_SETTINGS="$ROOT/config/fidelity/seed_study_refit_escape_karto.yaml" ;;
+esac
+case "$CAMPAIGN" in
   realistic) SETTINGS="$ROOT/config/collect.yaml"; WITH_SHIPPED=1 ;;
   fidelity_fixed_80) SETTINGS="$ROOT/config/fidelity/fixed_80.yaml"; WITH_SHIPPED=0 ;;
   fidelity_uniform_per_run_60) SETTINGS="$ROOT/config/fidelity/uniform_per_run_60.yaml"; WITH_SHIPPED=0 ;;
@@ -122,27 +138,27 @@ case "$NAME" in
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study|fidelity_seed_study_2) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
-  karto_seed_study) SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
-  karto_robots) SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"; WITH_SHIPPED=0
+  karto_seed_study) SETTINGS="$KARTO_SETTINGS"; WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  karto_robots) SETTINGS="$KARTO_SETTINGS"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design.yaml" --runs 4) ;;
-  robots) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
+  robots) SETTINGS="$ROBOT_SETTINGS"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design.yaml") ;;
-  robots_rep3|robots_rep4) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
+  robots_rep3|robots_rep4) SETTINGS="$ROBOT_SETTINGS"; WITH_SHIPPED=0
           # replicate k: the design's first 4 runs per building under --seed k
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design.yaml" --runs 4
-                       --seed "${NAME#robots_rep}") ;;
-  robots_more) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
+                       --seed "${CAMPAIGN#robots_rep}") ;;
+  robots_more) SETTINGS="$ROBOT_SETTINGS"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_more.yaml") ;;
-  robots_configs2) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"; WITH_SHIPPED=0
+  robots_configs2) SETTINGS="$ROBOT_SETTINGS"; WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_configs2.yaml") ;;
-  robots_res025|robots_res100) SETTINGS="$ROOT/config/robot_campaign/settings.yaml"
+  robots_res025|robots_res100) SETTINGS="$ROBOT_SETTINGS"
           WITH_SHIPPED=0
-          DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_${NAME#robots_}.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots)" >&2; exit 2 ;;
+          DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_${CAMPAIGN#robots_}.yaml") ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots; robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100, karto_seed_study_2, karto_robots_2)" >&2; exit 2 ;;
 esac
 case "$PART" in
   "") ;;
-  fit|judge) case "$NAME" in fidelity_seed_study*|karto_seed_study) ;;
+  fit|judge) case "$CAMPAIGN" in fidelity_seed_study*|karto_seed_study) ;;
                *) echo "run_campaign: --part only applies to the campaigns with parts.yaml" >&2
                   exit 2 ;;
              esac ;;
@@ -155,7 +171,7 @@ parts = yaml.safe_load(open(sys.argv[1]))["parts"]
 print(" ".join(w for name, part in parts.items() if sys.argv[2] in ("", name) for w in part))' \
     "$PARTS_YAML" "$1"
 }
-if [[ "$NAME" =~ ^fidelity_seed_study_[2-6]$ ]] && [ "$PART" != fit ]; then
+if [[ "$NAME" =~ ^fidelity_seed_study_[0-9]+$ ]] && [ "$PART" != fit ]; then
   # the declared order: the fitted setting is checked on the whole fit part before any judged run
   FIT_DONE=0; FIT_WANTED=0
   for b in $(part_buildings fit); do
@@ -168,6 +184,21 @@ if [[ "$NAME" =~ ^fidelity_seed_study_[2-6]$ ]] && [ "$PART" != fit ]; then
     exit 2
   fi
 fi
+BUILDINGS="$THESIS_BUILDINGS"
+[ "$WITH_LARGE" = 1 ] && BUILDINGS="$THESIS_BUILDINGS $LARGE_BUILDINGS"
+case "$CAMPAIGN" in
+  fidelity_seed_study*|karto_seed_study)   # the fidelity campaign's parts: fitted-on, then judged
+    BUILDINGS="$(part_buildings "$PART")" ;;
+  robots_more) BUILDINGS="$MORE_ROBOT_BUILDINGS" ;;
+  robots*|karto_robots) BUILDINGS="$ROBOT_BUILDINGS" ;;
+esac
+if [ "$DRY_RUN" = 1 ]; then   # what would be collected, and with which settings; nothing is run
+  echo "campaign: $NAME"
+  echo "settings: ${SETTINGS#"$ROOT/"}"
+  [ "${#DESIGN_ARGS[@]}" -gt 0 ] && echo "design: ${DESIGN_ARGS[*]//"$ROOT/"/}"
+  echo "buildings ($(wc -w <<< "$BUILDINGS")): $(tr -s ' \n' ' ' <<< "$BUILDINGS" | sed 's/^ //; s/ $//')"
+  exit 0
+fi
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 if [ ! -f "$DATA_DIR/thesis/environments.csv" ]; then
   echo "run_campaign: $DATA_DIR/thesis/environments.csv not found (set SLAM_PREDICT_DATA)" >&2; exit 2
@@ -175,14 +206,6 @@ fi
 [ -f "$ROOT/setup.bash" ] || bash "$ROOT/tools/setup.sh"
 set +u; source "$ROOT/setup.bash"; set -u
 WORLDS_DIR="$ROOT/out/thesis_worlds"
-BUILDINGS="$THESIS_BUILDINGS"
-[ "$WITH_LARGE" = 1 ] && BUILDINGS="$THESIS_BUILDINGS $LARGE_BUILDINGS"
-case "$NAME" in
-  fidelity_seed_study*|karto_seed_study)   # the fidelity campaign's parts: fitted-on, then judged
-    BUILDINGS="$(part_buildings "$PART")" ;;
-  robots_more) BUILDINGS="$MORE_ROBOT_BUILDINGS" ;;
-  robots*|karto_robots) BUILDINGS="$ROBOT_BUILDINGS" ;;
-esac
 # shellcheck disable=SC2086
 slam-predict worlds import-thesis "$DATA_DIR/thesis/environments.csv" --out "$WORLDS_DIR" \
   --force --only $BUILDINGS > /dev/null
@@ -197,15 +220,15 @@ if [ "$WITH_LARGE" = 1 ]; then   # breadth-first: every building's run k before 
       --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
   done
 fi
-if [ "$NAME" = robots_more ]; then   # breadth-first: the first replicate of every building first
+if [ "$CAMPAIGN" = robots_more ]; then   # breadth-first: the first replicate of every building first
   slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --runs 4 --jobs "$JOBS" \
     --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
 fi
-case "$NAME" in robots_res*)   # breadth-first: every building's first run first
+case "$CAMPAIGN" in robots_res*)   # breadth-first: every building's first run first
   slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --runs 1 --jobs "$JOBS" \
     --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME" ;;
 esac
-if [ "$NAME" = robots_configs2 ]; then   # breadth-first: each building's 2 points once first
+if [ "$CAMPAIGN" = robots_configs2 ]; then   # breadth-first: each building's 2 points once first
   slam-predict collect "${WORLDS[@]}" "${DESIGN_ARGS[@]}" --runs 2 --jobs "$JOBS" \
     --settings "$SETTINGS" --out "$ROOT/data/campaigns/$NAME"
 fi

@@ -49,3 +49,30 @@ def test_judged_runs_wait_for_the_whole_fit_part(tmp_path):
     (campaigns / "fidelity_seed_study_2" / "B" / "run_002").mkdir()
     (campaigns / "fidelity_seed_study_2" / "B" / "run_002" / "run.json").write_text("{}")
     assert run("--part", "judge")[1].endswith("not found (set SLAM_PREDICT_DATA)")
+
+
+@pytest.mark.parametrize("name, settings, design", [
+    ("robots_2", "config/robot_campaign/settings_refit_escape.yaml",
+     "--design data/campaigns/robots/design.yaml"),
+    ("robots_2_rep4", "config/robot_campaign/settings_refit_escape.yaml",
+     "--design data/campaigns/robots/design.yaml --runs 4 --seed 4"),
+    ("robots_2_res100", "config/robot_campaign/settings_refit_escape.yaml",
+     "--design data/campaigns/robots/design_res100.yaml"),
+    ("robots_rep4", "config/robot_campaign/settings.yaml",
+     "--design data/campaigns/robots/design.yaml --runs 4 --seed 4"),
+    ("karto_robots_2", "config/fidelity/seed_study_refit_escape_karto.yaml",
+     "--design data/campaigns/robots/design.yaml --runs 4"),
+    ("karto_seed_study_2", "config/fidelity/seed_study_refit_escape_karto.yaml", None),
+])
+def test_dry_run_names_the_settings_and_design(name, settings, design):
+    """A *_2 campaign is its first collection's design on fidelity_seed_study_6's chain."""
+    proc = subprocess.run(["bash", str(SCRIPT), name, "--dry-run"], capture_output=True,
+                          text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    lines = dict(line.split(": ", 1) for line in proc.stdout.strip().splitlines())
+    assert lines["campaign"] == name
+    assert lines["settings"] == settings
+    assert lines.get("design") == design
+    assert (SCRIPT.parents[1] / settings).is_file()
+    count = 17 + 27 if name.startswith("karto_seed_study") else 21
+    assert lines[f"buildings ({count})"].count(" ") == count - 1
