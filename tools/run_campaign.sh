@@ -6,7 +6,7 @@
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
 #       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | fidelity_seed_study_2 |
 #       fidelity_seed_study_3 | fidelity_seed_study_4 | fidelity_seed_study_5 |
-#       fidelity_seed_study_6 |
+#       fidelity_seed_study_6 | fidelity_seed_study_7 |
 #       robots | robots_rep3 |
 #       robots_more | robots_configs2 | robots_rep4 | robots_res025 | robots_res100 |
 #       karto_seed_study | karto_robots
@@ -46,12 +46,16 @@
 #              (fidelity_seed_study_5's settings with base_local_planner's blind escape
 #              alternating, escape_alternate); a run in which two blind escapes never follow each
 #              other repeats its fidelity_seed_study_5 record; same parts rule (fit part first).
+#   fidelity_seed_study_7 (issue #41, 2026-12-07): config/fidelity/seed_study_reachable.yaml
+#              (fidelity_seed_study_6's settings with explore_lite's frontier search: only
+#              frontiers joined to the robot's free space, explore.reachable_frontiers); same
+#              parts rule (fit part first).
 #   robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100 (issue #41,
 #              2026-12-07): robots, robots_rep3, ... collected again, same designs and seeds, on
-#              fidelity_seed_study_6's chain (config/robot_campaign/settings_refit_escape.yaml).
+#              fidelity_seed_study_7's chain (config/robot_campaign/settings_reachable.yaml).
 #   karto_seed_study_2, karto_robots_2 (issues #40, #41, 2026-12-07): karto_seed_study and
-#              karto_robots on fidelity_seed_study_6's chain
-#              (config/fidelity/seed_study_refit_escape_karto.yaml).
+#              karto_robots on fidelity_seed_study_7's chain
+#              (config/fidelity/seed_study_reachable_karto.yaml).
 #   karto_seed_study (2026-12-05): the fidelity campaign's buildings (its parts.yaml) explored by
 #              the same chain with Karto as slam_toolbox's async node in real time
 #              (config/fidelity/seed_study_karto.yaml), 3 runs each, breadth-first.
@@ -114,12 +118,12 @@ DESIGN_ARGS=()
 WITH_LARGE=0
 ROBOT_SETTINGS="$ROOT/config/robot_campaign/settings.yaml"
 KARTO_SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"
-CAMPAIGN="$NAME"   # the *_2 campaigns: their first collection's design on fidelity_seed_study_6's chain
+CAMPAIGN="$NAME"   # the *_2 campaigns: their first collection's design on fidelity_seed_study_7's chain
 case "$NAME" in
   robots_2|robots_2_*) CAMPAIGN="robots${NAME#robots_2}"
-          ROBOT_SETTINGS="$ROOT/config/robot_campaign/settings_refit_escape.yaml" ;;
+          ROBOT_SETTINGS="$ROOT/config/robot_campaign/settings_reachable.yaml" ;;
   karto_seed_study_2|karto_robots_2) CAMPAIGN="${NAME%_2}"
-          KARTO_SETTINGS="$ROOT/config/fidelity/seed_study_refit_escape_karto.yaml" ;;
+          KARTO_SETTINGS="$ROOT/config/fidelity/seed_study_reachable_karto.yaml" ;;
 esac
 case "$CAMPAIGN" in
   realistic) SETTINGS="$ROOT/config/collect.yaml"; WITH_SHIPPED=1 ;;
@@ -135,6 +139,8 @@ case "$CAMPAIGN" in
   fidelity_seed_study_5) SETTINGS="$ROOT/config/fidelity/seed_study_refit.yaml"
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study_6) SETTINGS="$ROOT/config/fidelity/seed_study_refit_escape.yaml"
+          WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  fidelity_seed_study_7) SETTINGS="$ROOT/config/fidelity/seed_study_reachable.yaml"
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study|fidelity_seed_study_2) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
@@ -154,7 +160,7 @@ case "$CAMPAIGN" in
   robots_res025|robots_res100) SETTINGS="$ROBOT_SETTINGS"
           WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_${CAMPAIGN#robots_}.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots; robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100, karto_seed_study_2, karto_robots_2)" >&2; exit 2 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, fidelity_seed_study_7, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots; robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100, karto_seed_study_2, karto_robots_2)" >&2; exit 2 ;;
 esac
 case "$PART" in
   "") ;;

@@ -210,3 +210,33 @@ def test_two_jobs_making_the_same_navigation_folder_both_get_it(tmp_path, monkey
     monkeypatch.setattr(Path, "is_dir", not_yet)
     assert settings_files.merged_nav_folder(tree) == first and calls
     assert sorted(p.name for p in first.parent.iterdir() if p.is_dir()) == [first.name]
+
+
+def test_explore_overrides_reach_both_paths_and_only_the_explore_hash(tmp_path, monkeypatch):
+    """seed_study_reachable.yaml sets reachable_frontiers over config/explore.yaml: the
+    in-process settings and the ROS path's explore file get it; only the explore hash moves,
+    and the older chain's explore hash is the one its records state."""
+    from slam_predict.config import load_config
+    from slam_predict.explore.explorer import ExploreConfig
+    from slam_predict.ros.batch_runner import component_configs
+
+    monkeypatch.setattr(Path, "home", lambda: tmp_path)
+    base = load_settings(CONFIG / "fidelity" / "seed_study_refit_escape.yaml")
+    path = CONFIG / "fidelity" / "seed_study_reachable.yaml"
+    settings = load_settings(path)
+    assert settings.explore.reachable_frontiers and not base.explore.reachable_frontiers
+    assert {k for k, v in settings.hashes().items() if base.hashes()[k] != v} == {"explore"}
+    assert base.hashes()["explore"] == load_settings(CONFIG / "collect.yaml").hashes()["explore"]
+    explore_file = component_configs(path)["explore_config"]
+    assert load_config(ExploreConfig, explore_file) == settings.explore
+    plain = component_configs(CONFIG / "fidelity" / "seed_study_refit_escape.yaml")
+    assert Path(plain["explore_config"]) == (CONFIG / "explore.yaml").resolve()
+
+
+def test_an_unknown_explore_override_is_a_one_line_error(tmp_path):
+    settings = tmp_path / "s.yaml"
+    settings.write_text(f"extends: {CONFIG / 'collect.yaml'}\nexplore_overrides:\n"
+                        "  reachable_frontier: true\n")
+    with pytest.raises(InputError, match="reachable_frontier") as err:
+        load_settings(settings)
+    assert "\n" not in str(err.value)

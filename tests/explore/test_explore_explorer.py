@@ -277,3 +277,20 @@ def test_after_the_first_drive_goal_an_aborted_turn_is_blacklisted():
     client._status = ABORTED
     ex.step(1.0, grid_with_frontiers((5.3, 3.0, 5.6, 7.0)), robot)
     assert ex.log.goals[-1]["outcome"] == "aborted" and ex.blacklist and not ex.turn_failed
+
+
+def test_reachable_frontiers_skip_a_hole_walled_off_from_the_robot():
+    """With ``reachable_frontiers`` the nearest frontier is the nearest one in the free space
+    joined to the robot: a hole ringed by a wall (its free rim cut off) is skipped."""
+    grid = grid_with_frontiers((15, 15, 17, 17), (4, 4, 6, 6))
+    data = grid.data
+    r0, r1, c0, c1 = int(3.5 / RES), int(6.5 / RES), int(3.5 / RES), int(6.5 / RES)
+    data[r0:r1, c0] = data[r0:r1, c1 - 1] = 100        # a wall ring 0.5 m around the near hole,
+    data[r0, c0:c1] = data[r1 - 1, c0:c1] = 100        # its free rim inside the ring
+    robot = np.array([1.0, 1.0, 0.0])
+    plain, plain_client = explorer()
+    plain.step(0.0, grid, robot)
+    reach, reach_client = explorer(reachable_frontiers=True)
+    reach.step(0.0, grid, robot)
+    assert np.hypot(*(np.array(plain_client.sent[0][1][:2]) - (5.0, 5.0))) < 1.5
+    assert np.hypot(*(np.array(reach_client.sent[0][1][:2]) - (16.0, 16.0))) < 1.5

@@ -6,7 +6,9 @@ of each file are relative to the file that names them) and may carry ``sim_overr
 60.0}}`` — how the fidelity campaign's variants (config/fidelity/) are written — and
 ``nav_overrides``: move_base.yaml keys (top level) and a ``TrajectoryPlannerROS`` mapping of
 base_local_planner parameters set over the navigation folder's (not the costmaps or the global
-planners).
+planners);
+``explore_overrides``: explorer parameters (config/explore.yaml keys) set over the ``explore``
+file's.
 
 The SLAM back-end is ``slam: {type: NAME, params: FILE or {…}}``: any name of
 :func:`slam_predict.slam.available`, its parameters as a YAML file (relative to the settings
@@ -91,6 +93,7 @@ class CollectFiles:
     sensor_logs: bool = False
     sim_overrides: dict[str, Any] = field(default_factory=dict)
     nav_overrides: dict[str, Any] = field(default_factory=dict)
+    explore_overrides: dict[str, Any] = field(default_factory=dict)
     slam_compute: ComputeDelayConfig = field(default_factory=ComputeDelayConfig)
     fitted: dict[str, Any] = field(default_factory=dict)
 
@@ -149,7 +152,7 @@ def load_settings(path: os.PathLike | str | None = None,
         sim=sim, slam=load_slam(files.slam, path),
         nav=load_nav_config(Path(files.navigation), checked_nav_overrides(files.nav_overrides,
                                                                           path)),
-        explore=load_config(ExploreConfig, Path(files.explore)),
+        explore=load_explore(ExploreConfig, Path(files.explore), files.explore_overrides, path),
         stop=files.stop, metric=files.metric, bag=files.bag, source=str(path),
         sensor_logs=files.sensor_logs, compute=files.slam_compute,
         fitted=checked_fitted(files.fitted, path))
@@ -158,6 +161,14 @@ def load_settings(path: os.PathLike | str | None = None,
     from slam_predict.robot_file import load_robot, robot_path
 
     return with_robot(settings, load_robot(robot, force=force_robot), robot_path(robot))
+
+
+def load_explore(cls, explore_file: Path, overrides: dict[str, Any], path: Path):
+    """The explorer config of ``explore_file`` with a settings file's ``explore_overrides``."""
+    if not overrides:
+        return load_config(cls, explore_file)
+    tree = merge_trees(dict(load_yaml(explore_file) or {}), overrides)
+    return from_dict(cls, tree, f"{explore_file} + {path} explore_overrides")
 
 
 # Sections of the move_base tree whose own parameters ``nav_overrides`` may set (a mapping).

@@ -1,5 +1,6 @@
 """Files for the ROS path's nodes, which read configuration files rather than a settings tree:
-a settings file's ``sim_overrides``, inline SLAM parameters and ``nav_overrides`` written out
+a settings file's ``sim_overrides``, inline SLAM parameters, ``nav_overrides`` and
+``explore_overrides`` written out
 under ~/.cache/slam_predict/settings/, each named by the hash of its content."""
 from __future__ import annotations
 
@@ -33,6 +34,13 @@ def slam_params_file(settings_path: Path, tree: dict[str, Any]) -> Path:
     values = {"type": section.get("type", "gmapping"), **(section.get("params") or {})}
     text = f"# slam parameters of {settings_path}\n" + yaml.safe_dump(values)
     return _cached_file("slam", text)
+
+
+def merged_explore_file(settings_path: Path, tree: dict[str, Any]) -> Path:
+    """The explore node's YAML with ``explore_overrides`` set, cached like
+    :func:`merged_robot_file`."""
+    return _merged_yaml(Path(tree["explore"]), tree["explore_overrides"],
+                        f"explore_overrides of {settings_path}")
 
 
 def _digest(text: str) -> str:

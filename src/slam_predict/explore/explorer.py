@@ -47,17 +47,19 @@ rounds; a frontier goal that succeeds restarts the count.
 Extension (``min_unknown_width`` m > 0; 0, explore_lite's rule, by default): frontiers border
 only unknown space joined to an unknown square that wide, so the unknown slivers GMapping
 leaves inside walls grazed by the beams are no frontiers (:mod:`~.frontiers`).
+
+``reachable_frontiers`` (false by default, the rule of older records): only frontiers with a
+cell in the free space joined to the robot's cell, as explore_lite's search finds them
+(:meth:`~.frontiers.ClusterCache.reachable`).
 """
 from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass, field
-from typing import ClassVar
 
 import numpy as np
 
-from slam_predict.config import AT_LEAST_ONE, NON_NEGATIVE, POSITIVE, Range
+from slam_predict.explore.explore_config import STRATEGIES, ExploreConfig  # noqa: F401
 from slam_predict.explore.frontiers import (
     ClusterCache,
     Frontier,
@@ -74,63 +76,8 @@ from slam_predict.explore.goals import (
     GoalClient,
     facing,
 )
-from slam_predict.explore.thesis_config import ThesisExploreConfig
 
 LOG = logging.getLogger(__name__)
-STRATEGIES = ("thesis", "nearest", "explore_lite")
-
-
-@dataclass
-class ExploreConfig:
-    """explore_lite's parameters plus the thesis' goal timeout (m, s, Hz)."""
-
-    strategy: str = "nearest"
-    robot_base_frame: str = "base_link"
-    costmap_topic: str = "map"
-    costmap_updates_topic: str = "map_updates"
-    visualize: bool = True
-    planner_frequency: float = 1.0
-    progress_timeout: float = 30.0
-    potential_scale: float = 3.0
-    orientation_scale: float = 0.0
-    gain_scale: float = 1.0
-    transform_tolerance: float = 0.3
-    min_frontier_size: float = 0.75
-    goal_timeout_factor: float = 2.0
-    goal_timeout_offset: float = 30.0
-    max_vel_x: float = 0.85
-    tie_tolerance: float = 0.05
-    blacklist_radius: float = 0.5
-    goal_frontier_radius: float = 1.0
-    max_goal_attempts: int = 3
-    goal_yaw: str = "approach"
-    near_frontier_distance: float = 1.0
-    goal_clearance: float = 0.5
-    blacklist_retries: int = 0
-    min_unknown_width: float = 0.0
-    thesis: ThesisExploreConfig = field(default_factory=ThesisExploreConfig)
-    RANGES: ClassVar[dict[str, Range]] = {
-        "planner_frequency": POSITIVE, "max_vel_x": POSITIVE, "goal_timeout_factor": POSITIVE,
-        "max_goal_attempts": AT_LEAST_ONE, **{name: NON_NEGATIVE for name in (
-            "progress_timeout", "potential_scale", "orientation_scale", "gain_scale",
-            "transform_tolerance", "min_frontier_size", "goal_timeout_offset", "tie_tolerance",
-            "blacklist_radius", "goal_frontier_radius", "near_frontier_distance",
-            "goal_clearance", "blacklist_retries", "min_unknown_width")}}
-
-    def __post_init__(self) -> None:
-        if self.strategy not in STRATEGIES:
-            raise ValueError(f"strategy must be one of {', '.join(STRATEGIES)}, got "
-                             f"'{self.strategy}'")
-        if self.goal_yaw not in ("approach", "zero"):
-            raise ValueError("goal_yaw must be 'approach' or 'zero'")
-        if not (self.planner_frequency > 0 and self.max_vel_x > 0):
-            raise ValueError("planner_frequency and max_vel_x must be > 0")
-        if self.blacklist_retries < 0:
-            raise ValueError("blacklist_retries must be >= 0")
-        if self.min_unknown_width < 0:
-            raise ValueError("min_unknown_width must be >= 0")
-
-
 class Explorer:
     """Frontier exploration driven by :meth:`step`; see the module docstring. With
     ``strategy: thesis`` the instance is a
@@ -183,6 +130,8 @@ class Explorer:
             return
         clusters = self._clusters.clusters(grid, self.cfg.min_frontier_size,
                                            self.cfg.min_unknown_width)
+        if self.cfg.reachable_frontiers:
+            clusters = self._clusters.reachable(grid, robot_pose[:2])
         self.frontiers = find_frontiers(grid, robot_pose[:2], self.cfg.min_frontier_size,
                                         self.cfg.min_unknown_width, clusters)
         candidates = [f for f in self.frontiers if not self.is_blacklisted(f)]

@@ -145,6 +145,7 @@ class ClusterCache:
         self._key: tuple | None = None
         self._data = np.empty(0, np.int8)
         self._clusters: list[Cluster] = []
+        self._component: tuple | None = None   # (free component mask, row0, col0) of _data
 
     def clusters(self, grid, min_frontier_size: float,
                  min_unknown_width: float = 0.0) -> list[Cluster]:
@@ -154,7 +155,40 @@ class ClusterCache:
         if key != self._key or not _same_cells(data, self._data):
             self._clusters = frontier_clusters(grid, min_frontier_size, min_unknown_width)
             self._key, self._data = key, data.copy()
+            self._component = None
         return self._clusters
+
+    def reachable(self, grid, robot_xy: Sequence[float]) -> list[Cluster]:
+        """The clusters of the last :meth:`clusters` call that have a cell in the free space
+        4-connected to the robot's cell (x, y m), as explore_lite's frontier search finds them
+        (:func:`~slam_predict.explore.kernels.free_component`): frontier cells in free pockets
+        a wall line cuts off, such as the strips GMapping draws inside a thick wall seen from two
+        poses, are none. The component is searched again when the map changed or the robot's
+        cell is not in it."""
+        res = float(grid.resolution)
+        row = int(np.floor((float(robot_xy[1]) - float(grid.origin[1])) / res))
+        col = int(np.floor((float(robot_xy[0]) - float(grid.origin[0])) / res))
+        if self._component is None or not _inside(self._component, row, col):
+            box = known_box(self._data, 1)
+            if box is None:
+                return []
+            r0, r1, c0, c1 = box
+            mask = frontier_kernels.free_component(
+                np.ascontiguousarray(self._data[r0:r1, c0:c1]),
+                min(max(row, r0), r1 - 1) - r0, min(max(col, c0), c1 - 1) - c0)
+            self._component = (mask, r0, c0)
+        mask, r0, c0 = self._component
+        ox, oy = float(grid.origin[0]), float(grid.origin[1])
+        return [c for c in self._clusters
+                if mask[np.floor((c.cells[:, 1] - oy) / res).astype(int) - r0,
+                        np.floor((c.cells[:, 0] - ox) / res).astype(int) - c0].any()]
+
+
+def _inside(component: tuple, row: int, col: int) -> bool:
+    """Whether grid cell (row, col) is in ``component`` (mask, row0, col0)."""
+    mask, r0, c0 = component
+    r, c = row - r0, col - c0
+    return 0 <= r < mask.shape[0] and 0 <= c < mask.shape[1] and bool(mask[r, c])
 
 
 def _same_cells(a: np.ndarray, b: np.ndarray) -> bool:

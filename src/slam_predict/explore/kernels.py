@@ -1,5 +1,5 @@
-"""numba kernels of the frontier search: the frontier cells of an occupancy grid and their
-clusters.
+"""numba kernels of the frontier search: the frontier cells of an occupancy grid, their
+clusters and the free space joined to the robot (:func:`free_component`).
 
 Grids are occupancy values (int8: -1 unknown, 0 free, > 0 occupied), indexed ``[row, col]``.
 :func:`roomy_unknown` and :func:`frontier_cells` compute what
@@ -154,9 +154,56 @@ def clusters_in_raster_order(mask: np.ndarray):
     return rows, cols, starts
 
 
+@numba.njit(cache=True)
+def free_component(data: np.ndarray, row: int, col: int) -> np.ndarray:
+    """The free (0) cells 4-connected, through free cells, to the free cell nearest
+    (``row``, ``col``): explore_lite's frontier search, which starts at the free cell a
+    breadth-first search over all cells finds first from the robot's cell (``nearestCell``) and
+    spreads over free 4-neighbours. All False when the grid has no free cell."""
+    h, w = data.shape
+    out = np.zeros((h, w), np.bool_)
+    seen = np.zeros((h, w), np.bool_)
+    queue = np.empty(h * w, np.int32)
+    dr = (-1, 1, 0, 0)
+    dc = (0, 0, -1, 1)
+    queue[0] = row * w + col
+    seen[row, col] = True
+    head, tail, start = 0, 1, -1
+    while head < tail:
+        idx = queue[head]
+        head += 1
+        r, c = idx // w, idx % w
+        if data[r, c] == 0:
+            start = idx
+            break
+        for k in range(4):
+            rr, cc = r + dr[k], c + dc[k]
+            if 0 <= rr < h and 0 <= cc < w and not seen[rr, cc]:
+                seen[rr, cc] = True
+                queue[tail] = rr * w + cc
+                tail += 1
+    if start < 0:
+        return out
+    queue[0] = start
+    out[start // w, start % w] = True
+    head, tail = 0, 1
+    while head < tail:
+        idx = queue[head]
+        head += 1
+        r, c = idx // w, idx % w
+        for k in range(4):
+            rr, cc = r + dr[k], c + dc[k]
+            if 0 <= rr < h and 0 <= cc < w and not out[rr, cc] and data[rr, cc] == 0:
+                out[rr, cc] = True
+                queue[tail] = rr * w + cc
+                tail += 1
+    return out
+
+
 def warmup() -> None:
     """Compile the kernels on a tiny grid."""
     grid = np.full((8, 8), -1, np.int8)
     grid[2:6, 2:6] = 0
     clusters_in_raster_order(frontier_cells(grid, 3))
     frontier_cells(grid, 0)
+    free_component(grid, 0, 0)

@@ -90,9 +90,11 @@ def component_configs(settings_path=None) -> dict[str, str]:
     """The node config files a collect.yaml names (absolute), as single_run.launch args, so
     the nodes run with the configs whose hashes the record states. ``sim_overrides`` are
     merged into a robot file written beside the settings' cache (the node reads one file),
-    ``nav_overrides`` into a copy of the navigation folder."""
+    ``nav_overrides`` into a copy of the navigation folder, ``explore_overrides`` into a copy of
+    the explore file."""
     from slam_predict.collect.settings import DEFAULT_SETTINGS, CollectFiles, read_settings_tree
     from slam_predict.collect.settings_files import (
+        merged_explore_file,
         merged_nav_folder,
         merged_robot_file,
         slam_params_file,
@@ -108,13 +110,16 @@ def component_configs(settings_path=None) -> dict[str, str]:
     navigation = tree["navigation"]
     if tree.get("nav_overrides"):
         navigation = str(merged_nav_folder(tree))
+    explore = tree["explore"]
+    if tree.get("explore_overrides"):
+        explore = str(merged_explore_file(path, tree))
     slam_type = tree["slam"]["type"]
     karto = {"karto_mode": karto_mode(path)} if slam_type == "karto" else {}
     return {"settings": str(path), "robot_config": robot,
             "gmapping_config": str(slam_params_file(path, tree)),
             "slam_type": slam_type, **karto,
             "nav_config_dir": str(Path(navigation).resolve()),
-            "explore_config": tree["explore"]}
+            "explore_config": explore}
 
 
 def karto_mode(settings_path) -> str:
