@@ -49,13 +49,14 @@
 #   fidelity_seed_study_7 (issue #41, 2026-12-07): config/fidelity/seed_study_reachable.yaml
 #              (fidelity_seed_study_6's settings with explore_lite's frontier search: only
 #              frontiers joined to the robot's free space, explore.reachable_frontiers); same
-#              parts rule (fit part first).
+#              parts rule (fit part first). Stopped after run 1 of the fit part: not adopted
+#              (docs/notes/exploration.md, "Frontiers in free pockets inside walls").
 #   robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100 (issue #41,
 #              2026-12-07): robots, robots_rep3, ... collected again, same designs and seeds, on
-#              fidelity_seed_study_7's chain (config/robot_campaign/settings_reachable.yaml).
+#              fidelity_seed_study_6's chain (config/robot_campaign/settings_refit_escape.yaml).
 #   karto_seed_study_2, karto_robots_2 (issues #40, #41, 2026-12-07): karto_seed_study and
-#              karto_robots on fidelity_seed_study_7's chain
-#              (config/fidelity/seed_study_reachable_karto.yaml).
+#              karto_robots on fidelity_seed_study_6's chain
+#              (config/fidelity/seed_study_refit_escape_karto.yaml).
 #   karto_seed_study (2026-12-05): the fidelity campaign's buildings (its parts.yaml) explored by
 #              the same chain with Karto as slam_toolbox's async node in real time
 #              (config/fidelity/seed_study_karto.yaml), 3 runs each, breadth-first.
@@ -118,12 +119,12 @@ DESIGN_ARGS=()
 WITH_LARGE=0
 ROBOT_SETTINGS="$ROOT/config/robot_campaign/settings.yaml"
 KARTO_SETTINGS="$ROOT/config/fidelity/seed_study_karto.yaml"
-CAMPAIGN="$NAME"   # the *_2 campaigns: their first collection's design on fidelity_seed_study_7's chain
+CAMPAIGN="$NAME"   # the *_2 campaigns: their first collection's design on fidelity_seed_study_6's chain
 case "$NAME" in
   robots_2|robots_2_*) CAMPAIGN="robots${NAME#robots_2}"
-          ROBOT_SETTINGS="$ROOT/config/robot_campaign/settings_reachable.yaml" ;;
+          ROBOT_SETTINGS="$ROOT/config/robot_campaign/settings_refit_escape.yaml" ;;
   karto_seed_study_2|karto_robots_2) CAMPAIGN="${NAME%_2}"
-          KARTO_SETTINGS="$ROOT/config/fidelity/seed_study_reachable_karto.yaml" ;;
+          KARTO_SETTINGS="$ROOT/config/fidelity/seed_study_refit_escape_karto.yaml" ;;
 esac
 case "$CAMPAIGN" in
   realistic) SETTINGS="$ROOT/config/collect.yaml"; WITH_SHIPPED=1 ;;

@@ -52,20 +52,20 @@ def test_judged_runs_wait_for_the_whole_fit_part(tmp_path):
 
 
 @pytest.mark.parametrize("name, settings, design", [
-    ("robots_2", "config/robot_campaign/settings_reachable.yaml",
+    ("robots_2", "config/robot_campaign/settings_refit_escape.yaml",
      "--design data/campaigns/robots/design.yaml"),
-    ("robots_2_rep4", "config/robot_campaign/settings_reachable.yaml",
+    ("robots_2_rep4", "config/robot_campaign/settings_refit_escape.yaml",
      "--design data/campaigns/robots/design.yaml --runs 4 --seed 4"),
-    ("robots_2_res100", "config/robot_campaign/settings_reachable.yaml",
+    ("robots_2_res100", "config/robot_campaign/settings_refit_escape.yaml",
      "--design data/campaigns/robots/design_res100.yaml"),
     ("robots_rep4", "config/robot_campaign/settings.yaml",
      "--design data/campaigns/robots/design.yaml --runs 4 --seed 4"),
-    ("karto_robots_2", "config/fidelity/seed_study_reachable_karto.yaml",
+    ("karto_robots_2", "config/fidelity/seed_study_refit_escape_karto.yaml",
      "--design data/campaigns/robots/design.yaml --runs 4"),
-    ("karto_seed_study_2", "config/fidelity/seed_study_reachable_karto.yaml", None),
+    ("karto_seed_study_2", "config/fidelity/seed_study_refit_escape_karto.yaml", None),
 ])
 def test_dry_run_names_the_settings_and_design(name, settings, design):
-    """A *_2 campaign is its first collection's design on fidelity_seed_study_7's chain."""
+    """A *_2 campaign is its first collection's design on fidelity_seed_study_6's chain."""
     proc = subprocess.run(["bash", str(SCRIPT), name, "--dry-run"], capture_output=True,
                           text=True, timeout=60)
     assert proc.returncode == 0, proc.stderr
