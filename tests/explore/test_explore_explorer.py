@@ -294,3 +294,19 @@ def test_reachable_frontiers_skip_a_hole_walled_off_from_the_robot():
     reach.step(0.0, grid, robot)
     assert np.hypot(*(np.array(plain_client.sent[0][1][:2]) - (5.0, 5.0))) < 1.5
     assert np.hypot(*(np.array(reach_client.sent[0][1][:2]) - (16.0, 16.0))) < 1.5
+
+
+def test_reachable_first_takes_a_walled_off_hole_only_when_nothing_else_is_left():
+    grid = grid_with_frontiers((15, 15, 17, 17), (4, 4, 6, 6))
+    data = grid.data
+    r0, r1, c0, c1 = int(3.5 / RES), int(6.5 / RES), int(3.5 / RES), int(6.5 / RES)
+    data[r0:r1, c0] = data[r0:r1, c1 - 1] = 100
+    data[r0, c0:c1] = data[r1 - 1, c0:c1] = 100
+    robot = np.array([1.0, 1.0, 0.0])
+    ex, client = explorer(reachable_first=True)
+    ex.step(0.0, grid, robot)
+    assert np.hypot(*(np.array(client.sent[0][1][:2]) - (16.0, 16.0))) < 1.5
+    ex.blacklist.append(ex.goal.frontier_point)        # the reachable one is blacklisted
+    ex.goal = None
+    ex.step(10.0, grid, robot)
+    assert np.hypot(*(np.array(client.sent[-1][1][:2]) - (5.0, 5.0))) < 1.5

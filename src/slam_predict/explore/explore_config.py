@@ -40,8 +40,10 @@ class ExploreConfig:
     blacklist_retries: int = 0
     min_unknown_width: float = 0.0
     reachable_frontiers: bool = False
+    reachable_first: bool = False
     thesis: ThesisExploreConfig = field(default_factory=ThesisExploreConfig)
-    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"reachable_frontiers": False}   # added later
+    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"reachable_frontiers": False,   # added later
+                                              "reachable_first": False}
     RANGES: ClassVar[dict[str, Range]] = {
         "planner_frequency": POSITIVE, "max_vel_x": POSITIVE, "goal_timeout_factor": POSITIVE,
         "max_goal_attempts": AT_LEAST_ONE, **{name: NON_NEGATIVE for name in (

@@ -51,6 +51,8 @@ leaves inside walls grazed by the beams are no frontiers (:mod:`~.frontiers`).
 ``reachable_frontiers`` (false by default, the rule of older records): only frontiers with a
 cell in the free space joined to the robot's cell, as explore_lite's search finds them
 (:meth:`~.frontiers.ClusterCache.reachable`).
+``reachable_first`` (false by default): the frontiers of that free space first; the others
+(free pockets a wall line cuts off) only when none of those is left unblacklisted.
 """
 from __future__ import annotations
 
@@ -135,6 +137,9 @@ class Explorer:
         self.frontiers = find_frontiers(grid, robot_pose[:2], self.cfg.min_frontier_size,
                                         self.cfg.min_unknown_width, clusters)
         candidates = [f for f in self.frontiers if not self.is_blacklisted(f)]
+        if self.cfg.reachable_first and candidates:
+            reach = {id(c.cells) for c in self._clusters.reachable(grid, robot_pose[:2])}
+            candidates = [f for f in candidates if id(f.cells) in reach] or candidates
         if not candidates:
             if self.frontiers and self._start_retry(t, grid, robot_pose):
                 return
