@@ -76,3 +76,16 @@ def test_fidelity_cli_scores_a_shipped_models_kind_against_the_thesis_table(
     assert text.count("| trans_mean |") == 6 and "bar ≤ 12 %" in text
     assert main(argv[:-1] + [str(tmp_path / "nowhere")]) == 2
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_a_dataset_too_small_to_leave_one_out_is_refused_naming_it():
+    data = synthetic_dataset(n=against.MIN_BUILDINGS - 1, seed=1)
+    truth = {w: {"trans_mean": 1.0} for w in data.worlds}
+    with pytest.raises(InputError, match=r"own\.csv: 3 building\(s\); .* at least 4"):
+        against.leave_one_out_against(data, tiny_config(), {"trans_mean": "single:length"},
+                                      truth, source="own.csv")
+    smallest = synthetic_dataset(n=against.MIN_BUILDINGS, seed=1)
+    rows = against.leave_one_out_against(smallest, tiny_config(),
+                                         {"trans_mean": "single:length"},
+                                         {w: {"trans_mean": 1.0} for w in smallest.worlds})
+    assert len(rows) == against.MIN_BUILDINGS

@@ -118,7 +118,8 @@ def models_against_thesis(dataset_csv: str, model: str, thesis) -> str:
     card = resolve_store(default_models_dir(), model, None, None).card
     chosen = against.card_models(card, ["trans_mean", "rot_mean"])
     rows = against.leave_one_out_against(read_dataset(dataset_csv),
-                                         against.card_learning_config(card), chosen, thesis)
+                                         against.card_learning_config(card), chosen, thesis,
+                                         source=dataset_csv)
     return against.markdown(rows, card["name"], "the seed study")
 
 

@@ -22,6 +22,7 @@ from slam_predict.learn.dataset import Dataset
 from slam_predict.learn.evaluate import loo_one
 
 BAR_MEDIAN_PCT_ERROR = 0.12   # the acceptance bar of the own models against the seed study
+MIN_BUILDINGS = 4   # leave one out, then CV+ folds of the other buildings: 3 leave folds of 1
 
 
 def card_models(card: Mapping[str, Any], components: Sequence[str]) -> dict[str, str]:
@@ -44,10 +45,15 @@ def card_learning_config(card: Mapping[str, Any]) -> LearningConfig:
 
 
 def leave_one_out_against(data: Dataset, config: LearningConfig, chosen: Mapping[str, str],
-                          truth: Mapping[str, Mapping[str, float]]) -> list[dict]:
+                          truth: Mapping[str, Mapping[str, float]],
+                          source: str = "dataset") -> list[dict]:
     """Per component of ``chosen`` and per building of ``data`` found in ``truth``: the
     leave-one-building-out prediction (model refitted without the building), our own value,
-    the other table's value and the percentage error against it."""
+    the other table's value and the percentage error against it. InputError naming ``source``
+    when ``data`` holds fewer than :data:`MIN_BUILDINGS` buildings."""
+    if len(data.worlds) < MIN_BUILDINGS:
+        raise InputError(f"{source}: {len(data.worlds)} building(s); leaving one out needs "
+                         f"at least {MIN_BUILDINGS}")
     rows = []
     for component, model_id in chosen.items():
         for i, world in enumerate(data.worlds):
