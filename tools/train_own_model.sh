@@ -1,17 +1,18 @@
 #!/usr/bin/env bash
 # Train models/own-realistic from one of the project's own campaigns, by default the fidelity
-# campaign data/campaigns/fidelity_seed_study (tools/run_campaign.sh fidelity_seed_study; issue
-# #16): its summary.csv joined with our features of the campaign's worlds (the seed-study
+# campaign of the chain of record, data/campaigns/fidelity_seed_study_6 (tools/run_campaign.sh
+# fidelity_seed_study_6; issue #41): its summary.csv joined with our features of the campaign's worlds (the seed-study
 # buildings rebuilt by `worlds import-thesis`, the shipped ones from worlds/).
 # Usage: tools/train_own_model.sh [OUT]   (intermediate files in OUT, default out/own_model)
-# Environment: CAMPAIGN (default data/campaigns/fidelity_seed_study; the model until 2026-12-04
-# came from data/campaigns/realistic with MIN_RUNS=5), SLAM_PREDICT_DATA (default
+# Environment: CAMPAIGN (default data/campaigns/fidelity_seed_study_6; the model came from
+# data/campaigns/realistic with MIN_RUNS=5 until 2026-12-04, from fidelity_seed_study until
+# 2026-12-07), SLAM_PREDICT_DATA (default
 # ../shared/data), MIN_RUNS (default 3), JOBS (default 2), MODELS (default models/).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${1:-$ROOT/out/own_model}"
 mkdir -p "$OUT"; OUT="$(cd "$OUT" && pwd)"   # absolute: the world links below must resolve
-CAMPAIGN="${CAMPAIGN:-$ROOT/data/campaigns/fidelity_seed_study}"
+CAMPAIGN="${CAMPAIGN:-$ROOT/data/campaigns/fidelity_seed_study_6}"
 DATA_DIR="${SLAM_PREDICT_DATA:-$ROOT/../shared/data}"
 MIN_RUNS="${MIN_RUNS:-3}"
 JOBS="${JOBS:-2}"
@@ -44,5 +45,5 @@ echo "[own model] $BUILDINGS buildings with >= $MIN_RUNS runs"
 # default model
 slam-predict learn train "$OUT/own-realistic.csv" --name own-realistic --models-dir "$MODELS" \
   --evaluation-out "$OUT/eval" --jobs "$JOBS" --force --priority -1 \
-  --description "${DESCRIPTION:-GMapping errors collected by slam_predict itself (data/campaigns/fidelity_seed_study, issue #16: in-process Stage-like simulator with Stage-style fixed odometry biases + our GMapping with slam_gmapping's compute delay (map rebuild cost per traced cell fitted at 4x the measured one on the campaign's 17 fit buildings) + move_base-like navigation + nearest-frontier exploration, realistic setting, >= $MIN_RUNS runs per building) on $BUILDINGS seed-study buildings of every size}"
+  --description "${DESCRIPTION:-GMapping errors collected by slam_predict itself ($(basename "$CAMPAIGN"), issue #41: in-process Stage-like simulator with Stage-style fixed odometry biases + our GMapping with slam_gmapping's compute delay (map rebuild cost per traced cell 4x the measured one, and the emulated machine's speed cpu_factor 0.88, both fitted on the campaign's 17 fit buildings) + move_base-like navigation with a checked back-up and base_local_planner's blind escape alternating + nearest-frontier exploration, realistic setting, >= $MIN_RUNS runs per building) on $BUILDINGS seed-study buildings of every size}"
 echo "[own model] models/own-realistic written; evaluation in $OUT/eval"
