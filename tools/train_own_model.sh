@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Train models/own-realistic from one of the project's own campaigns, by default the fidelity
 # campaign of the chain of record, data/campaigns/fidelity_seed_study_6 (tools/run_campaign.sh
-# fidelity_seed_study_6; issue #41): its summary.csv joined with our features of the campaign's worlds (the seed-study
-# buildings rebuilt by `worlds import-thesis`, the shipped ones from worlds/).
+# fidelity_seed_study_6; issue #41): its summary.csv joined with our features of the
+# campaign's worlds (the seed-study buildings rebuilt by `worlds import-thesis`, the shipped
+# ones from worlds/).
 # Usage: tools/train_own_model.sh [OUT]   (intermediate files in OUT, default out/own_model)
 # Environment: CAMPAIGN (default data/campaigns/fidelity_seed_study_6; the model came from
 # data/campaigns/realistic with MIN_RUNS=5 until 2026-12-04, from fidelity_seed_study until
-# 2026-12-07), SLAM_PREDICT_DATA (default
-# ../shared/data), MIN_RUNS (default 3), JOBS (default 2), MODELS (default models/).
+# 2026-12-07), SLAM_PREDICT_DATA (default ../shared/data), MIN_RUNS (default 3), JOBS (default
+# 2), MODELS (default models/).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${1:-$ROOT/out/own_model}"
