@@ -101,12 +101,12 @@ class Timers:
             self.in_snapshot = original_due(rule, t)
             return self.in_snapshot
         stopping.SnapshotMSE.due = due
-        original_stop = episode._stop_reason
+        original_stop = episode.stop_reason
 
         def stop_reason(*args):
             self.in_snapshot = False  # checked right after the snapshot
             return original_stop(*args)
-        episode._stop_reason = stop_reason
+        episode.stop_reason = stop_reason
 
 
 def bench_settings(args):
