@@ -4,6 +4,7 @@ beside the path ratio, the ratio per metre driven and GMapping's starvation unde
 delay, for each declared part (parts.yaml). docs/notes/fidelity.md, "2026-12-06".
 
     python bench/bench_fidelity_size_trend.py [CAMPAIGN] [--thesis CSV] [--min-coverage 0.5]
+                                              [--parts YAML]
 """
 from __future__ import annotations
 
@@ -85,10 +86,15 @@ def main() -> int:
     parser.add_argument("--thesis", default=str(ROOT.parent / "shared" / "data" / "thesis" /
                                                 "stats_realistic.csv"))
     parser.add_argument("--min-coverage", type=float, default=0.5)
+    parser.add_argument("--parts", help="declared parts (default: the campaign's parts.yaml, "
+                                        "else fidelity_seed_study's, which its successors share)")
     args = parser.parse_args()
     campaign = Path(args.campaign)
     theirs = read_thesis_table(Path(args.thesis))
-    parts = load_parts(campaign / "parts.yaml")
+    parts_file = Path(args.parts) if args.parts else campaign / "parts.yaml"
+    if not parts_file.is_file() and not args.parts:
+        parts_file = ROOT / "data" / "campaigns" / "fidelity_seed_study" / "parts.yaml"
+    parts = load_parts(parts_file)
     by = runs_by_building(campaign, args.min_coverage)
     slope, rho, n = within_building_slope(by)
     print(f"within a building: d log ε_t / d log path = {slope:.2f} (Spearman {rho:.2f}, "
