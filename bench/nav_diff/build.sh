@@ -7,9 +7,9 @@
 #                 base_local_planner and costmap_2d folders at least; kept outside the repo)
 #   BUILD_DIR     where the stub headers, objects and the nav_diff_driver binary go
 # Needs (Debian): g++ libroscpp-dev librosconsole-dev libtf2-ros-dev (geometry_msgs, tf2 and
-# roscpp headers) libeigen3-dev libboost-dev libboost-thread-dev. Compiled from upstream:
-# base_local_planner's trajectory_planner, map_grid, map_cell, costmap_model, footprint_helper,
-# trajectory; costmap_2d's costmap_2d, costmap_math, footprint, array_parser. Generated headers
+# roscpp headers) libeigen3-dev libboost-dev libboost-thread-dev zlib1g-dev. Compiled from
+# upstream: base_local_planner's trajectory_planner, map_grid, map_cell, costmap_model,
+# footprint_helper, trajectory; costmap_2d's costmap_2d, costmap_math, footprint, array_parser. Generated headers
 # and packages without Debian headers (the dynamic_reconfigure config struct, the Position2DInt
 # message, angles, sensor_msgs' point clouds, which are only named) are replaced by stubs
 # generated into BUILD_DIR. Flags: -O2 -DNDEBUG, C++17 (catkin's Release default is -O3; the
@@ -26,10 +26,10 @@ if [ ! -f "$BLP/src/trajectory_planner.cpp" ] || [ ! -f "$C2D/src/costmap_2d.cpp
 fi
 command -v g++ >/dev/null || { echo "g++ not found (apt-get install g++)" >&2; exit 2; }
 for header in ros/ros.h geometry_msgs/PoseStamped.h tf2/utils.h eigen3/Eigen/Core \
-              boost/thread.hpp tf2_geometry_msgs/tf2_geometry_msgs.h; do
+              boost/thread.hpp tf2_geometry_msgs/tf2_geometry_msgs.h zlib.h; do
     [ -f "/usr/include/$header" ] || {
         echo "/usr/include/$header missing (apt-get install libroscpp-dev librosconsole-dev" \
-             "libtf2-ros-dev libeigen3-dev libboost-dev libboost-thread-dev)" >&2
+             "libtf2-ros-dev libeigen3-dev libboost-dev libboost-thread-dev zlib1g-dev)" >&2
         exit 2; }
 done
 CXX=${CXX:-g++}
