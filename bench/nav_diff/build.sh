@@ -9,11 +9,11 @@
 # Needs (Debian): g++ libroscpp-dev librosconsole-dev libtf2-ros-dev (geometry_msgs, tf2 and
 # roscpp headers) libeigen3-dev libboost-dev libboost-thread-dev zlib1g-dev. Compiled from
 # upstream: base_local_planner's trajectory_planner, map_grid, map_cell, costmap_model,
-# footprint_helper, trajectory; costmap_2d's costmap_2d, costmap_math, footprint, array_parser. Generated headers
-# and packages without Debian headers (the dynamic_reconfigure config struct, the Position2DInt
-# message, angles, sensor_msgs' point clouds, which are only named) are replaced by stubs
-# generated into BUILD_DIR. Flags: -O2 -DNDEBUG, C++17 (catkin's Release default is -O3; the
-# rollouts are integer walks and double sums, so the level does not change results).
+# footprint_helper, trajectory; costmap_2d's costmap_2d, costmap_math, footprint, array_parser.
+# Generated headers and packages without Debian headers (the dynamic_reconfigure config struct,
+# the Position2DInt message, angles, sensor_msgs' point clouds, which are only named) are
+# replaced by stubs generated into BUILD_DIR. Flags: -O2 -DNDEBUG, C++17 (catkin's Release
+# default is -O3; without -ffast-math the level does not change x86-64 IEEE results).
 # The upstream commit (UPSTREAM_SRC/.commit when present, else "unknown") goes to
 # BUILD_DIR/upstream_commit.
 source "$(dirname "$0")/../diff_build_args.sh"  # strict mode; SRC, BUILD, HERE
@@ -80,17 +80,21 @@ cat > "$GEN/angles/angles.h" <<'STUB'
 // Stand-in for the two functions of the angles package the planner uses.
 #include <cmath>
 namespace angles {
-inline double normalize_angle_positive(double a) { return std::fmod(std::fmod(a, 2.0 * M_PI) + 2.0 * M_PI, 2.0 * M_PI); }
+inline double normalize_angle_positive(double a) {
+  return std::fmod(std::fmod(a, 2.0 * M_PI) + 2.0 * M_PI, 2.0 * M_PI);
+}
 inline double normalize_angle(double a) {
   a = normalize_angle_positive(a);
   return a > M_PI ? a - 2.0 * M_PI : a;
 }
-inline double shortest_angular_distance(double from, double to) { return normalize_angle(to - from); }
+inline double shortest_angular_distance(double from, double to) {
+  return normalize_angle(to - from);
+}
 }  // namespace angles
 STUB
 for cloud in PointCloud PointCloud2; do
-    printf '#pragma once\n// Stand-in: only named by headers the planner includes.\nnamespace sensor_msgs {\nstruct %s {};\n}  // namespace sensor_msgs\n' \
-        "$cloud" > "$GEN/sensor_msgs/$cloud.h"
+    printf '%s\n' '#pragma once' '// Stand-in: only named by headers the planner includes.' \
+        "namespace sensor_msgs { struct $cloud {}; }" > "$GEN/sensor_msgs/$cloud.h"
 done
 
 # --- compile ---------------------------------------------------------------------------------

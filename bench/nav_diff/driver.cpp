@@ -1,6 +1,6 @@
-// Differential driver: runs the real base_local_planner::TrajectoryPlanner (ros-planning/navigation)
-// over control cycles captured from slam_predict's local planner, one planner instance kept
-// alive across the cycles of a case, and writes the planner's choice per cycle.
+// Differential driver: runs the real base_local_planner::TrajectoryPlanner
+// (ros-planning/navigation) over control cycles captured from slam_predict's local planner, one
+// planner instance kept alive across the cycles of a case, and writes its choice per cycle.
 //
 // usage: nav_diff_driver PARAMS CYCLES OUT
 //   PARAMS  params.txt of a case (slam_predict.formats.nav_cycles): "key value" lines
