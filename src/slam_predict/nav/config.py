@@ -172,7 +172,8 @@ class TrajectoryPlannerConfig:
     drives straight forward at −``escape_vel`` instead, and the next such one back again: Stage
     refuses a move into a wall while its odometry integrates it, so upstream's repeated blind
     escape holds a robot whose corner touches a wall behind it for good.
-    """
+    ``upstream_rules`` (off: the rules before 2026-12-07): five rules as noetic-devel has them
+    (docs/architecture.md "Where our navigation differs", bench/bench_nav_diff.py)."""
 
     acc_lim_x: float = 2.5
     acc_lim_y: float = 2.5
@@ -198,6 +199,7 @@ class TrajectoryPlannerConfig:
     reverse_when_blocked: bool = False
     escape_footprint_margin: float = 0.0
     escape_alternate: bool = False
+    upstream_rules: bool = False
     holonomic_robot: bool = False
     y_vels: tuple[float, ...] = (-0.3, -0.1, 0.1, 0.3)
     dwa: bool = False
@@ -224,7 +226,7 @@ class TrajectoryPlannerConfig:
         "escape_footprint_margin": NON_NEGATIVE, "heading_scoring_timestep": NON_NEGATIVE,
         "xy_goal_tolerance": NON_NEGATIVE, "yaw_goal_tolerance": NON_NEGATIVE,
         "trans_stopped_velocity": NON_NEGATIVE, "rot_stopped_velocity": NON_NEGATIVE}
-    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"escape_alternate": False}   # added later
+    HASH_OMIT_IF: ClassVar[dict[str, Any]] = {"escape_alternate": False, "upstream_rules": False}
 
     def __post_init__(self) -> None:
         if self.holonomic_robot:

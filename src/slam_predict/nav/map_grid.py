@@ -4,7 +4,10 @@ Each control cycle the plan (in the local costmap's frame) is resolution-adjuste
 run of points inside the map on known cells seeds the path distance; the local goal (the last
 point of that run, MapGrid::setLocalGoal) seeds the goal distance. Distances are in cells, by
 4-connected BFS (nav/kernels.py ``target_distance``); obstacle cells (≥ INSCRIBED, unknown) are
-not entered, except those under the robot's footprint.
+not entered, except those under the robot's footprint. With ``upstream`` (TrajectoryPlannerConfig
+``upstream_rules``) three rules are noetic-devel's instead of the project's earlier ones: the
+local goal is the run's last point, the goal grid's BFS exempts no footprint cell (findBestPath
+marks them on the path grid only), and the footprint cells are FootprintHelper's.
 """
 from __future__ import annotations
 
@@ -12,12 +15,14 @@ import numpy as np
 
 from slam_predict.nav import kernels
 from slam_predict.nav.costmap import INSCRIBED, NO_INFORMATION, Costmap, footprint_cells
+from slam_predict.nav.footprint_helper import footprint_cells_upstream
 
 
 class DistanceGrids:
     """The path and goal distance grids (cells) of one local costmap, refilled every cycle."""
 
-    def __init__(self) -> None:
+    def __init__(self, upstream: bool = False) -> None:
+        self.upstream = upstream
         self.path = np.zeros((1, 1))
         self.goal = np.zeros((1, 1))
         self._queue = np.empty((0, 2), np.int32)
@@ -33,15 +38,20 @@ class DistanceGrids:
             self.goal = np.empty(costs.shape)
             self._queue = np.empty((costs.size, 2), np.int32)
         within = np.zeros(costs.shape, np.bool_)
-        cells = footprint_cells(costmap, pose, footprint)
+        cells = (footprint_cells_upstream if self.upstream else footprint_cells)(
+            costmap, pose, footprint)
         if len(cells):
             within[cells[:, 1], cells[:, 0]] = True
         path, goal = path_and_goal_cells(costmap, plan)
+        if self.upstream:
+            goal = path[-1:]
         cell = costmap.world_to_map(float(pose[0]), float(pose[1]))
         cx, cy = cell if cell is not None else (0, 0)
         radius = radius if cell is not None else -1
         kernels.target_distance(costs, within, path[:, 0], path[:, 1], self.path,
                                 self._queue, cx, cy, radius)
+        if self.upstream:
+            within[:] = False
         kernels.target_distance(costs, within, goal[:, 0], goal[:, 1], self.goal,
                                 self._queue, cx, cy, radius)
 

@@ -191,18 +191,26 @@ class Oscillation:
         """May an in-place rotation at ``vth`` rad/s be chosen?"""
         return (vth < 0 and not self.stuck_left) or (vth > 0 and not self.stuck_right)
 
-    def after(self, xv: float, thetav: float, xy: tuple[float, float]) -> Oscillation:
+    def after(self, xv: float, thetav: float, xy: tuple[float, float],
+              upstream: bool = False) -> Oscillation:
         """The memory after commanding (xv m/s, thetav rad/s) at ``xy``: a command that does
-        not drive forward records its turn side and its position."""
+        not drive forward records its turn side and its position. ``upstream``: as the block
+        of createTrajectories a differential robot reaches (a turn one way twice refuses the
+        other way); otherwise as the block only a holonomic robot reaches (the project's
+        rule before ``upstream_rules``: a turn one way, then the other, refuses the first)."""
         if xv > 0:
             return self
         osc = self
         if thetav < 0:
-            osc = replace(osc, stuck_right=osc.stuck_right or osc.rotating_right,
-                          rotating_left=True)
+            osc = (replace(osc, stuck_right=osc.stuck_right or osc.rotating_right,
+                           rotating_right=True) if upstream else
+                   replace(osc, stuck_right=osc.stuck_right or osc.rotating_right,
+                           rotating_left=True))
         elif thetav > 0:
-            osc = replace(osc, stuck_left=osc.stuck_left or osc.rotating_left,
-                          rotating_right=True)
+            osc = (replace(osc, stuck_left=osc.stuck_left or osc.rotating_left,
+                           rotating_left=True) if upstream else
+                   replace(osc, stuck_left=osc.stuck_left or osc.rotating_left,
+                           rotating_right=True))
         return replace(osc, prev_xy=(float(xy[0]), float(xy[1])))
 
     def reset_if_moved(self, xy: tuple[float, float], reset_dist: float) -> Oscillation:

@@ -69,7 +69,7 @@ class TrajectoryPlanner:
         self.resets = Resets(cfg.escape_reset_dist, cfg.escape_reset_theta)
         self.plan = np.empty((0, 3))
         self.final_goal: tuple[float, float] | None = None
-        self.grids = DistanceGrids()
+        self.grids = DistanceGrids(cfg.upstream_rules)
         self.state = PlannerState()
         self.oscillation = Oscillation()
         self.blind = BlindEscapes()
@@ -154,6 +154,8 @@ class TrajectoryPlanner:
         The returned sample carries its poses; the mode moves on by
         :func:`~slam_predict.nav.planner_modes.next_state`."""
         pose = (float(pose[0]), float(pose[1]), float(pose[2]))
+        if self.cfg.upstream_rules:   # findBestPath's Eigen::Vector3f copies
+            pose, vel = _as_float32(pose), _as_float32(vel)
         self.compute_maps(costmap, pose)
         footprint = self.footprint_at(costmap, pose)
         best, chosen = self._create_trajectories(costmap, pose, vel, footprint)
@@ -165,7 +167,8 @@ class TrajectoryPlanner:
         move = (best.xv, best.thetav) if chosen is Chosen.BODY_SAFE else None
         self.state = next_state(self.state, Observed(chosen, pose, move), self.resets)
         if chosen is Chosen.SAMPLE:
-            self.oscillation = self.oscillation.after(best.xv, best.thetav, pose[:2])
+            self.oscillation = self.oscillation.after(best.xv, best.thetav, pose[:2],
+                                                      self.cfg.upstream_rules)
         if chosen is not Chosen.KEPT_MOVE:
             self.oscillation = self.oscillation.reset_if_moved(pose[:2],
                                                                self.cfg.oscillation_reset_dist)
@@ -382,3 +385,8 @@ def _forward_samples(min_vx, dvx, min_vth, dvth, nvx, nvth) -> np.ndarray:
             vth += dvth
         vx += dvx
     return np.array(out, dtype=float)
+
+
+def _as_float32(values) -> tuple[float, ...]:
+    """``values`` rounded to float32, as doubles."""
+    return tuple(float(np.float32(v)) for v in values)
