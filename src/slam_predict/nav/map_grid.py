@@ -22,7 +22,8 @@ class DistanceGrids:
     """The path and goal distance grids (cells) of one local costmap, refilled every cycle."""
 
     def __init__(self, upstream: bool = False) -> None:
-        self.upstream = upstream
+        # the three upstream rules, one switch each (bench/nav_diff/replay.py weighs them apart)
+        self.helper_cells = self.last_point_goal = self.goal_exempts_nothing = upstream
         self.path = np.zeros((1, 1))
         self.goal = np.zeros((1, 1))
         self._queue = np.empty((0, 2), np.int32)
@@ -38,19 +39,19 @@ class DistanceGrids:
             self.goal = np.empty(costs.shape)
             self._queue = np.empty((costs.size, 2), np.int32)
         within = np.zeros(costs.shape, np.bool_)
-        cells = (footprint_cells_upstream if self.upstream else footprint_cells)(
+        cells = (footprint_cells_upstream if self.helper_cells else footprint_cells)(
             costmap, pose, footprint)
         if len(cells):
             within[cells[:, 1], cells[:, 0]] = True
         path, goal = path_and_goal_cells(costmap, plan)
-        if self.upstream:
+        if self.last_point_goal:
             goal = path[-1:]
         cell = costmap.world_to_map(float(pose[0]), float(pose[1]))
         cx, cy = cell if cell is not None else (0, 0)
         radius = radius if cell is not None else -1
         kernels.target_distance(costs, within, path[:, 0], path[:, 1], self.path,
                                 self._queue, cx, cy, radius)
-        if self.upstream:
+        if self.goal_exempts_nothing:
             within[:] = False
         kernels.target_distance(costs, within, goal[:, 0], goal[:, 1], self.goal,
                                 self._queue, cx, cy, radius)
