@@ -229,7 +229,8 @@ def replay_row(case: str, folder: Path) -> str:
 
 
 NAVFN_HEADER = ("| case | requests | found ours / real | same outcome (%) | ours only (start "
-                "escape) | real only | same end point (%) | length ours / real (median, ≥ 1 m) "
+                "escape) | real only | real descent at the cycle limit | same end point (%) "
+                "| length ours / real (median, ≥ 1 m) "
                 "| Hausdorff median / max (m) |")
 
 
@@ -240,7 +241,8 @@ def navfn_row(case: str, folder: Path, build: Path) -> str:
         subprocess.run([str(build / "navfn_diff_driver"), str(folder / "plans.bin"), str(out)],
                        check=True, stderr=subprocess.DEVNULL)
     ours = dict(np.load(folder / "ours_plans.npz"))
-    cells = navfn_plans.compare(ours, navfn_plans.read_navfn_output(out))
+    cells = navfn_plans.compare(ours, navfn_plans.read_navfn_output(out),
+                                navfn_plans.request_widths(folder / "plans.bin"))
     return "| " + " | ".join([case.split(":")[0]] + cells) + " |"
 
 

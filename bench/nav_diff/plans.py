@@ -81,6 +81,22 @@ def read_navfn_output(path: Path) -> list[np.ndarray]:
     return out
 
 
+def request_widths(path: Path) -> np.ndarray:
+    """size_x (cells) of each request's costmap in ``plans.bin``."""
+    data = Path(require_file(path, "captured plans")).read_bytes()
+    if data[:8] != MAGIC:
+        raise InputError(f"{path}: not a captured-plans file ({MAGIC.decode()})")
+    at, widths = 8, []
+    while data[at:at + 1] == b"P":
+        at += 1 + _HEAD.size
+        size_x, _, _, _, _, n = _MAP.unpack_from(data, at)
+        widths.append(size_x)
+        at += _MAP.size + n
+    if data[at:at + 1] != b"E":
+        raise InputError(f"{path}: bad record at byte {at}")
+    return np.array(widths, dtype=np.int64)
+
+
 def _length(points: np.ndarray) -> float:
     return float(np.sum(np.hypot(*np.diff(points, axis=0).T))) if len(points) > 1 else 0.0
 
@@ -91,14 +107,17 @@ def _hausdorff(a: np.ndarray, b: np.ndarray) -> float:
     return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
 
 
-def compare(ours: dict, real: list[np.ndarray]) -> list[str]:
+def compare(ours: dict, real: list[np.ndarray], widths: np.ndarray) -> list[str]:
     """Table cells: requests; found ours / real; agreement (%); ours only, of which by the start
-    escape; same end point within 1 cm (%); length ours ÷ real, median over plans of ≥ 1 m;
-    Hausdorff distance median / max (m)."""
+    escape; real only; real plans whose descent stopped at calcPath's cycle limit (4·size_x
+    points, not reaching the robot: NavfnROS::getPlanFromPotential ignores calcPath's result);
+    same end point within 1 cm (%); length ours ÷ real, median over plans of ≥ 1 m; Hausdorff
+    distance median / max (m), both over the other plans found by both."""
     found_real = np.array([len(p) > 0 for p in real])
+    failed = np.array([len(p) >= 4 * w + 1 for p, w in zip(real, widths, strict=True)])
     found_ours = ours["found"] > 0
     only = found_ours & ~found_real
-    both = np.nonzero(found_ours & found_real)[0]
+    both = np.nonzero(found_ours & found_real & ~failed)[0]
     ends, ratios, gaps = [], [], []
     for k in both:
         mine = ours["poses"][ours["offsets"][k]:ours["offsets"][k + 1]]
@@ -110,7 +129,7 @@ def compare(ours: dict, real: list[np.ndarray]) -> list[str]:
     return [str(n), f"{found_ours.sum()} / {found_real.sum()}",
             f"{100 * np.mean(found_ours == found_real):.1f}",
             f"{only.sum()} ({int((only & (ours['escaped'] > 0)).sum())})",
-            f"{found_real.sum() - (found_ours & found_real).sum()}",
+            f"{found_real.sum() - (found_ours & found_real).sum()}", str(int(failed.sum())),
             f"{100 * np.mean(ends):.1f}" if ends else "–",
             f"{np.median(ratios):.3f}" if ratios else "–",
             f"{np.median(gaps):.3f} / {max(gaps):.3f}" if gaps else "–"]
