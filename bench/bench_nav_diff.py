@@ -17,12 +17,19 @@ planners began the cycle in different escape modes (a consequence of an earlier 
 then the same figures on the remaining cycles ("upstream rules"), and the first differing cycle
 of those with both candidates' costs (ours / real scorer).
 
-``--replay`` adds a second table: our planner replayed open loop on the captured cycles
+``--navfn`` adds a table for the global planner: the real navfn
+(``bench/nav_diff/navfn_driver.cpp``, NavfnROS::makePlan's steps) on every navfn ``make_plan``
+request of the episode (global costmap, start, goal, tolerance; ``plans.bin``), against our
+plan: same outcome (plan or none), same end point, length ratio, Hausdorff distance. Our search
+is an exact 8-connected one where navfn descends an interpolated potential
+(docs/architecture.md), so the paths are not expected to be identical.
+
+``--replay`` adds a table: our planner replayed open loop on the captured cycles
 (``bench/nav_diff/replay.py``) as is, with our extensions off, with the five rules where the real
 one differs switched to its behaviour, with all of these, and with all but one of the five.
 
 Usage: bench/bench_nav_diff.py --upstream DIR [--cases WORLD:SEED:SIM_S ...]
-           [--settings YAML] [--worlds DIR] [--out DIR] [--replay] [--details N]
+           [--settings YAML] [--worlds DIR] [--out DIR] [--navfn] [--replay] [--details N]
 ``--upstream`` (or env SLAM_PREDICT_NAV_UPSTREAM) is an export of github.com/ros-planning/navigation
 (noetic-devel) outside this repository, built once into ``<out>/build`` with
 ``bench/nav_diff/build.sh``. Captures are cached in ``<out>/<world>_<seed>_<sim_s>/``
@@ -43,6 +50,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "bench" / "nav_diff"))
 import capture as cap  # noqa: E402  (bench/nav_diff/capture.py)
+import plans as navfn_plans  # noqa: E402  (bench/nav_diff/plans.py)
 import replay as rp  # noqa: E402  (bench/nav_diff/replay.py)
 
 from slam_predict.formats.nav_cycles import read_cycles, read_driver_output  # noqa: E402
@@ -53,6 +61,7 @@ from slam_predict.nav.trajectory_planner import TrajectoryPlanner  # noqa: E402
 
 BUILD_SCRIPT = ROOT / "bench" / "nav_diff" / "build.sh"
 DRIVER_SOURCE = ROOT / "bench" / "nav_diff" / "driver.cpp"
+NAVFN_SOURCE = ROOT / "bench" / "nav_diff" / "navfn_driver.cpp"
 SETTINGS = ROOT / "config" / "fidelity" / "seed_study_refit_escape.yaml"
 CASES = ("office_b:1761631670:1800", "Borchen4_updated:3744348009:300",
          "office_h:2047434765:300")
@@ -67,7 +76,7 @@ HOW_TO_GET = ("the real base_local_planner is needed: export ros-planning/naviga
 def build_driver(upstream: Path, build: Path) -> Path:
     """Build (or reuse) the driver; rebuilt when driver.cpp or build.sh is newer."""
     binary = build / "nav_diff_driver"
-    newest = max(DRIVER_SOURCE.stat().st_mtime, BUILD_SCRIPT.stat().st_mtime)
+    newest = max(p.stat().st_mtime for p in (DRIVER_SOURCE, NAVFN_SOURCE, BUILD_SCRIPT))
     if not binary.exists() or newest > binary.stat().st_mtime:
         subprocess.run(["bash", str(BUILD_SCRIPT), str(upstream), str(build)], check=True,
                        stdout=subprocess.DEVNULL)
@@ -78,7 +87,8 @@ def run_case(case: str, args, driver: Path) -> Path:
     """Capture (cached) and run the real planner on one case; returns its folder."""
     world, seed, sim_s = case.split(":")
     folder = Path(args.out) / f"{world}_{seed}_{sim_s}"
-    if not (folder / "episode.json").exists():
+    if not (folder / "episode.json").exists() or (args.navfn
+                                                  and not (folder / "plans.bin").exists()):
         cap.capture(Path(args.worlds) / f"{world}.world", int(seed), Path(args.settings),
                     float(sim_s), folder)
     if not (folder / "real.txt").exists():
@@ -218,6 +228,24 @@ def replay_row(case: str, folder: Path) -> str:
     return "| " + " | ".join(cells) + " |"
 
 
+NAVFN_HEADER = ("| case | requests | found ours / real | same outcome (%) | ours only (start "
+                "escape) | real only | real descent at the cycle limit | same end point (%) "
+                "| length ours / real (median, ≥ 1 m) "
+                "| Hausdorff median / max (m) |")
+
+
+def navfn_row(case: str, folder: Path, build: Path) -> str:
+    """The global planner's figures of one case (navfn run on our requests)."""
+    out = folder / "navfn.txt"
+    if not out.exists():
+        subprocess.run([str(build / "navfn_diff_driver"), str(folder / "plans.bin"), str(out)],
+                       check=True, stderr=subprocess.DEVNULL)
+    ours = dict(np.load(folder / "ours_plans.npz"))
+    cells = navfn_plans.compare(ours, navfn_plans.read_navfn_output(out),
+                                navfn_plans.request_widths(folder / "plans.bin"))
+    return "| " + " | ".join([case.split(":")[0]] + cells) + " |"
+
+
 HEADER = ("| case | sim s | cycles | n | identical (%) | max abs Δvx (m/s) | max abs Δvθ (rad/s) "
           "| max abs Δcost (identical) | extension acted / escape mode differs | first "
           "differing cycle |")
@@ -233,6 +261,8 @@ def main() -> int:
     parser.add_argument("--out", default=str(ROOT / "out" / "bench_nav_diff"))
     parser.add_argument("--replay", action="store_true",
                         help="also replay our planner open loop per variant (replay.py)")
+    parser.add_argument("--navfn", action="store_true",
+                        help="also run the real navfn on our make_plan requests")
     parser.add_argument("--details", type=int, default=0,
                         help="list the first N differing cycles under upstream rules")
     args = parser.parse_args()
@@ -251,6 +281,12 @@ def main() -> int:
         folders[case] = run_case(case, args, driver)
         for line in report(case, folders[case], args.details):
             print(line, flush=True)
+    if args.navfn:
+        print("\nThe real navfn on our make_plan requests (NavfnROS::makePlan's steps):")
+        print(NAVFN_HEADER)
+        print("|" + "---|" * (NAVFN_HEADER.count("|") - 1))
+        for case, folder in folders.items():
+            print(navfn_row(case, folder, Path(args.out) / "build"), flush=True)
     if args.replay:
         print("\nOur planner replayed open loop on the same cycles, identical (%) with the real "
               "one, per variant (bench/nav_diff/replay.py):")

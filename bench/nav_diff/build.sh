@@ -5,7 +5,8 @@
 # usage: bench/nav_diff/build.sh UPSTREAM_SRC BUILD_DIR
 #   UPSTREAM_SRC  an export of github.com/ros-planning/navigation (noetic-devel; its
 #                 base_local_planner and costmap_2d folders at least; kept outside the repo)
-#   BUILD_DIR     where the stub headers, objects and the nav_diff_driver binary go
+#   BUILD_DIR     where the stub headers, objects and the nav_diff_driver (and, when the
+#                 export has navfn, navfn_diff_driver) binaries go
 # Needs (Debian): g++ libroscpp-dev librosconsole-dev libtf2-ros-dev (geometry_msgs, tf2 and
 # roscpp headers) libeigen3-dev libboost-dev libboost-thread-dev zlib1g-dev. Compiled from
 # upstream: base_local_planner's trajectory_planner, map_grid, map_cell, costmap_model,
@@ -118,6 +119,17 @@ $CXX $CXXFLAGS $INCLUDES "$HERE/driver.cpp" "${OBJECTS[@]}" -lroscpp -lrosconsol
     -lroscpp_serialization -lrostime -lxmlrpcpp -lcpp_common -lboost_thread -lboost_system \
     -lz -lpthread -o "$BUILD/nav_diff_driver.tmp"
 mv "$BUILD/nav_diff_driver.tmp" "$BUILD/nav_diff_driver"
+# navfn (when the export has it): NavFn with our navfn_driver.cpp, which replays
+# NavfnROS::makePlan on captured requests
+if [ -f "$SRC/navfn/src/navfn.cpp" ]; then
+    OBJECTS=()
+    INCLUDES="$INCLUDES -I$SRC/navfn/include"
+    compile "$SRC/navfn/src/navfn.cpp" navfn_navfn
+    compile "$C2D/src/costmap_2d.cpp" c2d_costmap_2d
+    $CXX $CXXFLAGS $INCLUDES "$HERE/navfn_driver.cpp" "${OBJECTS[@]}" -lrosconsole -lrostime \
+        -lcpp_common -lboost_thread -lboost_system -lz -lpthread -o "$BUILD/navfn_diff_driver.tmp"
+    mv "$BUILD/navfn_diff_driver.tmp" "$BUILD/navfn_diff_driver"
+fi
 if [ -f "$SRC/.commit" ]; then cp "$SRC/.commit" "$BUILD/upstream_commit"
 else echo unknown > "$BUILD/upstream_commit"; fi
 echo "built $BUILD/nav_diff_driver (upstream $(cat "$BUILD/upstream_commit"))"

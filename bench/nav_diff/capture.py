@@ -6,7 +6,8 @@ settings file, sim time capped) with the navigator's TrajectoryPlanner wrapped: 
 command; ``slam_predict.formats.nav_cycles``) and what our side did to ``ours.npz``: sim time
 (s), command (vx m/s, vθ rad/s), cost, the kind of command (:class:`Chosen` value), the mode
 the cycle began in, whether the shrunk footprint scored it, and whether TrajectoryPlannerROS's
-goal-tolerance branch (stop / rotate to goal) replaced the command.
+goal-tolerance branch (stop / rotate to goal) replaced the command. Every navfn ``make_plan``
+call goes to ``plans.bin`` / ``ours_plans.npz`` (``bench/nav_diff/plans.py``).
 """
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+from plans import PlanWriter  # bench/nav_diff/plans.py (this folder)
 
 from slam_predict.collect import episode
 from slam_predict.collect.batch import RunSpec
@@ -24,6 +26,7 @@ from slam_predict.collect.settings import load_settings
 from slam_predict.formats.nav_cycles import Cycle, CycleWriter, LocalMap, write_params
 from slam_predict.nav.local_planner import LocalPlanner
 from slam_predict.nav.navigator import Navigator
+from slam_predict.nav.planner import GlobalPlanner
 from slam_predict.nav.planner_modes import Chosen, Mode
 from slam_predict.nav.trajectory_planner import TrajectoryPlanner
 
@@ -37,6 +40,7 @@ class Recorder:
     def __init__(self, folder: Path):
         self.folder = folder
         self.writer = CycleWriter(folder / "cycles.bin")
+        self.plans = PlanWriter(folder)
         self.planner: TrajectoryPlanner | None = None
         self.t = 0.0
         self.chosen: Chosen | None = None
@@ -65,11 +69,12 @@ class Recorder:
 
     def close(self) -> dict:
         self.writer.close()
+        plans = self.plans.close()
         names = ("index", "t", "xv", "thetav", "cost", "chosen", "mode", "body", "goal_branch")
         rows = np.array(self.rows, dtype=float).reshape(-1, len(names))
         np.savez_compressed(self.folder / "ours.npz", **{n: rows[:, k] for k, n in
                                                           enumerate(names)})
-        return {"cycles": self.writer.cycles, "maps": self.writer.maps}
+        return {"cycles": self.writer.cycles, "maps": self.writer.maps, "plans": plans}
 
 
 def _hooks(rec: Recorder) -> list[tuple[type, str, object]]:
@@ -77,6 +82,7 @@ def _hooks(rec: Recorder) -> list[tuple[type, str, object]]:
     find, create = TrajectoryPlanner.find_best_path, TrajectoryPlanner._create_trajectories
     stop, rotate = LocalPlanner._stop_with_acc_limits, LocalPlanner._rotate_to_goal
     step = Navigator.step
+    make_plan = GlobalPlanner.make_plan
 
     @functools.wraps(find)
     def find_best_path(self, costmap, pose, vel):
@@ -106,7 +112,18 @@ def _hooks(rec: Recorder) -> list[tuple[type, str, object]]:
         rec.t = float(t)
         return step(self, t, *args)
 
+    @functools.wraps(make_plan)
+    def planner_make_plan(self, costmap, start, goal, tolerance=None):
+        escapes = self.escapes
+        plan = make_plan(self, costmap, start, goal, tolerance)
+        if self.kind == "navfn/NavfnROS":
+            tol = self.default_tolerance if tolerance is None else float(tolerance)
+            rec.plans.add(rec.t, costmap, start, goal, tol, self.navfn.allow_unknown, plan,
+                          self.escapes > escapes)
+        return plan
+
     return [(TrajectoryPlanner, "find_best_path", find_best_path),
+            (GlobalPlanner, "make_plan", planner_make_plan),
             (TrajectoryPlanner, "_create_trajectories", create_trajectories),
             (LocalPlanner, "_stop_with_acc_limits", goal_branch(stop)),
             (LocalPlanner, "_rotate_to_goal", goal_branch(rotate)),
