@@ -1,6 +1,8 @@
 """Replay captured cycles through our TrajectoryPlanner open loop, optionally with the rules where
 the real base_local_planner (noetic-devel) differs switched to its behaviour, to measure what
-each difference accounts for.
+each difference accounts for. The switches are the library's own (TrajectoryPlannerConfig
+``upstream_rules`` sets all five; here they are set one at a time: DistanceGrids' three, the
+rotation memory's ``upstream`` argument, and the float32 inputs of findBestPath).
 
 Variants (names for :func:`replay`):
 
@@ -22,13 +24,11 @@ from __future__ import annotations
 
 import dataclasses
 from contextlib import ExitStack, contextmanager
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from slam_predict.formats.nav_cycles import read_cycles
-from slam_predict.nav import kernels, map_grid
 from slam_predict.nav.config import TrajectoryPlannerConfig
 from slam_predict.nav.costmap import Costmap
 from slam_predict.nav.planner_modes import Oscillation
@@ -48,119 +48,19 @@ def _patched(owner, name, value):
         setattr(owner, name, saved)
 
 
-def _upstream_after(self, xv, thetav, xy):
-    """Oscillation.after as createTrajectories' first block sets the flags."""
-    if xv > 0:
-        return self
-    osc = self
-    if thetav < 0:
-        osc = replace(osc, stuck_right=osc.stuck_right or osc.rotating_right,
-                      rotating_right=True)
-    elif thetav > 0:
-        osc = replace(osc, stuck_left=osc.stuck_left or osc.rotating_left, rotating_left=True)
-    return replace(osc, prev_xy=(float(xy[0]), float(xy[1])))
-
-
-def _last_point_goal(original):
-    def path_and_goal_cells(costmap, plan):
-        path, _ = original(costmap, plan)
-        return path, path[-1:]
-    return path_and_goal_cells
-
-
-def _update_without_goal_exemption(self, costmap, pose, plan, footprint, radius):
-    """DistanceGrids.update with no footprint exemption in the goal BFS."""
-    costs = costmap.costs
-    if self.path.shape != costs.shape or len(self._queue) != costs.size:
-        self.path = np.empty(costs.shape)
-        self.goal = np.empty(costs.shape)
-        self._queue = np.empty((costs.size, 2), np.int32)
-    within = np.zeros(costs.shape, np.bool_)
-    cells = map_grid.footprint_cells(costmap, pose, footprint)
-    if len(cells):
-        within[cells[:, 1], cells[:, 0]] = True
-    path, goal = map_grid.path_and_goal_cells(costmap, plan)
-    cell = costmap.world_to_map(float(pose[0]), float(pose[1]))
-    cx, cy = cell if cell is not None else (0, 0)
-    radius = radius if cell is not None else -1
-    kernels.target_distance(costs, within, path[:, 0], path[:, 1], self.path, self._queue,
-                            cx, cy, radius)
-    kernels.target_distance(costs, np.zeros_like(within), goal[:, 0], goal[:, 1], self.goal,
-                            self._queue, cx, cy, radius)
-
-
-def _line_cells(x0, y0, x1, y1) -> list[tuple[int, int]]:
-    """FootprintHelper::getLineCells: the Bresenham cells from (x0, y0) to (x1, y1)."""
-    dx, dy = abs(x1 - x0), abs(y1 - y0)
-    sx, sy = (1 if x1 >= x0 else -1), (1 if y1 >= y0 else -1)
-    major_x = dx >= dy
-    den, numadd = (dx, dy) if major_x else (dy, dx)
-    num, out, x, y = den // 2, [], x0, y0
-    for _ in range(den + 1):
-        out.append((x, y))
-        num += numadd
-        if num >= den:
-            num -= den
-            x, y = (x, y + sy) if major_x else (x + sx, y)
-        x, y = (x + sx, y) if major_x else (x, y + sy)
-    return out
-
-
-def _fill(cells: list[tuple[int, int]]) -> None:
-    """FootprintHelper::getFillCells, step for step (the list grows while it is read)."""
-    i = 0
-    while i < len(cells) - 1:
-        if cells[i][0] > cells[i + 1][0]:
-            cells[i], cells[i + 1] = cells[i + 1], cells[i]
-            i = max(i - 1, 0)
-        else:
-            i += 1
-    i = 0
-    for x in range(cells[0][0], cells[-1][0] + 1):
-        if i >= len(cells) - 1:
-            break
-        lo, hi = ((cells[i], cells[i + 1]) if cells[i][1] < cells[i + 1][1]
-                  else (cells[i + 1], cells[i]))
-        i += 2
-        while i < len(cells) and cells[i][0] == x:
-            if cells[i][1] < lo[1]:
-                lo = cells[i]
-            elif cells[i][1] > hi[1]:
-                hi = cells[i]
-            i += 1
-        cells.extend((x, y) for y in range(lo[1], hi[1]))
-
-
-def _upstream_footprint_cells(costmap, pose, footprint) -> np.ndarray:
-    """FootprintHelper::getFootprintCells(pos, footprint, costmap, fill=true) as (n, 2)."""
-    x, y, th = (float(v) for v in pose[:3])
-    c, s = np.cos(th), np.sin(th)
-    corners = []
-    for fx, fy in footprint:
-        corners.append(costmap.world_to_map(x + (fx * c - fy * s), y + (fx * s + fy * c)))
-    cells: list[tuple[int, int]] = []
-    n = len(corners)
-    for k in range(n):   # edges 0-1, 1-2, ..., (n-1)-0, as upstream
-        a, b = corners[k], corners[(k + 1) % n]
-        if a is None or b is None:
-            return np.array(cells, dtype=np.int64).reshape(-1, 2)
-        cells += _line_cells(a[0], a[1], b[0], b[1])
-    _fill(cells)
-    return np.array(cells, dtype=np.int64).reshape(-1, 2)
+def _upstream_after(original):
+    def after(self, xv, thetav, xy, upstream=False):
+        return original(self, xv, thetav, xy, True)
+    return after
 
 
 def _patches(variants) -> list:
-    out = []
-    if "oscillation" in variants:
-        out.append((Oscillation, "after", _upstream_after))
-    if "local_goal" in variants:
-        out.append((map_grid, "path_and_goal_cells",
-                    _last_point_goal(map_grid.path_and_goal_cells)))
-    if "goal_within" in variants:
-        out.append((map_grid.DistanceGrids, "update", _update_without_goal_exemption))
-    if "footprint_cells" in variants:
-        out.append((map_grid, "footprint_cells", _upstream_footprint_cells))
-    return out
+    return ([(Oscillation, "after", _upstream_after(Oscillation.after))]
+            if "oscillation" in variants else [])
+
+
+GRID_SWITCHES = {"local_goal": "last_point_goal", "goal_within": "goal_exempts_nothing",
+                 "footprint_cells": "helper_cells"}   # DistanceGrids' one switch per rule
 
 
 def _f32(values):
@@ -184,6 +84,8 @@ def replay(folder: Path, cfg: TrajectoryPlannerConfig, footprint: np.ndarray,
             local = cycle.costmap
             if tp is None:
                 tp = TrajectoryPlanner(cfg, footprint, sim_period, local.resolution)
+                for variant, switch in GRID_SWITCHES.items():
+                    setattr(tp.grids, switch, variant in variants)
             pose, vel = cycle.pose, cycle.vel
             if "float_pose" in variants:
                 pose, vel = _f32(pose), _f32(vel)
