@@ -62,6 +62,7 @@ from slam_predict.nav.trajectory_planner import TrajectoryPlanner  # noqa: E402
 BUILD_SCRIPT = ROOT / "bench" / "nav_diff" / "build.sh"
 DRIVER_SOURCE = ROOT / "bench" / "nav_diff" / "driver.cpp"
 NAVFN_SOURCE = ROOT / "bench" / "nav_diff" / "navfn_driver.cpp"
+READER_SOURCE = ROOT / "bench" / "nav_diff" / "record_reader.h"
 SETTINGS = ROOT / "config" / "fidelity" / "seed_study_refit_escape.yaml"
 CASES = ("office_b:1761631670:1800", "Borchen4_updated:3744348009:300",
          "office_h:2047434765:300")
@@ -74,9 +75,10 @@ HOW_TO_GET = ("the real base_local_planner is needed: export ros-planning/naviga
 
 
 def build_driver(upstream: Path, build: Path) -> Path:
-    """Build (or reuse) the driver; rebuilt when driver.cpp or build.sh is newer."""
+    """Build (or reuse) the drivers; rebuilt when a source or build.sh is newer."""
     binary = build / "nav_diff_driver"
-    newest = max(p.stat().st_mtime for p in (DRIVER_SOURCE, NAVFN_SOURCE, BUILD_SCRIPT))
+    newest = max(p.stat().st_mtime for p in (DRIVER_SOURCE, NAVFN_SOURCE, READER_SOURCE,
+                                             BUILD_SCRIPT))
     if not binary.exists() or newest > binary.stat().st_mtime:
         subprocess.run(["bash", str(BUILD_SCRIPT), str(upstream), str(build)], check=True,
                        stdout=subprocess.DEVNULL)

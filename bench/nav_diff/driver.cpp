@@ -18,6 +18,8 @@
 #include <tf2/LinearMath/Quaternion.h>
 #include <zlib.h>
 
+#include "record_reader.h"
+
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -137,34 +139,10 @@ std::unique_ptr<TrajectoryPlanner> MakePlanner(const Params& p,
   return tp;
 }
 
-class Reader {
+// The captured cycles file (bench/nav_diff/record_reader.h).
+class Reader : public RecordReader {
  public:
-  explicit Reader(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) Fail(path + ": cannot open");
-    data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (data_.size() < 8 || std::memcmp(data_.data(), "SPNAVC01", 8) != 0)
-      Fail(path + ": not a captured-cycles file");
-    at_ = 8;
-  }
-  template <typename T>
-  T Get() {
-    if (at_ + sizeof(T) > data_.size()) Fail("cycles: truncated");
-    T value;
-    std::memcpy(&value, data_.data() + at_, sizeof(T));
-    at_ += sizeof(T);
-    return value;
-  }
-  const unsigned char* Take(size_t n) {
-    if (at_ + n > data_.size()) Fail("cycles: truncated");
-    const unsigned char* p = reinterpret_cast<const unsigned char*>(data_.data()) + at_;
-    at_ += n;
-    return p;
-  }
-
- private:
-  std::vector<char> data_;
-  size_t at_ = 0;
+  explicit Reader(const std::string& path) : RecordReader(path, "SPNAVC01", "cycles", "nav_diff_driver") {}
 };
 
 void ReadMap(Reader& in, costmap_2d::Costmap2D& costmap) {

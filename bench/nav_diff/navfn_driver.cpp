@@ -17,6 +17,8 @@
 #include <navfn/navfn.h>
 #include <zlib.h>
 
+#include "record_reader.h"
+
 #include <cfloat>
 #include <cstdint>
 #include <cstdio>
@@ -35,34 +37,10 @@ namespace {
   std::exit(2);
 }
 
-class Reader {
+// The captured plans file (bench/nav_diff/record_reader.h).
+class Reader : public RecordReader {
  public:
-  explicit Reader(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) Fail(path + ": cannot open");
-    data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (data_.size() < 8 || std::memcmp(data_.data(), "SPNAVP01", 8) != 0)
-      Fail(path + ": not a captured-plans file");
-    at_ = 8;
-  }
-  template <typename T>
-  T Get() {
-    if (at_ + sizeof(T) > data_.size()) Fail("plans: truncated");
-    T value;
-    std::memcpy(&value, data_.data() + at_, sizeof(T));
-    at_ += sizeof(T);
-    return value;
-  }
-  const unsigned char* Take(size_t n) {
-    if (at_ + n > data_.size()) Fail("plans: truncated");
-    const unsigned char* p = reinterpret_cast<const unsigned char*>(data_.data()) + at_;
-    at_ += n;
-    return p;
-  }
-
- private:
-  std::vector<char> data_;
-  size_t at_ = 0;
+  explicit Reader(const std::string& path) : RecordReader(path, "SPNAVP01", "plans", "navfn_diff_driver") {}
 };
 
 struct Request {
