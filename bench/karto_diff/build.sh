@@ -20,12 +20,9 @@ if [ ! -f "$SRC/lib/karto_sdk/src/Mapper.cpp" ] || [ ! -f "$SRC/solvers/ceres_so
     exit 2
 fi
 command -v g++ >/dev/null || { echo "g++ not found (apt-get install g++)" >&2; exit 2; }
-for header in ceres/ceres.h eigen3/Eigen/Core boost/thread.hpp tbb/parallel_for_each.h; do
-    [ -f "/usr/include/$header" ] || {
-        echo "/usr/include/$header missing (apt-get install libceres-dev libeigen3-dev" \
-             "libboost-dev libboost-thread-dev libboost-serialization-dev libtbb-dev)" >&2
-        exit 2; }
-done
+require_headers "libceres-dev libeigen3-dev libboost-dev libboost-thread-dev"\
+" libboost-serialization-dev libtbb-dev" \
+    ceres/ceres.h eigen3/Eigen/Core boost/thread.hpp tbb/parallel_for_each.h
 CXX=${CXX:-g++}
 CXXFLAGS=${CXXFLAGS:-"-O3 -DNDEBUG -std=c++17 -fPIC -fpermissive -w"}
 

@@ -26,13 +26,10 @@ if [ ! -f "$BLP/src/trajectory_planner.cpp" ] || [ ! -f "$C2D/src/costmap_2d.cpp
     exit 2
 fi
 command -v g++ >/dev/null || { echo "g++ not found (apt-get install g++)" >&2; exit 2; }
-for header in ros/ros.h geometry_msgs/PoseStamped.h tf2/utils.h eigen3/Eigen/Core \
-              boost/thread.hpp tf2_geometry_msgs/tf2_geometry_msgs.h zlib.h; do
-    [ -f "/usr/include/$header" ] || {
-        echo "/usr/include/$header missing (apt-get install libroscpp-dev librosconsole-dev" \
-             "libtf2-ros-dev libeigen3-dev libboost-dev libboost-thread-dev zlib1g-dev)" >&2
-        exit 2; }
-done
+require_headers "libroscpp-dev librosconsole-dev libtf2-ros-dev libeigen3-dev libboost-dev"\
+" libboost-thread-dev zlib1g-dev" \
+    ros/ros.h geometry_msgs/PoseStamped.h tf2/utils.h eigen3/Eigen/Core boost/thread.hpp \
+    tf2_geometry_msgs/tf2_geometry_msgs.h zlib.h
 CXX=${CXX:-g++}
 CXXFLAGS=${CXXFLAGS:-"-O2 -DNDEBUG -std=c++17 -w"}
 

@@ -142,20 +142,10 @@ std::unique_ptr<TrajectoryPlanner> MakePlanner(const Params& p,
 // The captured cycles file (bench/nav_diff/record_reader.h).
 class Reader : public RecordReader {
  public:
-  explicit Reader(const std::string& path) : RecordReader(path, "SPNAVC01", "cycles", "nav_diff_driver") {}
+  explicit Reader(const std::string& path)
+      : RecordReader(path, "SPNAVC01", "cycles", "nav_diff_driver") {}
 };
 
-void ReadMap(Reader& in, costmap_2d::Costmap2D& costmap) {
-  uint32_t sx = in.Get<uint32_t>(), sy = in.Get<uint32_t>();
-  double res = in.Get<double>(), ox = in.Get<double>(), oy = in.Get<double>();
-  uint32_t n = in.Get<uint32_t>();
-  const unsigned char* packed = in.Take(n);
-  // resizeMap sets the origin exactly (updateOrigin would snap it to whole cells)
-  costmap.resizeMap(sx, sy, res, ox, oy);
-  uLongf size = static_cast<uLongf>(sx) * sy;
-  if (uncompress(costmap.getCharMap(), &size, packed, n) != Z_OK || size != uLongf(sx) * sy)
-    Fail("cycles: bad costmap record");
-}
 
 geometry_msgs::PoseStamped Pose2D(double x, double y, double yaw) {
   geometry_msgs::PoseStamped pose;
@@ -211,7 +201,7 @@ int main(int argc, char** argv) {
     char tag = in.Get<char>();
     if (tag == 'E') break;
     if (tag == 'M') {
-      ReadMap(in, costmap);
+      in.ReadCostmap(costmap);
       if (!tp) tp = MakePlanner(params, world, costmap);
     } else if (tag == 'C' && tp) {
       RunCycle(in, *tp, out);

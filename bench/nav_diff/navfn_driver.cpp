@@ -40,7 +40,8 @@ namespace {
 // The captured plans file (bench/nav_diff/record_reader.h).
 class Reader : public RecordReader {
  public:
-  explicit Reader(const std::string& path) : RecordReader(path, "SPNAVP01", "plans", "navfn_diff_driver") {}
+  explicit Reader(const std::string& path)
+      : RecordReader(path, "SPNAVP01", "plans", "navfn_diff_driver") {}
 };
 
 struct Request {
@@ -59,14 +60,7 @@ Request ReadRequest(Reader& in, costmap_2d::Costmap2D& costmap) {
   r.goal_y = in.Get<double>();
   r.tolerance = in.Get<double>();
   r.allow_unknown = in.Get<uint8_t>() != 0;
-  uint32_t sx = in.Get<uint32_t>(), sy = in.Get<uint32_t>();
-  double res = in.Get<double>(), ox = in.Get<double>(), oy = in.Get<double>();
-  uint32_t n = in.Get<uint32_t>();
-  const unsigned char* packed = in.Take(n);
-  costmap.resizeMap(sx, sy, res, ox, oy);
-  uLongf size = static_cast<uLongf>(sx) * sy;
-  if (uncompress(costmap.getCharMap(), &size, packed, n) != Z_OK || size != uLongf(sx) * sy)
-    Fail("plans: bad costmap record");
+  in.ReadCostmap(costmap);
   return r;
 }
 

@@ -3,6 +3,10 @@
 // exits with status 2.
 #pragma once
 
+#include <costmap_2d/costmap_2d.h>
+#include <zlib.h>
+
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -32,6 +36,19 @@ class RecordReader {
     std::memcpy(&value, data_.data() + at_, sizeof(T));
     at_ += sizeof(T);
     return value;
+  }
+  // A costmap record: size x, size y (cells), resolution (m), origin x, y (m), then the
+  // zlib-compressed cost bytes; the costmap is resized to it (resizeMap sets the origin
+  // exactly, where updateOrigin would snap it to whole cells).
+  void ReadCostmap(costmap_2d::Costmap2D& costmap) {
+    uint32_t sx = Get<uint32_t>(), sy = Get<uint32_t>();
+    double res = Get<double>(), ox = Get<double>(), oy = Get<double>();
+    uint32_t n = Get<uint32_t>();
+    const unsigned char* packed = Take(n);
+    costmap.resizeMap(sx, sy, res, ox, oy);
+    uLongf size = static_cast<uLongf>(sx) * sy;
+    if (uncompress(costmap.getCharMap(), &size, packed, n) != Z_OK || size != uLongf(sx) * sy)
+      Fail(kind_ + ": bad costmap record");
   }
   const unsigned char* Take(size_t n) {
     if (at_ + n > data_.size()) Fail(kind_ + ": truncated");
