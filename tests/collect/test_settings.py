@@ -152,7 +152,7 @@ def test_the_ros_path_gets_the_overridden_navigation_folder():
     assert Path(plain) == CONFIG.resolve()
 
 
-@pytest.mark.parametrize("key", ["local_costmap", "oscilation_timeout"])
+@pytest.mark.parametrize("key", ["global_costmap", "oscilation_timeout"])
 def test_nav_overrides_of_a_section_or_an_unknown_key_are_one_line_errors(tmp_path, key):
     settings = tmp_path / "s.yaml"
     settings.write_text(f"extends: {CONFIG / 'collect.yaml'}\nnav_overrides:\n  {key}: 1.0\n")
@@ -240,3 +240,25 @@ def test_an_unknown_explore_override_is_a_one_line_error(tmp_path):
     with pytest.raises(InputError, match="reachable_frontier") as err:
         load_settings(settings)
     assert "\n" not in str(err.value)
+
+
+def test_local_costmap_overrides_reach_both_paths(tmp_path):
+    """A local_costmap key in nav_overrides sets the in-process costmap and the merged folder's
+    local_costmap.yaml alike; the rest of the section keeps its file's values."""
+    from slam_predict.nav.config import load_nav_config
+    from slam_predict.ros.batch_runner import component_configs
+
+    path = tmp_path / "s.yaml"
+    path.write_text(f"extends: {CONFIG / 'collect.yaml'}\nnav_overrides:\n"
+                    "  local_costmap: {footprint_clearing_enabled: true}\n")
+    settings, base = load_settings(path), load_settings(CONFIG / "collect.yaml")
+    assert settings.nav.local_costmap.footprint_clearing_enabled
+    assert not base.nav.local_costmap.footprint_clearing_enabled
+    assert settings.nav.local_costmap.resolution == base.nav.local_costmap.resolution
+    folder = component_configs(path)["nav_config_dir"]
+    assert load_nav_config(folder) == settings.nav
+    with pytest.raises(InputError, match="nav_overrides.local_costmap: not a"):
+        path.write_text(f"extends: {CONFIG / 'collect.yaml'}\nnav_overrides:\n"
+                        "  local_costmap: {footprint_clearing: true}\n")
+        load_settings(path)
+

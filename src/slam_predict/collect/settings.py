@@ -171,14 +171,16 @@ def load_explore(cls, explore_file: Path, overrides: dict[str, Any], path: Path)
     return from_dict(cls, tree, f"{explore_file} + {path} explore_overrides")
 
 
-# Sections of the move_base tree whose own parameters ``nav_overrides`` may set (a mapping).
-OVERRIDABLE_NAV_SECTIONS = ("TrajectoryPlannerROS",)
+# Sections of the move_base tree whose own parameters ``nav_overrides`` may set (a mapping),
+# with the navigation folder's file that holds each.
+OVERRIDABLE_NAV_SECTIONS = {"TrajectoryPlannerROS": "base_local_planner.yaml",
+                            "local_costmap": "local_costmap.yaml"}
 
 
 def checked_nav_overrides(overrides: dict[str, Any], path: Path) -> dict[str, Any]:
     """``nav_overrides`` when every key is a top-level move_base parameter or a mapping of
-    TrajectoryPlannerROS parameters (the costmap and global planner sections have files of
-    their own); InputError otherwise."""
+    TrajectoryPlannerROS or local_costmap parameters (the other sections are set in their own
+    files); InputError otherwise."""
     from slam_predict.nav.config import MoveBaseConfig
 
     defaults = MoveBaseConfig()
@@ -192,9 +194,9 @@ def checked_nav_overrides(overrides: dict[str, Any], path: Path) -> dict[str, An
                 raise InputError(f"nav_overrides.{key}: not a {key} parameter: "
                                  f"{', '.join(unknown)}", path)
         elif key not in allowed:
-            raise InputError(f"nav_overrides: '{key}' is not a move_base.yaml parameter "
-                             "(costmap and global planner sections are not overridable here)",
-                             path)
+            raise InputError(f"nav_overrides: '{key}' is not a move_base.yaml parameter (of "
+                             f"the sections only {' and '.join(OVERRIDABLE_NAV_SECTIONS)} are "
+                             "overridable here)", path)
     return dict(overrides)
 
 

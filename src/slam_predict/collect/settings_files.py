@@ -64,9 +64,10 @@ def _cached_file(prefix: str, text: str) -> Path:
 def merged_nav_folder(tree: dict[str, Any]) -> Path:
     """The navigation folder with ``nav_overrides`` set: move_base parameters in its
     move_base.yaml, TrajectoryPlannerROS parameters in its base_local_planner.yaml (loaded after
-    move_base.yaml, so it would win), for the ROS path's move_base launch (which loads the
-    folder's files); under ~/.cache/slam_predict/settings/, named by content hash, the other
-    files copied as they are."""
+    move_base.yaml, so it would win) and local_costmap parameters in its local_costmap.yaml,
+    for the ROS path's move_base launch (which loads the folder's files); under
+    ~/.cache/slam_predict/settings/, named by content hash, the other files copied as they
+    are."""
     import shutil
     import tempfile
 
@@ -78,9 +79,12 @@ def merged_nav_folder(tree: dict[str, Any]) -> Path:
     sections = {k: v for k, v in overrides.items() if k in OVERRIDABLE_NAV_SECTIONS}
     top = {k: v for k, v in overrides.items() if k not in sections}
     merged = {"move_base.yaml": _merged_yaml(source / "move_base.yaml", top, "nav_overrides")}
-    if sections:
-        merged["base_local_planner.yaml"] = _merged_yaml(
-            source / "base_local_planner.yaml", sections, "nav_overrides' planner sections")
+    by_file: dict[str, dict[str, Any]] = {}
+    for key, value in sections.items():
+        by_file.setdefault(OVERRIDABLE_NAV_SECTIONS[key], {})[key] = value
+    for name, part in by_file.items():
+        what = "planner" if name == "base_local_planner.yaml" else "costmap"
+        merged[name] = _merged_yaml(source / name, part, f"nav_overrides' {what} sections")
     folder = merged["move_base.yaml"].parent / (
         "move_base_" + _digest("".join(p.read_text() for p in merged.values())))
     if not folder.is_dir():
