@@ -6,7 +6,7 @@
 # NAME: realistic | fidelity_fixed_80 | fidelity_uniform_per_run_60 | fidelity_fixed_60 |
 #       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | fidelity_seed_study_2 |
 #       fidelity_seed_study_3 | fidelity_seed_study_4 | fidelity_seed_study_5 |
-#       fidelity_seed_study_6 | fidelity_seed_study_7 |
+#       fidelity_seed_study_6 | fidelity_seed_study_7 | fidelity_seed_study_8 |
 #       robots | robots_rep3 |
 #       robots_more | robots_configs2 | robots_rep4 | robots_res025 | robots_res100 |
 #       karto_seed_study | karto_robots
@@ -51,6 +51,10 @@
 #              frontiers joined to the robot's free space, explore.reachable_frontiers); same
 #              parts rule (fit part first). Stopped after run 1 of the fit part: not adopted
 #              (docs/notes/exploration.md, "Frontiers in free pockets inside walls").
+#   fidelity_seed_study_8 (issue #41, 2026-12-07): config/fidelity/seed_study_clear_footprint.yaml
+#              (base_local_planner's own rules, `upstream_rules`, and the local costmap clearing
+#              the robot's footprint as costmap_2d does; docs/notes/exploration.md "Narrow doors");
+#              same parts rule (fit part first). Not started.
 #   robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100 (issue #41,
 #              2026-12-07): robots, robots_rep3, ... collected again, same designs and seeds, on
 #              fidelity_seed_study_6's chain (config/robot_campaign/settings_refit_escape.yaml).
@@ -141,6 +145,8 @@ case "$CAMPAIGN" in
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study_6) SETTINGS="$ROOT/config/fidelity/seed_study_refit_escape.yaml"
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  fidelity_seed_study_8) SETTINGS="$ROOT/config/fidelity/seed_study_clear_footprint.yaml"
+          WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study_7) SETTINGS="$ROOT/config/fidelity/seed_study_reachable.yaml"
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study|fidelity_seed_study_2) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"
@@ -161,7 +167,7 @@ case "$CAMPAIGN" in
   robots_res025|robots_res100) SETTINGS="$ROBOT_SETTINGS"
           WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_${CAMPAIGN#robots_}.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, fidelity_seed_study_7, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots; robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100, karto_seed_study_2, karto_robots_2)" >&2; exit 2 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, fidelity_seed_study_7, fidelity_seed_study_8, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots; robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100, karto_seed_study_2, karto_robots_2)" >&2; exit 2 ;;
 esac
 case "$PART" in
   "") ;;
