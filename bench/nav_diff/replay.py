@@ -23,7 +23,6 @@ Variants (names for :func:`replay`):
 from __future__ import annotations
 
 import dataclasses
-from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -31,40 +30,17 @@ import numpy as np
 from slam_predict.formats.nav_cycles import read_cycles
 from slam_predict.nav.config import TrajectoryPlannerConfig
 from slam_predict.nav.costmap import Costmap
-from slam_predict.nav.planner_modes import Oscillation
 from slam_predict.nav.trajectory_planner import TrajectoryPlanner
 
 VARIANTS = ("oscillation", "local_goal", "goal_within", "float_pose", "footprint_cells",
             "no_extensions")
 
 
-@contextmanager
-def _patched(owner, name, value):
-    saved = getattr(owner, name)
-    setattr(owner, name, value)
-    try:
-        yield
-    finally:
-        setattr(owner, name, saved)
-
-
-def _upstream_after(original):
-    def after(self, xv, thetav, xy, upstream=False):
-        return original(self, xv, thetav, xy, True)
-    return after
-
-
-def _patches(variants) -> list:
-    return ([(Oscillation, "after", _upstream_after(Oscillation.after))]
-            if "oscillation" in variants else [])
-
-
-GRID_SWITCHES = {"local_goal": "last_point_goal", "goal_within": "goal_exempts_nothing",
-                 "footprint_cells": "helper_cells"}   # DistanceGrids' one switch per rule
-
-
-def _f32(values):
-    return tuple(float(np.float32(v)) for v in values)
+# variant -> (the planner's DistanceGrids or itself, its switch for that rule)
+SWITCHES = {"local_goal": ("grids", "last_point_goal"),
+            "goal_within": ("grids", "goal_exempts_nothing"),
+            "footprint_cells": ("grids", "helper_cells"),
+            "oscillation": (None, "upstream_turn_memory"), "float_pose": (None, "float_pose")}
 
 
 def replay(folder: Path, cfg: TrajectoryPlannerConfig, footprint: np.ndarray,
@@ -77,21 +53,15 @@ def replay(folder: Path, cfg: TrajectoryPlannerConfig, footprint: np.ndarray,
         cfg = dataclasses.replace(cfg, reverse_when_blocked=False, escape_footprint_margin=0.0,
                                   escape_alternate=False)
     rows, tp = [], None
-    with ExitStack() as stack:
-        for owner, name, value in _patches(variants):
-            stack.enter_context(_patched(owner, name, value))
-        for cycle in read_cycles(folder / "cycles.bin"):
-            local = cycle.costmap
-            if tp is None:
-                tp = TrajectoryPlanner(cfg, footprint, sim_period, local.resolution)
-                for variant, switch in GRID_SWITCHES.items():
-                    setattr(tp.grids, switch, variant in variants)
-            pose, vel = cycle.pose, cycle.vel
-            if "float_pose" in variants:
-                pose, vel = _f32(pose), _f32(vel)
-            tp.update_plan(cycle.plan)
-            best = tp.find_best_path(Costmap(local.costs, local.origin, local.resolution), pose,
-                                     vel)
-            rows.append((best.xv, best.thetav, best.cost))
+    for cycle in read_cycles(folder / "cycles.bin"):
+        local = cycle.costmap
+        if tp is None:
+            tp = TrajectoryPlanner(cfg, footprint, sim_period, local.resolution)
+            for variant, (part, switch) in SWITCHES.items():
+                setattr(getattr(tp, part) if part else tp, switch, variant in variants)
+        tp.update_plan(cycle.plan)
+        best = tp.find_best_path(Costmap(local.costs, local.origin, local.resolution),
+                                 cycle.pose, cycle.vel)
+        rows.append((best.xv, best.thetav, best.cost))
     table = np.array(rows, dtype=float).reshape(-1, 3)
     return {"xv": table[:, 0], "thetav": table[:, 1], "cost": table[:, 2]}

@@ -70,6 +70,8 @@ class TrajectoryPlanner:
         self.plan = np.empty((0, 3))
         self.final_goal: tuple[float, float] | None = None
         self.grids = DistanceGrids(cfg.upstream_rules)
+        # upstream_rules' other two, one switch each (bench/nav_diff/replay.py weighs them apart)
+        self.float_pose = self.upstream_turn_memory = cfg.upstream_rules
         self.state = PlannerState()
         self.oscillation = Oscillation()
         self.blind = BlindEscapes()
@@ -154,7 +156,7 @@ class TrajectoryPlanner:
         The returned sample carries its poses; the mode moves on by
         :func:`~slam_predict.nav.planner_modes.next_state`."""
         pose = (float(pose[0]), float(pose[1]), float(pose[2]))
-        if self.cfg.upstream_rules:   # findBestPath's Eigen::Vector3f copies
+        if self.float_pose:   # findBestPath's Eigen::Vector3f copies
             pose, vel = _as_float32(pose), _as_float32(vel)
         self.compute_maps(costmap, pose)
         footprint = self.footprint_at(costmap, pose)
@@ -168,7 +170,7 @@ class TrajectoryPlanner:
         self.state = next_state(self.state, Observed(chosen, pose, move), self.resets)
         if chosen is Chosen.SAMPLE:
             self.oscillation = self.oscillation.after(best.xv, best.thetav, pose[:2],
-                                                      self.cfg.upstream_rules)
+                                                      self.upstream_turn_memory)
         if chosen is not Chosen.KEPT_MOVE:
             self.oscillation = self.oscillation.reset_if_moved(pose[:2],
                                                                self.cfg.oscillation_reset_dist)
