@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from slam_predict.collect.record import path_length
 from slam_predict.errors import InputError, require_file
 
 MAGIC = b"SPNAVP01"
@@ -97,10 +98,6 @@ def request_widths(path: Path) -> np.ndarray:
     return np.array(widths, dtype=np.int64)
 
 
-def _length(points: np.ndarray) -> float:
-    return float(np.sum(np.hypot(*np.diff(points, axis=0).T))) if len(points) > 1 else 0.0
-
-
 def _hausdorff(a: np.ndarray, b: np.ndarray) -> float:
     """Hausdorff distance (m) of two point sets (n, 2), (m, 2)."""
     d = np.hypot(a[:, None, 0] - b[None, :, 0], a[:, None, 1] - b[None, :, 1])
@@ -122,8 +119,8 @@ def compare(ours: dict, real: list[np.ndarray], widths: np.ndarray) -> list[str]
     for k in both:
         mine = ours["poses"][ours["offsets"][k]:ours["offsets"][k + 1]]
         ends.append(np.hypot(*(mine[-1] - real[k][-1])) <= 0.01)
-        if _length(real[k]) >= 1.0:
-            ratios.append(_length(mine) / _length(real[k]))
+        if path_length(real[k]) >= 1.0:
+            ratios.append(path_length(mine) / path_length(real[k]))
         gaps.append(_hausdorff(mine, real[k]))
     n = len(real)
     return [str(n), f"{found_ours.sum()} / {found_real.sum()}",
