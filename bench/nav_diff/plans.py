@@ -11,17 +11,16 @@ reaches_goal, escaped (found only by our start escape), and the poses of all pla
 from __future__ import annotations
 
 import struct
-import zlib
 from pathlib import Path
 
 import numpy as np
 
 from slam_predict.collect.record import path_length
 from slam_predict.errors import InputError, require_file
+from slam_predict.formats.nav_cycles import COSTMAP_HEAD, costmap_record
 
 MAGIC = b"SPNAVP01"
 _HEAD = struct.Struct("<IddddddB")
-_MAP = struct.Struct("<IIdddI")
 
 
 class PlanWriter:
@@ -38,15 +37,10 @@ class PlanWriter:
             escaped: bool) -> None:
         """One request (costmap frame) and our plan (None when none was found; ``escaped``:
         found only by the start escape)."""
-        costs = np.ascontiguousarray(costmap.costs, dtype=np.uint8)
-        packed = zlib.compress(costs.tobytes(), 6)
         self._file.write(b"P" + _HEAD.pack(len(self.rows), t, float(start[0]), float(start[1]),
                                            float(goal[0]), float(goal[1]), tol,
                                            int(allow_unknown)))
-        self._file.write(_MAP.pack(costs.shape[1], costs.shape[0], float(costmap.resolution),
-                                   float(costmap.origin[0]), float(costmap.origin[1]),
-                                   len(packed)))
-        self._file.write(packed)
+        self._file.write(costmap_record(costmap))
         if plan is None:
             self.rows.append([t, 0, np.nan, np.nan, np.nan, np.nan, 0, 0])
             self.poses.append(np.empty((0, 2)))
@@ -90,9 +84,9 @@ def request_widths(path: Path) -> np.ndarray:
     at, widths = 8, []
     while data[at:at + 1] == b"P":
         at += 1 + _HEAD.size
-        size_x, _, _, _, _, n = _MAP.unpack_from(data, at)
+        size_x, _, _, _, _, n = COSTMAP_HEAD.unpack_from(data, at)
         widths.append(size_x)
-        at += _MAP.size + n
+        at += COSTMAP_HEAD.size + n
     if data[at:at + 1] != b"E":
         raise InputError(f"{path}: bad record at byte {at}")
     return np.array(widths, dtype=np.int64)

@@ -38,7 +38,7 @@ MAGIC = b"SPNAVC01"
 DRIVER_FORMAT = "nav_diff_driver 1"
 DRIVER_COLUMNS = ("index", "xv", "thetav", "cost", "escaping", "stuck_left", "stuck_right",
                   "rotating_left", "rotating_right", "ours_cost")
-_MAP = struct.Struct("<IIdddI")
+COSTMAP_HEAD = struct.Struct("<IIdddI")   # size x, size y, resolution, origin x, y, n bytes
 _CYCLE = struct.Struct("<IddddddddI")
 
 
@@ -65,6 +65,17 @@ class LocalMap:
     resolution: float
 
 
+def costmap_record(costmap) -> bytes:
+    """A costmap (``costs`` uint8 [size_y, size_x], ``origin`` m, ``resolution`` m) as the
+    captures store it: :data:`COSTMAP_HEAD`, then the zlib-compressed costs (read by
+    bench/nav_diff/record_reader.h ``ReadCostmap``)."""
+    costs = np.ascontiguousarray(costmap.costs, dtype=np.uint8)
+    packed = zlib.compress(costs.tobytes(), 6)
+    return COSTMAP_HEAD.pack(costs.shape[1], costs.shape[0], float(costmap.resolution),
+                             float(costmap.origin[0]), float(costmap.origin[1]),
+                             len(packed)) + packed
+
+
 class CycleWriter:
     """Writes ``cycles.bin``: :meth:`cycle` adds a map record only when the costmap changed."""
 
@@ -76,12 +87,9 @@ class CycleWriter:
         self.cycles = 0
 
     def _map(self, local: LocalMap) -> None:
-        costs = np.ascontiguousarray(local.costs, dtype=np.uint8)
-        packed = zlib.compress(costs.tobytes(), 6)
-        self._file.write(b"M" + _MAP.pack(costs.shape[1], costs.shape[0], local.resolution,
-                                          local.origin[0], local.origin[1], len(packed)))
-        self._file.write(packed)
-        self._last = LocalMap(costs.copy(), local.origin, local.resolution)
+        self._file.write(b"M" + costmap_record(local))
+        self._last = LocalMap(np.array(local.costs, dtype=np.uint8), local.origin,
+                              local.resolution)
         self.maps += 1
 
     def cycle(self, cycle: Cycle) -> None:
@@ -112,8 +120,8 @@ def read_cycles(path: Path):
         if tag == b"E":
             return
         if tag == b"M":
-            sx, sy, res, ox, oy, n = _MAP.unpack_from(data, at)
-            at += _MAP.size
+            sx, sy, res, ox, oy, n = COSTMAP_HEAD.unpack_from(data, at)
+            at += COSTMAP_HEAD.size
             costs = np.frombuffer(zlib.decompress(data[at:at + n]), np.uint8).reshape(sy, sx)
             local, at = LocalMap(costs, (ox, oy), res), at + n
         elif tag == b"C" and local is not None:
