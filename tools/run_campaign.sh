@@ -9,7 +9,7 @@
 #       fidelity_seed_study_6 | fidelity_seed_study_7 | fidelity_seed_study_8 |
 #       robots | robots_rep3 |
 #       robots_more | robots_configs2 | robots_rep4 | robots_res025 | robots_res100 |
-#       karto_seed_study | karto_robots
+#       karto_seed_study | karto_robots | karto_beside_8
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
@@ -58,6 +58,11 @@
 #   robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100 (issue #41,
 #              2026-12-07): robots, robots_rep3, ... collected again, same designs and seeds, on
 #              fidelity_seed_study_6's chain (config/robot_campaign/settings_refit_escape.yaml).
+#   karto_beside_8 (issue #40, 2026-12-07): Karto (slam_toolbox's async node) beside every route
+#              of fidelity_seed_study_8 that is on this machine with its sensor log
+#              (`slam-predict slam beside`, config/fidelity/seed_study_clear_footprint_karto.yaml):
+#              both algorithms measured on the same routes; run it in the working period that
+#              collected the routes (sensor logs are not committed).
 #   karto_seed_study_2, karto_robots_2 (issues #40, #41, 2026-12-07): karto_seed_study and
 #              karto_robots on fidelity_seed_study_6's chain
 #              (config/fidelity/seed_study_refit_escape_karto.yaml).
@@ -105,6 +110,13 @@ while [ $# -gt 0 ]; do
     *) echo "run_campaign: unknown argument $1" >&2; exit 2 ;;
   esac
 done
+if [ "$NAME" = karto_beside_8 ]; then   # a replay of the routes, not a collection
+  [ -f "$ROOT/setup.bash" ] || bash "$ROOT/tools/setup.sh"
+  set +u; source "$ROOT/setup.bash"; set -u
+  exec slam-predict slam beside "$ROOT/data/campaigns/fidelity_seed_study_8" --jobs "$JOBS" \
+    --settings "$ROOT/config/fidelity/seed_study_clear_footprint_karto.yaml" \
+    --out "$ROOT/data/campaigns/karto_beside_8"
+fi
 THESIS_BUILDINGS="Borchen4_updated Lamuniere1_updated scuola_secondaria_i_grado_mera__updated
   Franch1_updated Sabadell3_updated Liselotte1_updated Sabadell1_updated Vipiteno2_updated"
 LARGE_BUILDINGS="Ursy1_updated 324-Elm-Furn-Plan_updated office_h battle_creekhs_2_updated

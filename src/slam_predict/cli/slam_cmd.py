@@ -11,6 +11,10 @@ A sensor log of a collected run (``RUN/sensors.bag`` or ``RUN/sensors.log.gz``, 
 ``run.json`` with ``sensor_logs``) is replayed with the run's recorded back-end, parameters and
 its in-loop SLAM generator (from the run's seed), so DIR/slam.tum reproduces RUN/slam_scans.tum
 exactly; ``--type``, ``--config`` or ``--seed`` replace them.
+
+``slam-predict slam beside ROUTES --settings YAML --out DIR [--jobs K]``: the back-end of the
+settings beside every route (collected run with a sensor log) of a campaign, measured like a
+collected run (:mod:`slam_predict.collect.beside`); resumable, writes DIR/summary.csv.
 """
 from __future__ import annotations
 
@@ -63,6 +67,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     bag.add_argument("--odom-topic", help="nav_msgs/Odometry topic (default: tf odom -> base)")
     bag.add_argument("--base-frame", default="base_link", help="robot frame (default base_link)")
     bag.add_argument("--odom-frame", default="odom", help="odometry frame (default odom)")
+    beside = sub.add_parser(
+        "beside", help="a SLAM back-end beside the routes of a collected campaign",
+        description="Replay every collected run of ROUTES that kept its sensor log through the "
+                    "back-end of --settings (its own real-time scan gate or compute delay) and "
+                    "measure the pose it publishes at every scan with the run's metric and "
+                    "seed: two SLAM algorithms on the same routes. Resumable: runs already in "
+                    "--out are kept.")
+    beside.add_argument("routes", metavar="ROUTES",
+                        help="campaign folder collected with sensor_logs: true")
+    beside.add_argument("--settings", required=True, metavar="YAML",
+                        help="collection settings naming the back-end (slam:) on the routes' own "
+                             "chain (simulator, navigation, explorer, stop rule, metric)")
+    beside.add_argument("--out", required=True, metavar="DIR",
+                        help="campaign folder for the beside runs (created, or resumed)")
+    beside.add_argument("--jobs", type=int, default=1, help="local worker processes")
 
 
 def _backend_and_params(args: argparse.Namespace, recorded):
@@ -82,6 +101,27 @@ def _backend_and_params(args: argparse.Namespace, recorded):
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.slam_command == "beside":
+        return _beside(args)
+    return _run_log(args)
+
+
+def _beside(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from slam_predict.cli.guards import check_at_least
+    from slam_predict.collect.beside import beside_campaign
+    from slam_predict.collect.settings import load_settings
+
+    check_at_least(args.jobs, 1, "--jobs")
+    settings = load_settings(args.settings)
+    ran = beside_campaign(Path(args.routes), settings, Path(args.out), args.jobs, print)
+    print(f"{settings.slam.type} beside {args.routes}: {ran} run(s) replayed -> "
+          f"{Path(args.out) / 'summary.csv'}")
+    return 0
+
+
+def _run_log(args: argparse.Namespace) -> int:
     from slam_predict.slam import canonical_name
     from slam_predict.slam.runner import evaluate, read_input, recorded_run, write_run
     from slam_predict.slam.runner import run as run_slam

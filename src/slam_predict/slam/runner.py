@@ -26,6 +26,7 @@ from slam_predict import slam as backends
 from slam_predict.atomic import atomic_dir
 from slam_predict.config import from_dict, to_dict
 from slam_predict.errors import InputError
+from slam_predict.geometry import compose
 from slam_predict.seeds import run_seeds
 from slam_predict.slam import OccupancyGrid, SlamBackend
 from slam_predict.slam.bag_input import bag_like, read_bag_input
@@ -40,7 +41,9 @@ class RunResult:
     """A finished run: processed-scan indices into the input, times, map-frame robot poses,
     the raw odometry and reference poses at those scans, the final map and statistics;
     ``handed``: with a compute delay, the indices of the scans the back-end was handed (the
-    others were dropped while it was busy), else None."""
+    others were dropped while it was busy), else None; ``online``: (N, 3) the robot pose the
+    node published at every input scan once it had been offered (map → odom as it stood, composed
+    with the scan's odometry), as a closed loop records its SLAM pose each step."""
 
     indices: np.ndarray
     times: np.ndarray
@@ -51,6 +54,7 @@ class RunResult:
     stats: dict
     slam: SlamBackend = field(repr=False, default=None)
     handed: np.ndarray | None = None
+    online: np.ndarray | None = None
 
 
 def read_input(path: os.PathLike | str, max_scans: int | None = None,
@@ -123,12 +127,16 @@ def run(data: SlamInput, slam_type: str, params, seed: int,
                            rng=rng if rng is not None else np.random.default_rng(seed))
     delay = for_backend(compute, slam, slam.map_update_interval)
     indices, handed = [], []
+    map_T_odom = np.zeros(3)
+    online = np.empty((len(data), 3))
 
     def handle(_stamp: float, k: int) -> tuple[bool, np.ndarray]:
+        nonlocal map_T_odom
         handed.append(k)
         processed = slam.update(data.odometry[k], data.ranges[k], data.times[k]) is not None
         if processed:
             indices.append(k)
+            map_T_odom = np.asarray(slam.map_to_odom(), dtype=float)
         return processed, data.ranges[k]
 
     for k in range(len(data)):
@@ -136,6 +144,7 @@ def run(data: SlamInput, slam_type: str, params, seed: int,
             handle(data.times[k], k)
         else:
             delay.offer(float(data.times[k]), k, handle)
+        online[k] = compose(map_T_odom, data.odometry[k])
         if progress is not None:
             progress(k + 1, len(data))
     cpu_filter = time.process_time() - cpu0
@@ -156,7 +165,7 @@ def run(data: SlamInput, slam_type: str, params, seed: int,
              len(data), stats["cpu_s"])
     reference = data.reference[index] if data.reference is not None else None
     return RunResult(index, times, poses, data.odometry[index], reference, grid, stats, slam,
-                     np.asarray(handed, dtype=np.int64) if delay is not None else None)
+                     np.asarray(handed, dtype=np.int64) if delay is not None else None, online)
 
 
 def evaluate(result: RunResult, n_pairs: int = 5000, seed: int = 0) -> dict:
