@@ -80,7 +80,8 @@ def test_karto_beside_a_route_is_a_resumable_campaign(routes, tmp_path):
     assert mine["route"]["config_hashes"] == record["config_hashes"]
     assert mine["scans_processed"] > 3 and "slam_async" in mine
     assert 0 < mine["metric"]["trans_mean"] < 0.5 and mine["metric"]["poses"] > 100
-    assert lines and lines[0].startswith("tiny/run_000: ε_t")
+    assert lines == [f"tiny/run_000: karto ε_t {mine['metric']['trans_mean']:.3f} m, the route's "
+                     f"gmapping {record['metric']['trans_mean']:.3f} m"]
     summary = (out / "summary.csv").read_text().splitlines()
     assert len(summary) == 2 and summary[1].startswith("tiny,1,")
     assert beside.beside_campaign(root, karto, out) == 0   # resumed: nothing left to replay

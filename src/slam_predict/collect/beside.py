@@ -167,10 +167,19 @@ def run_beside(route: Route, settings, out_dir: Path) -> dict:
     return record
 
 
-def _job(args: tuple) -> tuple[tuple[str, str], float | None]:
+def _job(args: tuple) -> tuple[Route, float | None]:
     route, settings, out_dir = args
     done = run_beside(route, settings, Path(out_dir))
-    return route.key, (done["metric"] or {}).get("trans_mean")
+    return route, (done["metric"] or {}).get("trans_mean")
+
+
+def _progress_line(route: Route, trans: float | None, slam_type: str) -> str:
+    """'<world>/<run>: karto ε_t 0.112 m, the route's gmapping 0.112 m'."""
+    theirs = (route.record.get("metric") or {}).get("trans_mean")
+    route_slam = (route.record.get("slam") or {}).get("type", "route")
+    mine = "no metric" if trans is None else f"ε_t {trans:.3f} m"
+    line = f"{'/'.join(route.key)}: {slam_type} {mine}"
+    return line if theirs is None else f"{line}, the route's {route_slam} {theirs:.3f} m"
 
 
 def beside_campaign(routes_dir: Path, settings, out_dir: Path, jobs: int = 1,
@@ -185,10 +194,9 @@ def beside_campaign(routes_dir: Path, settings, out_dir: Path, jobs: int = 1,
         _check_resume(store, settings)
         todo = [r for r in routes if not (Path(out_dir).joinpath(*r.key) / RUN_JSON).is_file()]
         args = [(r, settings, Path(out_dir).joinpath(*r.key)) for r in todo]
-        for key, trans in _map(args, jobs):
+        for route, trans in _map(args, jobs):
             if progress is not None:
-                progress(f"{'/'.join(key)}: ε_t {trans:.3f} m" if trans is not None
-                         else f"{'/'.join(key)}: no metric")
+                progress(_progress_line(route, trans, settings.slam.type))
         if todo or not (Path(out_dir) / "summary.csv").is_file():
             write_summary(Path(out_dir))
     return len(todo)
