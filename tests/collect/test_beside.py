@@ -112,3 +112,19 @@ def test_cli_errors_are_one_line_and_exit_2(routes, tmp_path, capsys):
                  "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "differ from the chain" in err
+
+
+def test_the_pairing_bench_puts_both_errors_side_by_side(routes, tmp_path, capsys):
+    import sys
+    sys.path.insert(0, str(ROOT / "bench"))
+    import bench_beside_compare
+
+    root, settings, record = routes
+    out = tmp_path / "beside"
+    beside.beside_campaign(root, karto_settings(settings), out)
+    mine = json.loads((out / "tiny" / "run_000" / "run.json").read_text())
+    assert bench_beside_compare.main([str(root), str(out)]) == 0
+    row = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| tiny")]
+    g, k = record["metric"]["trans_mean"], mine["metric"]["trans_mean"]
+    assert len(row) == 1 and f"| {g:.3f} | {k:.3f} | {k / g:.2f} |" in row[0]
+    assert bench_beside_compare.main([str(out), str(root)]) == 2   # routes and replay swapped
