@@ -128,3 +128,20 @@ def test_the_pairing_bench_puts_both_errors_side_by_side(routes, tmp_path, capsy
     g, k = record["metric"]["trans_mean"], mine["metric"]["trans_mean"]
     assert len(row) == 1 and f"| {g:.3f} | {k:.3f} | {k / g:.2f} |" in row[0]
     assert bench_beside_compare.main([str(out), str(root)]) == 2   # routes and replay swapped
+
+
+def test_karto_beside_a_karto_route_repeats_that_run(tmp_path):
+    """Karto's async node replayed beside a route Karto itself drove gives that run again: the
+    same scans dropped, the same published poses, the same error."""
+    settings = karto_settings(route_settings())
+    root = tmp_path / "routes"
+    record = run_episode(RunSpec(str(TINY), "tiny", 0, 7, str(root / "tiny" / "run_000")),
+                         settings)
+    out = tmp_path / "beside"
+    assert beside.beside_campaign(root, settings, out) == 1
+    mine = json.loads((out / "tiny" / "run_000" / "run.json").read_text())
+    assert mine["slam_async"] == record["slam_async"]
+    assert mine["metric"]["trans_mean"] == pytest.approx(record["metric"]["trans_mean"],
+                                                         rel=1e-9)
+    mine_poses, loop_poses = (poses(f / "tiny" / "run_000" / "slam.tum") for f in (out, root))
+    assert np.array_equal(mine_poses[:, :2], loop_poses[:, :2])
