@@ -262,3 +262,22 @@ def test_local_costmap_overrides_reach_both_paths(tmp_path):
                         "  local_costmap: {footprint_clearing: true}\n")
         load_settings(path)
 
+
+
+def test_the_cleared_footprint_chain_is_the_refit_escape_chain_plus_two_rules(tmp_path):
+    """seed_study_clear_footprint.yaml repeats seed_study_refit_escape.yaml's sections (to stay
+    shallow): it resolves to what extending that file with its two navigation rules gives, and
+    so do its record hashes (fidelity_seed_study_8's)."""
+    extended = tmp_path / "extended.yaml"
+    extended.write_text(
+        f"extends: {CONFIG / 'fidelity' / 'seed_study_refit_escape.yaml'}\n"
+        "nav_overrides:\n  TrajectoryPlannerROS:\n    upstream_rules: true\n"
+        "  local_costmap:\n    footprint_clearing_enabled: true\n")
+    repeated = load_settings(CONFIG / "fidelity" / "seed_study_clear_footprint.yaml")
+    reference = load_settings(extended)
+    assert repeated.hashes() == reference.hashes()
+    assert repeated.fitted == reference.fitted
+    for part in ("sim", "nav", "explore", "stop", "metric", "compute"):
+        assert getattr(repeated, part) == getattr(reference, part), part
+    assert repeated.nav.TrajectoryPlannerROS.upstream_rules
+    assert repeated.nav.local_costmap.footprint_clearing_enabled
