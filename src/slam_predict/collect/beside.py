@@ -8,7 +8,7 @@ stood, composed with the odometry: what the closed loop records each step) is me
 run's metric settings and seed. The back-end never steers the robot: a false loop closure raises
 its error but does not end the exploration. This is how the later study of the seed study's
 group compared GMapping and slam_toolbox (the robot drove without the SLAM map in the loop;
-docs/karto.md "Karto beside the route"), and it puts two algorithms on the same routes.
+docs/karto.md "Karto beside GMapping's routes"), and it puts two algorithms on the same routes.
 
 Each route's record goes to ``DIR/<world>/<run>/run.json`` (with ``slam.tum`` and the back-end's
 final map), written atomically: the route's fields (world, seed, robot, coverage, path, stop)
@@ -35,8 +35,8 @@ from slam_predict.collect.sensorlog import SENSOR_BAG
 from slam_predict.collect.store import RUN_JSON, RunStore
 from slam_predict.collect.summary import write_summary
 from slam_predict.errors import InputError
+from slam_predict.formats.tum import write_tum
 from slam_predict.paths import PROJECT_ROOT, portable_path
-from slam_predict.seeds import run_seeds
 
 LOG = logging.getLogger(__name__)
 # the parts of the chain a route and its beside back-end must share (config_hashes keys)
@@ -100,7 +100,7 @@ def replay(route: Route, settings):
         raise InputError("sensor bag has no ground truth", route.folder / SENSOR_BAG)
     seed = int(route.record["seed"])
     result = runner.run(data, settings.slam.type, settings.slam.params, seed,
-                        rng=np.random.default_rng(run_seeds(seed)[2]),
+                        rng=runner.in_loop_slam_rng(seed),
                         compute=settings.compute if settings.compute.model != "none" else None)
     return result, data
 
@@ -160,7 +160,6 @@ def run_beside(route: Route, settings, out_dir: Path) -> dict:
                            cov)
     with atomic_dir(out_dir) as folder:
         rec.write_map(folder, result.grid.data, result.grid.resolution, result.grid.origin)
-        from slam_predict.formats.tum import write_tum
         write_tum(folder / "slam.tum", data.times, result.online,
                   header=[f"{settings.slam.type} beside {'/'.join(route.key)}"])
         rec.write_run_json(folder, record)
@@ -192,9 +191,9 @@ def beside_campaign(routes_dir: Path, settings, out_dir: Path, jobs: int = 1,
     with store.lock():
         store.remove_leftovers()
         _check_resume(store, settings)
-        todo = [r for r in routes if not (Path(out_dir).joinpath(*r.key) / RUN_JSON).is_file()]
-        args = [(r, settings, Path(out_dir).joinpath(*r.key)) for r in todo]
-        for route, trans in _map(args, jobs):
+        dest = {r.key: Path(out_dir).joinpath(*r.key) for r in routes}
+        todo = [r for r in routes if not (dest[r.key] / RUN_JSON).is_file()]
+        for route, trans in _map([(r, settings, dest[r.key]) for r in todo], jobs):
             if progress is not None:
                 progress(_progress_line(route, trans, settings.slam.type))
         if todo or not (Path(out_dir) / "summary.csv").is_file():

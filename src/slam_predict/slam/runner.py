@@ -83,7 +83,12 @@ class RecordedRun:
 
     def rng(self) -> np.random.Generator:
         """The generator the in-loop SLAM back-end of the run had."""
-        return np.random.default_rng(run_seeds(self.seed)[2])
+        return in_loop_slam_rng(self.seed)
+
+
+def in_loop_slam_rng(seed: int) -> np.random.Generator:
+    """The SLAM generator of a collected run with seed ``seed`` (the closed loop's third)."""
+    return np.random.default_rng(run_seeds(seed)[2])
 
 
 def recorded_run(path: os.PathLike | str) -> RecordedRun | None:
