@@ -101,7 +101,7 @@ def replay(route: Route, settings):
     seed = int(route.record["seed"])
     result = runner.run(data, settings.slam.type, settings.slam.params, seed,
                         rng=runner.in_loop_slam_rng(seed),
-                        compute=settings.compute if settings.compute.model != "none" else None)
+                        compute=settings.compute)
     return result, data
 
 
