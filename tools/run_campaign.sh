@@ -9,7 +9,7 @@
 #       fidelity_seed_study_6 | fidelity_seed_study_7 | fidelity_seed_study_8 |
 #       robots | robots_rep3 |
 #       robots_more | robots_configs2 | robots_rep4 | robots_res025 | robots_res100 |
-#       karto_seed_study | karto_robots | karto_beside_8
+#       fidelity_seed_study_9 | karto_seed_study | karto_robots | karto_beside_8 | karto_beside_9
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
 #              (built by `worlds import-thesis` from ../shared/data) + 4 shipped worlds; trains
 #              the own-realistic model and is the uniform_per_run/80 m cell of the fidelity table.
@@ -54,12 +54,16 @@
 #   fidelity_seed_study_8 (issue #41, 2026-12-07): config/fidelity/seed_study_clear_footprint.yaml
 #              (base_local_planner's own rules, `upstream_rules`, and the local costmap clearing
 #              the robot's footprint as costmap_2d does; docs/notes/exploration.md "Narrow doors");
-#              same parts rule (fit part first). Not started.
+#              same parts rule (fit part first).
+#   fidelity_seed_study_9 (issue #41, 2026-12-07): config/fidelity/seed_study_clear_refit.yaml
+#              (fidelity_seed_study_8's chain with slam_gmapping's cpu_factor refitted on its fit
+#              part: 1.0); same parts rule (fit part first).
 #   robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100 (issue #41,
 #              2026-12-07): robots, robots_rep3, ... collected again, same designs and seeds, on
 #              fidelity_seed_study_6's chain (config/robot_campaign/settings_refit_escape.yaml).
-#   karto_beside_8 (issue #40, 2026-12-07): Karto (slam_toolbox's async node) beside every route
-#              of fidelity_seed_study_8 that is on this machine with its sensor log
+#   karto_beside_8, karto_beside_9 (issue #40, 2026-12-07): Karto (slam_toolbox's async node)
+#              beside every route of fidelity_seed_study_8 (_9) that is on this machine with its
+#              sensor log (the two chains differ only in GMapping's compute level)
 #              (`slam-predict slam beside`, config/fidelity/seed_study_clear_footprint_karto.yaml):
 #              both algorithms measured on the same routes; run it in the working period that
 #              collected the routes (sensor logs are not committed).
@@ -110,12 +114,12 @@ while [ $# -gt 0 ]; do
     *) echo "run_campaign: unknown argument $1" >&2; exit 2 ;;
   esac
 done
-if [ "$NAME" = karto_beside_8 ]; then   # a replay of the routes, not a collection
+if [[ "$NAME" =~ ^karto_beside_[89]$ ]]; then   # a replay of the routes, not a collection
   [ -f "$ROOT/setup.bash" ] || bash "$ROOT/tools/setup.sh"
   set +u; source "$ROOT/setup.bash"; set -u
-  exec slam-predict slam beside "$ROOT/data/campaigns/fidelity_seed_study_8" --jobs "$JOBS" \
-    --settings "$ROOT/config/fidelity/seed_study_clear_footprint_karto.yaml" \
-    --out "$ROOT/data/campaigns/karto_beside_8"
+  exec slam-predict slam beside "$ROOT/data/campaigns/fidelity_seed_study_${NAME#karto_beside_}" \
+    --jobs "$JOBS" --settings "$ROOT/config/fidelity/seed_study_clear_footprint_karto.yaml" \
+    --out "$ROOT/data/campaigns/$NAME"
 fi
 THESIS_BUILDINGS="Borchen4_updated Lamuniere1_updated scuola_secondaria_i_grado_mera__updated
   Franch1_updated Sabadell3_updated Liselotte1_updated Sabadell1_updated Vipiteno2_updated"
@@ -159,6 +163,8 @@ case "$CAMPAIGN" in
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study_8) SETTINGS="$ROOT/config/fidelity/seed_study_clear_footprint.yaml"
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
+  fidelity_seed_study_9) SETTINGS="$ROOT/config/fidelity/seed_study_clear_refit.yaml"
+          WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study_7) SETTINGS="$ROOT/config/fidelity/seed_study_reachable.yaml"
           WITH_SHIPPED=0; WITH_LARGE=1 ;;
   fidelity_seed_study|fidelity_seed_study_2) SETTINGS="$ROOT/config/fidelity/seed_study.yaml"
@@ -179,7 +185,7 @@ case "$CAMPAIGN" in
   robots_res025|robots_res100) SETTINGS="$ROBOT_SETTINGS"
           WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_${CAMPAIGN#robots_}.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, fidelity_seed_study_7, fidelity_seed_study_8, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots; robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100, karto_seed_study_2, karto_robots_2)" >&2; exit 2 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, fidelity_seed_study_7, fidelity_seed_study_8, fidelity_seed_study_9, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots; robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100, karto_seed_study_2, karto_robots_2)" >&2; exit 2 ;;
 esac
 case "$PART" in
   "") ;;

@@ -265,9 +265,9 @@ def test_local_costmap_overrides_reach_both_paths(tmp_path):
 
 
 def test_the_cleared_footprint_chain_is_the_refit_escape_chain_plus_two_rules(tmp_path):
-    """seed_study_clear_footprint.yaml repeats seed_study_refit_escape.yaml's sections (to stay
-    shallow): it resolves to what extending that file with its two navigation rules gives, and
-    so do its record hashes (fidelity_seed_study_8's)."""
+    """seed_study_clear_footprint.yaml (through seed_study_clear_refit.yaml, which repeats
+    seed_study_refit_escape.yaml's sections to stay shallow) resolves to what extending that file
+    with its two navigation rules gives, and so do its record hashes (fidelity_seed_study_8's)."""
     extended = tmp_path / "extended.yaml"
     extended.write_text(
         f"extends: {CONFIG / 'fidelity' / 'seed_study_refit_escape.yaml'}\n"
@@ -281,3 +281,16 @@ def test_the_cleared_footprint_chain_is_the_refit_escape_chain_plus_two_rules(tm
         assert getattr(repeated, part) == getattr(reference, part), part
     assert repeated.nav.TrajectoryPlannerROS.upstream_rules
     assert repeated.nav.local_costmap.footprint_clearing_enabled
+
+
+def test_the_refitted_chain_differs_from_the_cleared_footprint_chain_in_compute_only():
+    """seed_study_clear_refit.yaml (fidelity_seed_study_9) is fidelity_seed_study_8's chain with
+    GMapping's compute level refitted: every other part, and so the route a Karto replay checks
+    (`slam beside`), hashes alike; the fitted text names the new value."""
+    refit = load_settings(CONFIG / "fidelity" / "seed_study_clear_refit.yaml")
+    cleared = load_settings(CONFIG / "fidelity" / "seed_study_clear_footprint.yaml")
+    assert refit.compute.cpu_factor == 1.0 and cleared.compute.cpu_factor == 0.88
+    new, old = refit.hashes(), cleared.hashes()
+    assert {k for k in new if new[k] != old[k]} == {"slam_compute"}
+    assert refit.fitted["slam_compute.cpu_factor"].startswith("1.0, chosen")
+    assert cleared.fitted["slam_compute.cpu_factor"].startswith("0.88, chosen")
