@@ -47,6 +47,8 @@ CASES = [
     ("collect_office_150", "office_150", "collect", 8, 300, "nearest"),
     ("collect_lab_intel_seed_study", "lab_intel", "collect", 9, 900, "nearest",
      "config/fidelity/seed_study.yaml"),
+    ("collect_vipiteno2_clear_refit", "Vipiteno2_updated", "collect", 10, 600, "thesis",
+     "config/fidelity/seed_study_clear_refit.yaml"),   # base_local_planner's own rules
 ]
 QUICK = {"tiny_perfect", "tiny_gmapping", "collect_office_150"}
 

@@ -11,7 +11,7 @@ import pytest
 from slam_predict.config import config_hash
 from slam_predict.nav.config import TrajectoryPlannerConfig
 from slam_predict.nav.costmap import INSCRIBED, Costmap
-from slam_predict.nav.footprint_helper import footprint_cells_upstream, line_cells
+from slam_predict.nav.footprint_helper import fill_cells, footprint_cells_upstream, line_cells
 from slam_predict.nav.map_grid import DistanceGrids
 from slam_predict.nav.planner_modes import Oscillation
 from slam_predict.nav.trajectory_planner import TrajectoryPlanner
@@ -121,3 +121,44 @@ def test_the_option_is_hashed_only_when_on():
     check that, tests/learn/test_shipped_model_campaigns.py); on, it differs."""
     cfg = TrajectoryPlannerConfig()
     assert config_hash(cfg) != config_hash(dataclasses.replace(cfg, upstream_rules=True))
+
+
+
+def reference_fill(outline):
+    """getFillCells as upstream writes it, slowly: its in-place exchange sort (swap neighbours
+    whose x is strictly greater, step back after each swap), then per column every cell from
+    the lowest outline cell up to the highest."""
+    cells = list(outline)
+    i = 0
+    while i < len(cells) - 1:
+        if cells[i][0] > cells[i + 1][0]:
+            cells[i], cells[i + 1] = cells[i + 1], cells[i]
+            i = max(i - 1, 0)
+        else:
+            i += 1
+    filled, i = list(cells), 0
+    for x in range(cells[0][0], cells[-1][0] + 1):
+        if i >= len(cells) - 1:
+            break
+        column = [cells[i], cells[i + 1]]
+        i += 2
+        while i < len(cells) and cells[i][0] == x:
+            column.append(cells[i])
+            i += 1
+        ys = [c[1] for c in column]
+        filled += [(x, y) for y in range(min(ys), max(ys))]
+    return filled
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_fill_cells_equals_upstreams_exchange_sort_and_fill(seed):
+    """Outlines of random polygons (columns met in every order): the same list, order and
+    duplicates included."""
+    rng = np.random.default_rng(seed)
+    for _ in range(200):
+        corners = rng.integers(0, 30, size=(rng.integers(3, 7), 2))
+        outline = [c for k, a in enumerate(corners)
+                   for c in line_cells(*a, *corners[(k + 1) % len(corners)])]
+        cells = list(outline)
+        fill_cells(cells)
+        assert cells == reference_fill(outline)

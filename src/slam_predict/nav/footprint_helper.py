@@ -7,6 +7,7 @@ polygon grown by half a cell); ``upstream_rules`` selects this one.
 from __future__ import annotations
 
 import math
+from itertools import repeat
 
 import numpy as np
 
@@ -32,21 +33,14 @@ def line_cells(x0: int, y0: int, x1: int, y1: int) -> list[tuple[int, int]]:
     return out
 
 
-def _sort_by_column(cells: list[tuple[int, int]]) -> None:
-    """getFillCells' in-place exchange sort by x (stable for equal x, as upstream's)."""
-    i = 0
-    while i < len(cells) - 1:
-        if cells[i][0] > cells[i + 1][0]:
-            cells[i], cells[i + 1] = cells[i + 1], cells[i]
-            i = max(i - 1, 0)
-        else:
-            i += 1
-
-
 def fill_cells(cells: list[tuple[int, int]]) -> None:
     """FootprintHelper::getFillCells: sort the outline cells by column, then append every cell
-    from each column's lowest outline cell up to (not including) its highest."""
-    _sort_by_column(cells)
+    from each column's lowest outline cell up to (not including) its highest.
+
+    Upstream sorts with an in-place exchange sort that swaps only on a strictly greater x, so
+    cells of one column keep their order: a stable sort by x gives the same list (and is what
+    runs here: the exchange sort is quadratic and took 40 % of an episode's CPU)."""
+    cells.sort(key=_column)
     i = 0
     for x in range(cells[0][0], cells[-1][0] + 1):
         if i >= len(cells) - 1:
@@ -60,7 +54,11 @@ def fill_cells(cells: list[tuple[int, int]]) -> None:
             elif cells[i][1] > hi[1]:
                 hi = cells[i]
             i += 1
-        cells.extend((x, y) for y in range(lo[1], hi[1]))
+        cells.extend(zip(repeat(x), range(lo[1], hi[1])))
+
+
+def _column(cell: tuple[int, int]) -> int:
+    return cell[0]
 
 
 def footprint_cells_upstream(costmap: Costmap, pose, footprint: np.ndarray) -> np.ndarray:
