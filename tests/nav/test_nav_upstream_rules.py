@@ -11,7 +11,7 @@ import pytest
 from slam_predict.config import config_hash
 from slam_predict.nav.config import TrajectoryPlannerConfig
 from slam_predict.nav.costmap import INSCRIBED, Costmap
-from slam_predict.nav.footprint_helper import fill_cells, footprint_cells_upstream, line_cells
+from slam_predict.nav.footprint_helper import footprint_cells_upstream, outline_and_fill
 from slam_predict.nav.map_grid import DistanceGrids
 from slam_predict.nav.planner_modes import Oscillation
 from slam_predict.nav.trajectory_planner import TrajectoryPlanner
@@ -48,7 +48,8 @@ def reference_line(x0, y0, x1, y1):
 def test_line_cells_match_a_textbook_bresenham(seed):
     rng = np.random.default_rng(seed)
     for x0, y0, x1, y1 in rng.integers(-20, 20, size=(200, 4)):
-        assert line_cells(x0, y0, x1, y1) == reference_line(x0, y0, x1, y1)
+        line = outline_and_fill(np.array([[x0, y0], [x1, y1]], np.int64), 1, False)
+        assert list(map(tuple, line.tolist())) == reference_line(x0, y0, x1, y1)
 
 
 def test_an_axis_aligned_footprint_covers_its_whole_cell_block():
@@ -151,14 +152,13 @@ def reference_fill(outline):
 
 
 @pytest.mark.parametrize("seed", range(5))
-def test_fill_cells_equals_upstreams_exchange_sort_and_fill(seed):
-    """Outlines of random polygons (columns met in every order): the same list, order and
-    duplicates included."""
+def test_outline_and_fill_equals_upstreams_exchange_sort_and_fill(seed):
+    """Random polygons (columns met in every order, degenerate edges too): the textbook outline
+    filled by the reference gives the same list, order and duplicates included."""
     rng = np.random.default_rng(seed)
     for _ in range(200):
         corners = rng.integers(0, 30, size=(rng.integers(3, 7), 2))
         outline = [c for k, a in enumerate(corners)
-                   for c in line_cells(*a, *corners[(k + 1) % len(corners)])]
-        cells = list(outline)
-        fill_cells(cells)
-        assert cells == reference_fill(outline)
+                   for c in reference_line(*a, *corners[(k + 1) % len(corners)])]
+        cells = outline_and_fill(corners.astype(np.int64), len(corners), True)
+        assert list(map(tuple, cells.tolist())) == reference_fill(outline)
