@@ -2,8 +2,8 @@
 """Episode speed per building: simulated seconds per CPU second of one episode process.
 
 Runs one in-process collection episode (:func:`slam_predict.collect.episode.run_episode`, the
-fidelity campaign's settings config/fidelity/seed_study.yaml, sensor logs off) per building in
-a fresh child process with the code of a work tree, stopped after ``--max-sim-time`` simulated
+fidelity campaign's settings config/fidelity/seed_study.yaml or ``--settings``, sensor logs
+off) per building in a fresh child process with the code of a work tree, stopped after ``--max-sim-time`` simulated
 seconds, and prints the sim time, the child's CPU time (user + system, numba cache loading
 included; a 20 s episode first fills the tree's cache, unmeasured) and their ratio. Buildings:
 the seed-study worlds (imported from ../shared/data into out/thesis_worlds once) or shipped
@@ -47,7 +47,7 @@ from slam_predict.collect.batch import RunSpec
 from slam_predict.collect.episode import run_episode
 from slam_predict.collect.settings import load_settings
 world, name, sim_s, seed = sys.argv[1], sys.argv[2], float(sys.argv[3]), int(sys.argv[4])
-settings = load_settings("config/fidelity/seed_study.yaml")
+settings = load_settings(sys.argv[5])
 settings.sensor_logs = False
 settings.stop = dataclasses.replace(settings.stop, max_sim_time_s=sim_s)
 with tempfile.TemporaryDirectory() as out:
@@ -67,6 +67,8 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     parser.add_argument("--tree", default=str(ROOT), help="work tree whose code runs")
     parser.add_argument("--max-sim-time", type=float, default=900.0, help="sim s per episode")
     parser.add_argument("--seed", type=int, default=12345, help="run seed")
+    parser.add_argument("--settings", default="config/fidelity/seed_study.yaml",
+                        help="collection settings, relative to the tree (default: %(default)s)")
     args = parser.parse_args(argv)
     if args.all and args.buildings:
         parser.error("give building names or --all, not both")
@@ -91,14 +93,14 @@ def child_cpu_s() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def run_building(tree: Path, world: str, sim_s: float, seed: int) -> dict:
+def run_building(tree: Path, world: str, sim_s: float, seed: int, settings: str) -> dict:
     """One episode of ``world`` with the code of ``tree`` in a child process; its record
     extract plus ``cpu_s``."""
     env = dict(os.environ, PYTHONPATH=str(tree / "src"),
                NUMBA_CACHE_DIR=str(tree / ".numba_cache"))
     before = child_cpu_s()
     proc = subprocess.run([sys.executable, "-c", CHILD, str(world_path(tree, world)), world,
-                           str(sim_s), str(seed)], cwd=tree, env=env, capture_output=True,
+                           str(sim_s), str(seed), settings], cwd=tree, env=env, capture_output=True,
                           text=True)
     if proc.returncode != 0:
         raise SystemExit(f"{world} failed:\n{proc.stderr[-2000:]}")
@@ -110,13 +112,13 @@ def run_building(tree: Path, world: str, sim_s: float, seed: int) -> dict:
 def main(argv: Sequence[str]) -> int:
     args = parse_args(argv)
     tree = Path(args.tree).resolve()
-    print(f"tree {tree}, {args.max_sim_time:.0f} sim s, seed {args.seed}")
-    run_building(tree, args.buildings[0], 20.0, args.seed)      # compiles the numba cache
+    print(f"tree {tree}, {args.settings}, {args.max_sim_time:.0f} sim s, seed {args.seed}")
+    run_building(tree, args.buildings[0], 20.0, args.seed, args.settings)   # fills the numba cache
     print(f"{'building':<40}{'free m2':>8}{'sim s':>7}{'CPU s':>8}{'sim/CPU':>9}{'target':>8}"
           f"{'':>6}{'dist m':>8}{'trans':>8}{'still s':>9}")
     failed = 0
     for world in args.buildings:
-        r = run_building(tree, world, args.max_sim_time, args.seed)
+        r = run_building(tree, world, args.max_sim_time, args.seed, args.settings)
         ratio, target = r["sim_s"] / r["cpu_s"], target_for(r["free_area_m2"])
         verdict = "pass" if ratio >= target else "FAIL"
         failed += verdict == "FAIL"
