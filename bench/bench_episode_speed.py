@@ -3,8 +3,8 @@
 
 Runs one in-process collection episode (:func:`slam_predict.collect.episode.run_episode`, the
 fidelity campaign's settings config/fidelity/seed_study.yaml or ``--settings``, sensor logs
-off) per building in a fresh child process with the code of a work tree, stopped after ``--max-sim-time`` simulated
-seconds, and prints the sim time, the child's CPU time (user + system, numba cache loading
+off) per building in a fresh child process with the code of a work tree, stopped after
+``--max-sim-time`` simulated seconds, and prints the sim time, the child's CPU time (user + system, numba cache loading
 included; a 20 s episode first fills the tree's cache, unmeasured) and their ratio. Buildings:
 the seed-study worlds (imported from ../shared/data into out/thesis_worlds once) or shipped
 worlds. Targets: >= 8 sim s per CPU s on every building of the campaign, >= 20 below 1,000 m2
