@@ -4,14 +4,15 @@
 Runs one in-process collection episode (:func:`slam_predict.collect.episode.run_episode`, the
 fidelity campaign's settings config/fidelity/seed_study.yaml or ``--settings``, sensor logs off)
 per building in a fresh child process with the code of a work tree, stopped after
-``--max-sim-time`` simulated seconds, and prints the sim time, the child's CPU time (user + system, numba
-cache loading included; a 20 s episode first fills the tree's cache, unmeasured) and their
-ratio. Buildings: the seed-study worlds (imported from ../shared/data into out/thesis_worlds
-once) or shipped worlds. Targets: >= 8 sim s per CPU s on every building of the campaign, >= 20
-below 1,000 m2 of free area (the episode record's ``free_area_m2``); each row says whether it
-meets its target. ``still s`` is the longest time the robot stood while the explorer still ran
-(the record's ``stuck.longest_still_s``): a row with hundreds of seconds there timed a robot
-that stood, not one that explored, and is to be measured again with another ``--seed``.
+``--max-sim-time`` simulated seconds, and prints the sim time, the child's CPU time (user +
+system, numba cache loading included; a 20 s episode first fills the tree's cache, unmeasured)
+and their ratio. Buildings: the seed-study worlds (imported from ../shared/data into
+out/thesis_worlds once) or shipped worlds. Targets: >= 8 sim s per CPU s on every building of
+the campaign, >= 20 below 1,000 m2 of free area (the episode record's ``free_area_m2``); each
+row says whether it meets its target. ``still s`` is the longest time the robot stood while the
+explorer still ran (the record's ``stuck.longest_still_s``): a row with hundreds of seconds
+there timed a robot that stood, not one that explored, and is to be measured again with another
+``--seed``.
 
     python bench/bench_episode_speed.py                              # this tree, five buildings
     python bench/bench_episode_speed.py --all --max-sim-time 1200    # the campaign's 17 buildings
