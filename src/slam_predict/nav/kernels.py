@@ -553,7 +553,7 @@ def obstacle_update(grid, ox, oy, res, sensor_x, sensor_y, points, raytrace_rang
 
 def warmup() -> None:
     """Compile every kernel of the navigation stack on tiny inputs."""
-    from slam_predict.nav import footprint_helper, rollout
+    from slam_predict.nav import rollout
     grid = np.zeros((6, 6), np.uint8)
     grid[2, 2] = LETHAL
     r = 2
@@ -573,4 +573,3 @@ def warmup() -> None:
     obstacle_update(grid, 0.0, 0.0, 0.1, 0.05, 0.05, np.array([[0.45, 0.35]]), 3.0, 2.5,
                     True, True)
     rollout.warmup()
-    footprint_helper.warmup()

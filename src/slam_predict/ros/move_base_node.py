@@ -348,7 +348,8 @@ def main(argv=None) -> int:
     tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
     tf2_ros.TransformListener(tf_buffer)
     from slam_predict.ros.lockstep import warm
-    warm("slam_predict.nav.kernels")   # before the first ~sim_ack
+    # before the first ~sim_ack
+    warm("slam_predict.nav.kernels", "slam_predict.nav.footprint_helper")
     node = MoveBaseNode(cfg, rospy, tf_buffer)
     node.start()
     rospy.loginfo(f"move_base: {cfg.base_global_planner} + {cfg.base_local_planner}, "
