@@ -7,7 +7,7 @@
 #       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | fidelity_seed_study_2 |
 #       fidelity_seed_study_3 | fidelity_seed_study_4 | fidelity_seed_study_5 |
 #       fidelity_seed_study_6 | fidelity_seed_study_7 | fidelity_seed_study_8 |
-#       robots | robots_rep3 |
+#       robots | robots_rep3 | robots_3 | robots_3_rep3 | robots_3_rep4 | robots_3_res025 | robots_3_res100 |
 #       robots_more | robots_configs2 | robots_rep4 | robots_res025 | robots_res100 |
 #       fidelity_seed_study_9 | karto_seed_study | karto_robots | karto_beside_8 | karto_beside_9
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings
@@ -61,6 +61,10 @@
 #   robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100 (issue #41,
 #              2026-12-07): robots, robots_rep3, ... collected again, same designs and seeds, on
 #              fidelity_seed_study_6's chain (config/robot_campaign/settings_refit_escape.yaml).
+#   robots_3, robots_3_rep3, robots_3_rep4, robots_3_res025, robots_3_res100 (issue #41,
+#              2026-12-07): the robots campaigns' designs and seeds collected again on
+#              fidelity_seed_study_9's chain (config/robot_campaign/settings_clear_refit.yaml,
+#              sensor logs kept for Karto beside).
 #   karto_beside_8, karto_beside_9 (issue #40, 2026-12-07): Karto (slam_toolbox's async node)
 #              beside every route of fidelity_seed_study_8 (_9) that is on this machine with its
 #              sensor log (the two chains differ only in GMapping's compute level)
@@ -143,6 +147,8 @@ CAMPAIGN="$NAME"   # the *_2 campaigns: their first collection's design on fidel
 case "$NAME" in
   robots_2|robots_2_*) CAMPAIGN="robots${NAME#robots_2}"
           ROBOT_SETTINGS="$ROOT/config/robot_campaign/settings_refit_escape.yaml" ;;
+  robots_3|robots_3_*) CAMPAIGN="robots${NAME#robots_3}"
+          ROBOT_SETTINGS="$ROOT/config/robot_campaign/settings_clear_refit.yaml" ;;
   karto_seed_study_2|karto_robots_2) CAMPAIGN="${NAME%_2}"
           KARTO_SETTINGS="$ROOT/config/fidelity/seed_study_refit_escape_karto.yaml" ;;
 esac
@@ -185,7 +191,7 @@ case "$CAMPAIGN" in
   robots_res025|robots_res100) SETTINGS="$ROBOT_SETTINGS"
           WITH_SHIPPED=0
           DESIGN_ARGS=(--design "$ROOT/data/campaigns/robots/design_${CAMPAIGN#robots_}.yaml") ;;
-  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, fidelity_seed_study_7, fidelity_seed_study_8, fidelity_seed_study_9, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots; robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100, karto_seed_study_2, karto_robots_2)" >&2; exit 2 ;;
+  *) echo "run_campaign: unknown campaign '$NAME' (realistic, fidelity_fixed_80, fidelity_uniform_per_run_60, fidelity_fixed_60, fidelity_sizes, fidelity_sizes_r2, fidelity_seed_study, fidelity_seed_study_2, fidelity_seed_study_3, fidelity_seed_study_4, fidelity_seed_study_5, fidelity_seed_study_6, fidelity_seed_study_7, fidelity_seed_study_8, fidelity_seed_study_9, robots, robots_rep3, robots_more, robots_configs2, robots_rep4, robots_res025, robots_res100, karto_seed_study, karto_robots; robots_2, robots_2_rep3, robots_2_rep4, robots_2_res025, robots_2_res100, robots_3, robots_3_rep3, robots_3_rep4, robots_3_res025, robots_3_res100, karto_seed_study_2, karto_robots_2)" >&2; exit 2 ;;
 esac
 case "$PART" in
   "") ;;
