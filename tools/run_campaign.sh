@@ -7,7 +7,8 @@
 #       fidelity_sizes | fidelity_sizes_r2 | fidelity_seed_study | fidelity_seed_study_2 |
 #       fidelity_seed_study_3 | fidelity_seed_study_4 | fidelity_seed_study_5 |
 #       fidelity_seed_study_6 | fidelity_seed_study_7 | fidelity_seed_study_8 |
-#       robots | robots_rep3 | robots_3 | robots_3_rep3 | robots_3_rep4 | robots_3_res025 | robots_3_res100 |
+#       robots | robots_rep3 |
+#       robots_3 | robots_3_rep3 | robots_3_rep4 | robots_3_res025 | robots_3_res100 |
 #       robots_more | robots_configs2 | robots_rep4 | robots_res025 | robots_res100 |
 #       fidelity_seed_study_9 | karto_seed_study | karto_robots | karto_beside_8 | karto_beside_9
 #   realistic: the default settings (config/collect.yaml) on 8 small seed-study buildings

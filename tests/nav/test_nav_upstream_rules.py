@@ -124,7 +124,6 @@ def test_the_option_is_hashed_only_when_on():
     assert config_hash(cfg) != config_hash(dataclasses.replace(cfg, upstream_rules=True))
 
 
-
 def reference_fill(outline):
     """getFillCells as upstream writes it, slowly: its in-place exchange sort (swap neighbours
     whose x is strictly greater, step back after each swap), then per column every cell from
