@@ -11,6 +11,9 @@ marks them on the path grid only), and the footprint cells are FootprintHelper's
 """
 from __future__ import annotations
 
+import math
+
+import numba as nb
 import numpy as np
 
 from slam_predict.nav import kernels
@@ -57,20 +60,86 @@ class DistanceGrids:
                                 self._queue, cx, cy, radius)
 
 
+@nb.njit(cache=True)
+def adjusted_plan(plan, resolution):
+    """MapGrid::adjustPlanResolution of ``plan[:, :2]`` (m): (m, 2) points where a segment of
+    length L > resolution gets ceil(L/resolution) − 1 evenly spaced points inserted (point j
+    of a segment s split in n steps: start + (j/n)·s), the plan's last point at the end."""
+    n = plan.shape[0]
+    if n < 2:
+        out = np.empty((n, 2))
+        out[:, :] = plan[:, :2]
+        return out
+    steps = np.empty(n - 1, np.int64)
+    for i in range(n - 1):
+        length = math.hypot(plan[i + 1, 0] - plan[i, 0], plan[i + 1, 1] - plan[i, 1])
+        steps[i] = int(math.ceil(length / resolution)) if length > resolution else 1
+    out = np.empty((steps.sum() + 1, 2))
+    m = 0
+    for i in range(n - 1):
+        sx = plan[i + 1, 0] - plan[i, 0]
+        sy = plan[i + 1, 1] - plan[i, 1]
+        for j in range(steps[i]):
+            frac = j / steps[i]
+            out[m, 0] = plan[i, 0] + frac * sx
+            out[m, 1] = plan[i, 1] + frac * sy
+            m += 1
+    out[m, 0] = plan[n - 1, 0]
+    out[m, 1] = plan[n - 1, 1]
+    return out
+
+
+@nb.njit(cache=True)
+def _known_cells(pts, costs, ox, oy, resolution):
+    """Cells (m, 2) of the points (m, 2) m and whether each is on the map on a known cell."""
+    ny, nx = costs.shape
+    cells = np.zeros((pts.shape[0], 2), np.int64)
+    ok = np.zeros(pts.shape[0], np.bool_)
+    for i in range(pts.shape[0]):
+        if pts[i, 0] >= ox and pts[i, 1] >= oy:
+            mx = int((pts[i, 0] - ox) / resolution)
+            my = int((pts[i, 1] - oy) / resolution)
+            cells[i, 0] = mx
+            cells[i, 1] = my
+            ok[i] = mx < nx and my < ny and costs[my, mx] != NO_INFORMATION
+    return cells, ok
+
+
+@nb.njit(cache=True)
+def plan_cells(plan, costs, ox, oy, resolution):
+    """(path cells (n, 2) int64, index of the local goal in them; -1 when n = 0) of a plan
+    (k, ≥ 2) m on a costmap (uint8 [ny, nx], origin (ox, oy) m): see
+    :func:`path_and_goal_cells`."""
+    pts = adjusted_plan(plan, resolution)
+    cells, ok = _known_cells(pts, costs, ox, oy, resolution)
+    first = 0
+    while first < pts.shape[0] and not ok[first]:
+        first += 1
+    stop = first
+    while stop < pts.shape[0] and ok[stop]:
+        stop += 1
+    path = cells[first:stop].copy()
+    if stop == first:
+        return path, -1
+    away = False
+    for i in range(first + 1):        # the plan is more than 1 m from its start by this point
+        h = math.hypot(pts[i, 0] - pts[0, 0], pts[i, 1] - pts[0, 1])
+        away = away or h * h > 1.0
+    was_blocked = costs[path[0, 1], path[0, 0]] >= INSCRIBED
+    for k in range(1, stop - first):
+        h = math.hypot(pts[first + k, 0] - pts[0, 0], pts[first + k, 1] - pts[0, 1])
+        away = away or h * h > 1.0
+        blocked = costs[path[k, 1], path[k, 0]] >= INSCRIBED
+        if away and blocked and not was_blocked:
+            return path, k - 1            # the point before the first such break
+        was_blocked = blocked
+    return path, stop - first - 1
+
+
 def adjust_plan_resolution(plan_xy: np.ndarray, resolution: float) -> np.ndarray:
-    """MapGrid::adjustPlanResolution: insert points so consecutive ones are ≤ resolution apart
-    (a segment of length L > resolution gets ceil(L/resolution) − 1 evenly spaced points)."""
-    plan_xy = np.asarray(plan_xy, dtype=float).reshape(-1, 2)
-    if len(plan_xy) < 2:
-        return plan_xy
-    seg = np.diff(plan_xy, axis=0)
-    length = np.hypot(seg[:, 0], seg[:, 1])
-    steps = np.where(length > resolution, np.ceil(length / resolution), 1).astype(int)
-    seg_index = np.repeat(np.arange(len(seg)), steps)
-    offsets = np.arange(len(seg_index)) - np.repeat(np.cumsum(steps) - steps, steps)
-    frac = offsets / steps[seg_index]
-    points = plan_xy[seg_index] + frac[:, None] * seg[seg_index]
-    return np.vstack([points, plan_xy[-1:]])
+    """MapGrid::adjustPlanResolution of points (n, 2) m (:func:`adjusted_plan`)."""
+    plan_xy = np.ascontiguousarray(plan_xy, dtype=float).reshape(-1, 2)
+    return adjusted_plan(plan_xy, float(resolution))
 
 
 def path_and_goal_cells(costmap: Costmap, plan: np.ndarray):
@@ -81,28 +150,10 @@ def path_and_goal_cells(costmap: Costmap, plan: np.ndarray):
     of that run, except that once the plan is more than 1 m from its start, a point in an
     obstacle (≥ INSCRIBED) right after a free one ends the run there.
     """
-    empty = np.empty((0, 2), np.int64)
     if len(plan) == 0:
+        empty = np.empty((0, 2), np.int64)
         return empty, empty
-    pts = adjust_plan_resolution(np.asarray(plan, dtype=float)[:, :2], costmap.resolution)
-    ox, oy = costmap.origin
-    inside = (pts[:, 0] >= ox) & (pts[:, 1] >= oy)
-    mx = np.zeros(len(pts), np.int64)
-    my = np.zeros(len(pts), np.int64)
-    mx[inside] = ((pts[inside, 0] - ox) / costmap.resolution).astype(np.int64)
-    my[inside] = ((pts[inside, 1] - oy) / costmap.resolution).astype(np.int64)
-    inside &= (mx < costmap.size_x) & (my < costmap.size_y)
-    ok = np.zeros(len(pts), bool)
-    ok[inside] = costmap.costs[my[inside], mx[inside]] != NO_INFORMATION
-    if not ok.any():
-        return empty, empty
-    first = int(np.argmax(ok))
-    rest = ok[first:]
-    stop = first + (len(rest) if rest.all() else int(np.argmin(rest)))
-    run = np.arange(first, stop)
-    path = np.stack([mx[run], my[run]], axis=1)
-    away = np.maximum.accumulate(np.hypot(*(pts - pts[0]).T) ** 2 > 1.0)[run]
-    blocked = costmap.costs[my[run], mx[run]] >= INSCRIBED
-    ends = np.nonzero(away[1:] & blocked[1:] & ~blocked[:-1])[0]
-    k = ends[0] if len(ends) else len(run) - 1   # the point before the first such break
-    return path, path[k:k + 1]
+    plan = np.ascontiguousarray(plan, dtype=float).reshape(len(plan), -1)
+    path, k = plan_cells(plan, costmap.costs, float(costmap.origin[0]),
+                         float(costmap.origin[1]), float(costmap.resolution))
+    return path, path[k:k + 1] if k >= 0 else path

@@ -214,6 +214,40 @@ def score_samples(samples, x, y, th, vx, vth, acc_x, acc_th, sim_time, gran, agr
     return out, ends
 
 
+@numba.njit(cache=True)
+def forward_samples(min_vx, dvx, min_vth, dvth, nvx, nvth):
+    """(vx m/s, vθ rad/s) samples (nvx·max(nvth, 1), 2) in createTrajectories' order: per vx
+    (min_vx, then + dvx each time), vθ = 0, then nvth − 1 values from min_vth (+ dvth each)."""
+    per_vx = 1 + max(nvth - 1, 0)
+    out = np.empty((nvx * per_vx, 2))
+    k = 0
+    vx = min_vx
+    for _ in range(nvx):
+        out[k, 0] = vx
+        out[k, 1] = 0.0
+        k += 1
+        v = min_vth
+        for _ in range(nvth - 1):
+            out[k, 0] = vx
+            out[k, 1] = v
+            k += 1
+            v += dvth
+        vx += dvx
+    return out
+
+
+@numba.njit(cache=True)
+def first_cheapest(costs):
+    """Index of the first legal (cost ≥ 0) entry of least cost, or -1 when none is legal."""
+    best = -1
+    best_cost = -1.0
+    for k in range(costs.shape[0]):
+        if costs[k] >= 0 and (costs[k] < best_cost or best_cost < 0):
+            best = k
+            best_cost = costs[k]
+    return best
+
+
 def warmup() -> None:
     """Compile the rollout kernels on a tiny costmap."""
     costs = np.zeros((20, 20), np.uint8)
@@ -225,3 +259,6 @@ def warmup() -> None:
     rollout(1.0, 1.0, 0.0, 0.0, 0.0, 0.1, 0.0, 1.0, 1.0, 1.0, 0.025, 0.025, costs, 0.0, 0.0,
             0.1, fp, dist, dist, 400.0, 0.6, 0.8, 0.01, np.empty((100, 3)))
     footprint_cost(costs, 0.0, 0.0, 0.1, 1.0, 1.0, 0.0, fp)
+    first_cheapest(score_samples(forward_samples(0.1, 0.1, -0.5, 0.5, 2, 3), 1.0, 1.0, 0.0, 0.0,
+                                 0.0, 1.0, 1.0, 1.0, 0.025, 0.025, costs, 0.0, 0.0, 0.1, fp,
+                                 dist, dist, 400.0, 0.6, 0.8, 0.01)[0])

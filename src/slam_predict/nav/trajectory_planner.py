@@ -220,14 +220,14 @@ class TrajectoryPlanner:
         c = self.cfg
         min_vx, max_vx, min_vth, _ = window
         dvx = (max_vx - min_vx) / (c.vx_samples - 1) if c.vx_samples > 1 else 0.0
-        samples = _forward_samples(min_vx, dvx, min_vth, self._vth_step(window), c.vx_samples,
-                                   c.vtheta_samples)
+        samples = rollout.forward_samples(float(min_vx), float(dvx), float(min_vth),
+                                          float(self._vth_step(window)), int(c.vx_samples),
+                                          int(c.vtheta_samples))
         costs, _ = self._score(costmap, pose, vel, samples, footprint)
-        best = Trajectory(-1.0, 0.0, 0.0)
-        for k in range(len(samples)):
-            if costs[k] >= 0 and (costs[k] < best.cost or best.cost < 0):
-                best = Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
-        return best
+        k = rollout.first_cheapest(costs)
+        if k < 0:
+            return Trajectory(-1.0, 0.0, 0.0)
+        return Trajectory(float(costs[k]), float(samples[k, 0]), float(samples[k, 1]))
 
     def _in_place(self, costmap, pose, vel, best: Trajectory, window: Window,
                   footprint) -> Trajectory:
@@ -373,20 +373,6 @@ def shrink_footprint(footprint: np.ndarray, margin: float) -> np.ndarray:
     (exact for the rectangular footprints of move_base configs), never past the centre."""
     fp = np.asarray(footprint, dtype=float)
     return np.ascontiguousarray(np.sign(fp) * np.maximum(np.abs(fp) - margin, 0.0))
-
-
-def _forward_samples(min_vx, dvx, min_vth, dvth, nvx, nvth) -> np.ndarray:
-    """(vx, vθ) in createTrajectories' order: per vx, vθ = 0 then nvth − 1 values."""
-    out = []
-    vx = min_vx
-    for _ in range(nvx):
-        out.append((vx, 0.0))
-        vth = min_vth
-        for _ in range(nvth - 1):
-            out.append((vx, vth))
-            vth += dvth
-        vx += dvx
-    return np.array(out, dtype=float)
 
 
 def _as_float32(values) -> tuple[float, ...]:
