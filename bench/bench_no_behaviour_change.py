@@ -49,6 +49,8 @@ CASES = [
      "config/fidelity/seed_study.yaml"),
     ("collect_vipiteno2_clear_refit", "Vipiteno2_updated", "collect", 10, 600, "thesis",
      "config/fidelity/seed_study_clear_refit.yaml"),   # base_local_planner's own rules
+    ("collect_lab_intel_clear_refit", "lab_intel", "collect", 11, 600, "thesis",
+     "config/fidelity/seed_study_clear_refit.yaml"),   # the same rules on a large building
 ]
 QUICK = {"tiny_perfect", "tiny_gmapping", "collect_office_150"}
 
