@@ -16,6 +16,7 @@ MODULES = (
     "slam_predict.slam.gmapping.drand48",
     "slam_predict.nav.kernels",
     "slam_predict.nav.footprint_helper",
+    "slam_predict.nav.map_grid",
     "slam_predict.explore.kernels",
     "slam_predict.features.kernels",
     "slam_predict.metric.kernels",

@@ -157,3 +157,9 @@ def path_and_goal_cells(costmap: Costmap, plan: np.ndarray):
     path, k = plan_cells(plan, costmap.costs, float(costmap.origin[0]),
                          float(costmap.origin[1]), float(costmap.resolution))
     return path, path[k:k + 1] if k >= 0 else path
+
+
+def warmup() -> None:
+    """Compile the plan kernels on a two-point plan over a tiny costmap."""
+    plan_cells(np.array([[0.05, 0.05, 0.0], [0.25, 0.15, 0.0]]), np.zeros((4, 4), np.uint8),
+               0.0, 0.0, 0.1)
