@@ -17,6 +17,7 @@ MODULES = (
     "slam_predict.nav.kernels",
     "slam_predict.nav.footprint_helper",
     "slam_predict.nav.map_grid",
+    "slam_predict.nav.changes",
     "slam_predict.explore.kernels",
     "slam_predict.features.kernels",
     "slam_predict.metric.kernels",

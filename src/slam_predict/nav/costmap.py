@@ -16,11 +16,12 @@ cell (0, 0) (``origin``, m) and a square ``resolution`` (m/cell), exactly as Cos
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from slam_predict.nav import kernels
+from slam_predict.nav.changes import WriteLog
 from slam_predict.nav.config import CostmapConfig
 
 FREE = kernels.FREE
@@ -34,11 +35,13 @@ Bounds = tuple[int, int, int, int]  # (min_i, min_j, max_i, max_j), max exclusiv
 @dataclass
 class Costmap:
     """A grid of costs: ``costs[my, mx]`` uint8, ``origin`` = world (x, y) of cell (0, 0)'s
-    lower-left corner (m), ``resolution`` m/cell."""
+    lower-left corner (m), ``resolution`` m/cell; ``log``: the boxes written into ``costs``
+    when its one writer records them (a layered costmap's), else None."""
 
     costs: np.ndarray
     origin: tuple[float, float]
     resolution: float
+    log: WriteLog | None = field(default=None, repr=False, compare=False)
 
     @property
     def size_x(self) -> int:
@@ -67,7 +70,7 @@ class Costmap:
                 self.origin[1] + (np.asarray(my) + 0.5) * self.resolution)
 
     def copy(self) -> Costmap:
-        """An independent copy."""
+        """An independent copy (without a write log)."""
         return Costmap(self.costs.copy(), self.origin, self.resolution)
 
 

@@ -21,6 +21,7 @@ import math
 import numpy as np
 
 from slam_predict.nav import kernels
+from slam_predict.nav.changes import WriteLog
 from slam_predict.nav.config import CostmapConfig
 from slam_predict.nav.costmap import (
     FREE,
@@ -73,8 +74,9 @@ class LayeredCostmap:
 
     # ---------------------------------------------------------------------------- geometry
     def _resize(self, nx: int, ny: int, resolution: float, origin: tuple[float, float]) -> None:
-        self.costmap = Costmap(np.full((ny, nx), self.default_value, np.uint8),
-                               (float(origin[0]), float(origin[1])), float(resolution))
+        costs = np.full((ny, nx), self.default_value, np.uint8)
+        self.costmap = Costmap(costs, (float(origin[0]), float(origin[1])), float(resolution),
+                               WriteLog(costs))
         self.inflation = InflationLayer(self.cfg.inflation_radius, self.cfg.cost_scaling_factor,
                                         self.inscribed_radius, resolution,
                                         self.cfg.inflate_unknown)
@@ -149,7 +151,8 @@ class LayeredCostmap:
         return True
 
     def update(self, robot_pose) -> None:
-        """Recompute the master costmap around what changed (everything for a rolling window)."""
+        """Recompute the master costmap around what changed (everything for a rolling window);
+        the box written is recorded in the costmap's write log."""
         if self.cfg.rolling_window:
             self._update_origin(robot_pose)
             self._dirty = self._full()
@@ -179,6 +182,7 @@ class LayeredCostmap:
             take = (obs != NO_INFORMATION) & ((window == NO_INFORMATION) | (window < obs))
             window[take] = obs[take]
         self.inflation.apply(cm.costs, box)
+        cm.log.record(box)
 
     def _static_window(self, box: Bounds) -> np.ndarray | None:
         i0, j0, i1, j1 = box

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from slam_predict.nav import kernels
+from slam_predict.nav.changes import KnownBox, WriteLog, equal_within, log_of
 from slam_predict.nav.config import MoveBaseConfig
 from slam_predict.nav.costmap import (
     INSCRIBED,
@@ -131,6 +131,7 @@ class GlobalPlanner:
         self.escapes = 0  # plans found only thanks to the start escape
         self.work = SearchWork()
         self.last = LastPlan()
+        self.known = KnownBox(NO_INFORMATION)
         self.table = np.full(ESCAPE + 1, np.inf)   # cost per code (ESCAPE's set when used)
         self.table[:256] = self.cost_table()
 
@@ -186,11 +187,11 @@ class GlobalPlanner:
             return None
         key = (s, tuple(float(v) for v in goal), tol, tuple(costmap.origin),
                float(costmap.resolution))
-        if self.last.matches(key, costmap.costs):
+        if self.last.matches(key, costmap):
             self.escapes += self.last.escaped
             return self.last.result()
         plan, escaped = self._plan(costmap, s, g, goal, tol)
-        self.last.remember(key, costmap.costs, plan, escaped)
+        self.last.remember(key, costmap, plan, escaped)
         self.escapes += escaped
         return plan
 
@@ -235,8 +236,7 @@ class GlobalPlanner:
 
     def _search_box(self, costmap: Costmap, s, g, tol_cells: int):
         """Cells [x0, x1) x [y0, y1) worth searching: known cells, start, goal window, margin."""
-        kx0, ky0, kx1, ky1 = kernels.other_box(np.ascontiguousarray(costmap.costs),
-                                               np.uint8(NO_INFORMATION))
+        kx0, ky0, kx1, ky1 = self.known.of(costmap)
         xs = [s[0], g[0] - tol_cells, g[0] + tol_cells]
         ys = [s[1], g[1] - tol_cells, g[1] + tol_cells]
         if kx0 >= 0:
@@ -270,28 +270,55 @@ class LastPlan:
     pose, the tolerance, the costmap's geometry and its costs, so a request equal to the last
     one in all of them gets the same plan without a search (move_base re-plans every
     1/planner_frequency s and on every controller failure, also while the robot stands still
-    on an unchanged costmap)."""
+    on an unchanged costmap). The costs are compared with a copy; for a costmap with a write
+    log only inside the box written since the copy was last brought up to date (outside it
+    the costs still equal the copy), else whole."""
 
     def __init__(self):
         self.key = None
         self.costs = np.zeros((0, 0), np.uint8)
         self.plan: Plan | None = None
         self.escaped = 0
+        self._log: WriteLog | None = None   # the log the copy is in step with, at _count
+        self._count = 0
 
-    def matches(self, key, costs: np.ndarray) -> bool:
-        """True when ``key`` and ``costs`` equal the last request's."""
+    def _written(self, costmap, costs: np.ndarray):
+        """The box where ``costs`` may differ from the copy: None (nowhere), or
+        (x0, y0, x1, y1)."""
+        log = log_of(costmap)
+        if log is None or log is not self._log:
+            return (0, 0, costs.shape[1], costs.shape[0])
+        return log.since(self._count)
+
+    def _in_step(self, costmap) -> None:
+        """The copy now equals the costmap's costs: note where its log stands."""
+        log = log_of(costmap)
+        self._log = log
+        self._count = 0 if log is None else log.count
+
+    def matches(self, key, costmap) -> bool:
+        """True when ``key`` and the costmap's costs equal the last request's."""
+        costs = costmap.costs
         if key != self.key or costs.shape != self.costs.shape:
             return False
-        return kernels.diff_box(np.ascontiguousarray(costs), self.costs)[0] < 0
+        box = self._written(costmap, costs)
+        if box is not None and not equal_within(np.ascontiguousarray(costs), self.costs, *box):
+            return False
+        self._in_step(costmap)
+        return True
 
-    def remember(self, key, costs: np.ndarray, plan: Plan | None, escaped: int) -> None:
-        """Keep a request and its result (the costs are copied)."""
+    def remember(self, key, costmap, plan: Plan | None, escaped: int) -> None:
+        """Keep a request and its result (the costs are copied, where they may differ)."""
         self.key, self.plan, self.escaped = key, plan, escaped
-        if self.costs.shape == costs.shape:
-            np.copyto(self.costs, costs)
-        else:
+        costs = costmap.costs
+        if self.costs.shape != costs.shape:
             self.costs = costs.copy()
-
+        else:
+            box = self._written(costmap, costs)
+            if box is not None:
+                x0, y0, x1, y1 = box
+                self.costs[y0:y1, x0:x1] = costs[y0:y1, x0:x1]
+        self._in_step(costmap)
     def result(self) -> Plan | None:
         """A copy of the last plan (None when it found none)."""
         plan = self.plan
