@@ -202,3 +202,58 @@ def test_layered_costmap_records_every_cell_it_changes(rolling):
             continue
         x0, y0, x1, y1 = box
         assert np.all((xs >= x0) & (xs < x1) & (ys >= y0) & (ys < y1))
+
+
+def claimed_maps(rng, shape=(40, 50), steps=25):
+    """SLAM-like maps: a known region that grows, shrinks and moves, with cells changing
+    inside it; each with a ``known`` box holding it (sometimes loose, sometimes empty)."""
+    maps = []
+    for _ in range(steps):
+        data = np.full(shape, -1, np.int8)
+        x0, x1 = sorted(rng.integers(0, shape[1], 2))
+        y0, y1 = sorted(rng.integers(0, shape[0], 2))
+        if rng.random() < 0.1:
+            x1 = x0                                            # nothing known
+        window = data[y0:y1, x0:x1]
+        window[...] = np.where(rng.random(window.shape) < 0.1, 100, 0)
+        window[rng.random(window.shape) < 0.2] = -1
+        loose = int(rng.integers(0, 3))
+        maps.append((data, (max(0, x0 - loose), max(0, y0 - loose), x1 + loose, y1 + loose)))
+        if rng.random() < 0.3:
+            maps.append((data.copy(), maps[-1][1]))          # the same map again
+    return maps
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_static_layer_with_known_boxes_equals_the_whole_map_compare(seed):
+    """Global costmaps given the same maps with and without their ``known`` boxes (the
+    whole-map compare) hold the same costs after every update."""
+    rng = np.random.default_rng(seed)
+    cfg = _layered_cfg(observation_sources="", resolution=0.05)
+    told, whole = LayeredCostmap(cfg), LayeredCostmap(cfg)
+    for data, known in claimed_maps(rng):
+        told.set_map(SimpleNamespace(data=data, origin=(0.0, 0.0), resolution=0.05,
+                                     known=known))
+        whole.set_map(SimpleNamespace(data=data, origin=(0.0, 0.0), resolution=0.05))
+        assert told._dirty == whole._dirty
+        told.update((1.0, 1.0, 0.0))
+        whole.update((1.0, 1.0, 0.0))
+        np.testing.assert_array_equal(told.costmap.costs, whole.costmap.costs)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_frontier_cache_with_known_boxes_searches_when_the_whole_compare_says(seed):
+    """The explorer's ClusterCache searches again exactly when the map's cells changed, also
+    when only some grids tell a ``known`` box."""
+    from slam_predict.explore.frontiers import ClusterCache
+
+    rng = np.random.default_rng(seed)
+    cache, last = ClusterCache(), None
+    for data, known in claimed_maps(rng, steps=40):
+        grid = SimpleNamespace(data=data, origin=(0.0, 0.0), resolution=0.1,
+                               known=known if rng.random() < 0.8 else None)
+        before = cache._data
+        cache.clusters(grid, 0.3, 0.0)
+        searched = cache._data is not before
+        assert searched == (last is None or not np.array_equal(data, last))
+        last = data

@@ -15,7 +15,14 @@ from slam_predict.slam.runner import read_input
 
 
 def same_grid(a, b):
+    """``a`` (the incremental map) equals ``b`` cell for cell, and every cell outside the box
+    it calls ``known`` is unknown."""
     assert a.data.shape == b.data.shape
+    if a.known is not None:
+        x0, y0, x1, y1 = a.known
+        outside = np.ones(a.data.shape, bool)
+        outside[max(0, y0):y1, max(0, x0):x1] = False
+        assert np.all(a.data[outside] == -1)
     assert a.origin == b.origin and a.resolution == b.resolution
     assert np.array_equal(a.data, b.data)
 

@@ -25,7 +25,8 @@ from scipy import ndimage
 
 from slam_predict.explore import kernels as frontier_kernels
 from slam_predict.nav import kernels
-from slam_predict.nav.layered import changed_box
+from slam_predict.nav.layered import changed_box, changed_within
+from slam_predict.slam import known_union
 
 
 @dataclass
@@ -144,6 +145,7 @@ class ClusterCache:
     def __init__(self):
         self._key: tuple | None = None
         self._data = np.empty(0, np.int8)
+        self._known = None                     # _data's box outside which it is all unknown
         self._clusters: list[Cluster] = []
         self._component: tuple | None = None   # (free component mask, row0, col0) of _data
 
@@ -152,11 +154,21 @@ class ClusterCache:
         data = np.asarray(grid.data)
         key = (float(grid.origin[0]), float(grid.origin[1]), float(grid.resolution),
                float(min_frontier_size), float(min_unknown_width), data.shape, data.dtype.str)
-        if key != self._key or not _same_cells(data, self._data):
+        known = getattr(grid, "known", None)
+        if key != self._key or not self._same_map(data, known):
             self._clusters = frontier_clusters(grid, min_frontier_size, min_unknown_width)
-            self._key, self._data = key, data.copy()
+            self._key, self._data, self._known = key, data.copy(), known
             self._component = None
         return self._clusters
+
+    def _same_map(self, data: np.ndarray, known) -> bool:
+        """Whether ``data`` (of the last map's shape and dtype) holds the last map's cells,
+        compared only inside the box outside which both are all unknown when the two grids
+        tell one (``known``), else whole."""
+        window = known_union(known, self._known, data.shape)
+        if window is None or data.dtype != np.int8:
+            return _same_cells(data, self._data)
+        return changed_within(data, self._data, window) is None
 
     def reachable(self, grid, robot_xy: Sequence[float]) -> list[Cluster]:
         """The clusters of the last :meth:`clusters` call that have a cell in the free space

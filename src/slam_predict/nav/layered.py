@@ -36,6 +36,7 @@ from slam_predict.nav.costmap import (
     static_costs,
     union_bounds,
 )
+from slam_predict.slam import known_union
 
 LOG = logging.getLogger(__name__)
 
@@ -60,6 +61,7 @@ class LayeredCostmap:
         self._map_source = None  # latest grid (for rolling windows with a static layer)
         self._static: np.ndarray | None = None
         self._raw: np.ndarray | None = None   # the map the static layer was last given
+        self._raw_known: Bounds | None = None  # its box outside which it is all unknown
         self._obstacles: np.ndarray | None = None
         self._scan: tuple[np.ndarray, np.ndarray] | None = None
         self._dirty: Bounds | None = None
@@ -106,20 +108,25 @@ class LayeredCostmap:
         if (cm.size_x, cm.size_y) != (nx, ny) or cm.origin != origin or cm.resolution != res:
             LOG.debug("%s: resized to %d x %d cells at %.3f m", self.name, nx, ny, res)
             self._resize(nx, ny, res, origin)
+        known = getattr(grid, "known", None)
         if self._static is None or self._raw is None or data.dtype != self._raw.dtype:
             self._static = static_costs(data, self.cfg)
             self._raw = data.copy()
+            self._raw_known = known
             self._dirty = self._full()
             return
-        box = self._update_static(data)
+        box = self._update_static(data, known_union(known, self._raw_known, data.shape))
+        self._raw_known = known
         if box is not None:
             self._dirty = union_bounds(self._dirty, box)
 
-    def _update_static(self, data: np.ndarray) -> Bounds | None:
+    def _update_static(self, data: np.ndarray, window: Bounds | None) -> Bounds | None:
         """Re-interpret the cells of the new map ``data`` that differ from the last one (the
-        interpretation is per cell, so the others keep their costs); returns the box of the
-        static costs that changed (None: none did)."""
-        raw_box = changed_box(data, self._raw)
+        interpretation is per cell, so the others keep their costs), looking only inside
+        ``window`` (None: everywhere) when both maps are all unknown outside it; returns the
+        box of the static costs that changed (None: none did)."""
+        raw_box = changed_box(data, self._raw) if window is None else changed_within(
+            data, self._raw, window)
         if raw_box is None:
             return None
         i0, j0, i1, j1 = raw_box
@@ -278,3 +285,13 @@ def changed_box(new: np.ndarray, old: np.ndarray) -> Bounds | None:
     uint8) differ; None when they are equal."""
     box = kernels.diff_box(np.ascontiguousarray(new), np.ascontiguousarray(old))
     return None if box[0] < 0 else tuple(int(v) for v in box)
+
+
+def changed_within(new: np.ndarray, old: np.ndarray, window: Bounds) -> Bounds | None:
+    """:func:`changed_box` of two equal-shape grids known to be equal outside ``window``
+    (x0, y0, x1, y1), comparing only inside it."""
+    x0, y0, x1, y1 = window
+    if x0 >= x1 or y0 >= y1:
+        return None
+    box = changed_box(new[y0:y1, x0:x1], old[y0:y1, x0:x1])
+    return None if box is None else (box[0] + x0, box[1] + y0, box[2] + x0, box[3] + y0)

@@ -50,11 +50,14 @@ class LaserGeometry:
 class OccupancyGrid:
     """A ROS-style occupancy grid: ``data`` (height, width) int8 with −1 unknown, 0 free, 100
     occupied; row 0 is the lowest y; ``origin`` (x, y) m is the world position of cell (0, 0) as
-    the producer defines it; ``resolution`` m/cell."""
+    the producer defines it; ``resolution`` m/cell. ``known``: cells (x0, y0, x1, y1),
+    end-exclusive, outside which every cell is −1, when the producer knows such a box (None:
+    it does not; the grid must not be changed in place outside it)."""
 
     data: np.ndarray
     resolution: float
     origin: tuple[float, float]
+    known: tuple[int, int, int, int] | None = None
 
     @property
     def width(self) -> int:
@@ -65,6 +68,16 @@ class OccupancyGrid:
     def height(self) -> int:
         """Number of rows (cells along y)."""
         return int(self.data.shape[0])
+
+
+def known_union(a, b, shape) -> tuple[int, int, int, int] | None:
+    """The box holding two grids' ``known`` boxes, clipped to ``shape`` (rows, columns):
+    outside it both grids are all −1; None when either has no box."""
+    if a is None or b is None:
+        return None
+    ny, nx = shape
+    return (max(0, min(a[0], b[0])), max(0, min(a[1], b[1])),
+            min(nx, max(a[2], b[2])), min(ny, max(a[3], b[3])))
 
 
 @dataclass

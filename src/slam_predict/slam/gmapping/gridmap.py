@@ -202,8 +202,10 @@ class IncrementalMap:
         self.hits, self.visits, self.corner = hits, visits, (lo_x, lo_y)
 
     def _render(self, geometry: Geometry) -> OccupancyGrid:
+        """The grid of the counts (−1 outside their window, whose box is ``known``)."""
         width, height = geometry.size
         data = np.full((height, width), -1, dtype=np.int8)
+        known = (0, 0, 0, 0)
         if self.hits.size:
             x0, y0 = self.corner[0] + geometry.sx2, self.corner[1] + geometry.sy2
             w, h = self.hits.shape
@@ -214,4 +216,6 @@ class IncrementalMap:
                                                    self.visits[u0:u1, v0:v1],
                                                    self.builder.params.occ_thresh)
                 data[y0 + v0:y0 + v1, x0 + u0:x0 + u1] = values.T
-        return OccupancyGrid(data, self.builder.params.delta, geometry.cell_to_world(0, 0))
+                known = (x0 + u0, y0 + v0, x0 + u1, y0 + v1)
+        return OccupancyGrid(data, self.builder.params.delta, geometry.cell_to_world(0, 0),
+                             known)
