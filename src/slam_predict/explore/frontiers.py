@@ -25,8 +25,8 @@ from scipy import ndimage
 
 from slam_predict.explore import kernels as frontier_kernels
 from slam_predict.nav import kernels
+from slam_predict.nav.changes import known_union
 from slam_predict.nav.layered import changed_box, changed_within
-from slam_predict.slam import known_union
 
 
 @dataclass

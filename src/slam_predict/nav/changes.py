@@ -12,6 +12,7 @@ holds what the reader saw. Readers:
   costs with its copy only inside the written box.
 
 A grid without a log (or whose log is about another array) is read whole, as before.
+:func:`known_union` bounds where two SLAM maps that tell their ``known`` boxes can differ.
 """
 from __future__ import annotations
 
@@ -63,6 +64,16 @@ def log_of(costmap) -> WriteLog | None:
     if log is None or log.costs is not costmap.costs:
         return None
     return log
+
+
+def known_union(a, b, shape) -> tuple[int, int, int, int] | None:
+    """The box holding two grids' ``known`` boxes, clipped to ``shape`` (rows, columns):
+    outside it both grids are all −1 (``OccupancyGrid.known``); None when either has no box."""
+    if a is None or b is None:
+        return None
+    ny, nx = shape
+    return (max(0, min(a[0], b[0])), max(0, min(a[1], b[1])),
+            min(nx, max(a[2], b[2])), min(ny, max(a[3], b[3])))
 
 
 class KnownBox:

@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from slam_predict.nav import kernels
-from slam_predict.nav.changes import WriteLog
+from slam_predict.nav.changes import WriteLog, known_union
 from slam_predict.nav.config import CostmapConfig
 from slam_predict.nav.costmap import (
     FREE,
@@ -36,7 +36,6 @@ from slam_predict.nav.costmap import (
     static_costs,
     union_bounds,
 )
-from slam_predict.slam import known_union
 
 LOG = logging.getLogger(__name__)
 

@@ -70,16 +70,6 @@ class OccupancyGrid:
         return int(self.data.shape[0])
 
 
-def known_union(a, b, shape) -> tuple[int, int, int, int] | None:
-    """The box holding two grids' ``known`` boxes, clipped to ``shape`` (rows, columns):
-    outside it both grids are all −1; None when either has no box."""
-    if a is None or b is None:
-        return None
-    ny, nx = shape
-    return (max(0, min(a[0], b[0])), max(0, min(a[1], b[1])),
-            min(nx, max(a[2], b[2])), min(ny, max(a[3], b[3])))
-
-
 @dataclass
 class SlamNodeParams:
     """A SLAM ROS node's own parameters, whatever the back-end (slam_gmapping's names and
