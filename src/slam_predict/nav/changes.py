@@ -114,19 +114,11 @@ class KnownBox:
 
 
 @numba.njit(cache=True)
-def _row_has_other(grid, value, y, x0, x1):
-    """Whether row ``y`` of ``grid`` holds a cell other than ``value`` in [x0, x1)."""
-    for x in range(x0, x1):
-        if grid[y, x] != value:
-            return True
-    return False
-
-
-@numba.njit(cache=True)
-def _column_has_other(grid, value, x, y0, y1):
-    """Whether column ``x`` of ``grid`` holds a cell other than ``value`` in [y0, y1)."""
-    for y in range(y0, y1):
-        if grid[y, x] != value:
+def _has_other(cells, value):
+    """Whether the 1-D ``cells`` (a row's or a column's stretch) hold a value other than
+    ``value``."""
+    for cell in cells:
+        if cell != value:
             return True
     return False
 
@@ -139,21 +131,21 @@ def other_box_within(grid, value, x0, y0, x1, y1):
     lies outside the given box, this is the box of the whole grid's such cells."""
     top = -1
     for y in range(y0, y1):
-        if _row_has_other(grid, value, y, x0, x1):
+        if _has_other(grid[y, x0:x1], value):
             top = y
             break
     if top < 0:
         return -1, -1, -1, -1
     bottom = top
     for y in range(y1 - 1, top, -1):
-        if _row_has_other(grid, value, y, x0, x1):
+        if _has_other(grid[y, x0:x1], value):
             bottom = y
             break
     left = x0
-    while not _column_has_other(grid, value, left, top, bottom + 1):
+    while not _has_other(grid[top:bottom + 1, left], value):
         left += 1
     right = x1 - 1
-    while not _column_has_other(grid, value, right, top, bottom + 1):
+    while not _has_other(grid[top:bottom + 1, right], value):
         right -= 1
     return left, top, right + 1, bottom + 1
 
